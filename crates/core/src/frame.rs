@@ -1,0 +1,58 @@
+//! A rendered frame (colour, depth, normals) and the statistics of how it was made.
+
+use crate::{Image, Rgb};
+use glam::Vec3;
+use std::time::Duration;
+
+/// The result of rendering: linear colour, depth (distance along the ray from its origin, in
+/// world units; `f64::INFINITY` where nothing was hit) and unit world-space normals (zero where
+/// nothing was hit).
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub colour: Image<Rgb>,
+    pub depth: Image<f64>,
+    pub normals: Image<Vec3>,
+    pub stats: RenderStats,
+}
+
+/// What a backend did to produce a frame. Counters are totals over the frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// The backend that ran, e.g. `"cpu"`.
+    pub backend: String,
+    /// Worker threads used.
+    pub threads: usize,
+    /// Camera rays cast (one per pixel).
+    pub primary_rays: u64,
+    /// Rays toward lights.
+    pub shadow_rays: u64,
+    /// Primary rays that hit a surface.
+    pub hits: u64,
+    /// Interval bounds evaluated over ray segments (halving steps).
+    pub bound_evaluations: u64,
+    /// Point evaluations of a function (root refinement, sign checks).
+    pub point_evaluations: u64,
+    /// The ray-casting tolerance ε that was used, in world units.
+    pub epsilon: f64,
+    /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).
+    pub passes: Vec<String>,
+    /// Wall time of the render call.
+    pub elapsed: Duration,
+}
+
+impl RenderStats {
+    /// All rays cast, primary and secondary.
+    pub fn rays(&self) -> u64 {
+        self.primary_rays + self.shadow_rays
+    }
+
+    /// Rays per second of wall time.
+    pub fn rays_per_second(&self) -> f64 {
+        self.rays() as f64 / self.elapsed.as_secs_f64().max(1e-12)
+    }
+
+    /// Bound evaluations per ray: the "steps per ray" of the binary search.
+    pub fn steps_per_ray(&self) -> f64 {
+        self.bound_evaluations as f64 / self.rays().max(1) as f64
+    }
+}

@@ -1,0 +1,37 @@
+//! A ray `p(t) = origin + t · dir` in f64, with a unit direction so that `t` is a distance.
+
+use glam::DVec3;
+
+/// A ray with a unit direction: the parameter `t` is the distance from the origin in world units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub origin: DVec3,
+    pub dir: DVec3,
+}
+
+impl Ray {
+    /// A ray from `origin` along `dir`; `dir` is normalised here. Returns `None` for a zero or
+    /// non-finite direction, so a degenerate camera can never produce NaN points.
+    pub fn new(origin: DVec3, dir: DVec3) -> Option<Self> {
+        let len = dir.length();
+        (len.is_finite() && len > 0.0 && origin.is_finite()).then(|| Self {
+            origin,
+            dir: dir / len,
+        })
+    }
+
+    /// The point at distance `t` along the ray.
+    #[inline]
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + self.dir * t
+    }
+
+    /// The same ray with its origin moved by `-offset`: used to work relative to the camera.
+    #[inline]
+    pub fn translated(&self, offset: DVec3) -> Self {
+        Self {
+            origin: self.origin - offset,
+            dir: self.dir,
+        }
+    }
+}

@@ -1,0 +1,234 @@
+//! CSG trees of free-form objects and their flat postfix form, [`Solid`].
+//!
+//! Union is `max`, intersection `min`, difference `min(a, −b)`. The tree is compiled once into a
+//! postfix program over the leaves — the form that the ray caster and the GPU both evaluate.
+
+use crate::{FreeForm, GeometryError};
+use fray_core::Aabb;
+use glam::DVec3;
+
+/// A CSG tree whose leaves are free-form objects.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    FreeForm(FreeForm),
+    /// `max` of two or more operands.
+    Union(Vec<Shape>),
+    /// `min` of two or more operands.
+    Intersection(Vec<Shape>),
+    /// `min(a, −b)`.
+    Difference(Box<Shape>, Box<Shape>),
+}
+
+/// One instruction of the postfix CSG program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CsgOp {
+    /// Push leaf `i`'s value.
+    Leaf(u32),
+    /// Pop two, push the larger (union).
+    Max,
+    /// Pop two, push the smaller (intersection).
+    Min,
+    /// Negate the top (complement, for difference).
+    Neg,
+}
+
+/// A compiled CSG tree: leaves, a postfix program over them, and the finite box of the result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solid {
+    leaves: Vec<FreeForm>,
+    program: Vec<CsgOp>,
+    bounds: Aabb,
+    max_stack: usize,
+}
+
+impl Solid {
+    /// Compiles a tree; fails on a union or intersection with fewer than two operands.
+    pub fn new(shape: Shape) -> Result<Self, GeometryError> {
+        let mut leaves = Vec::new();
+        let mut program = Vec::new();
+        let bounds = compile(shape, &mut leaves, &mut program)?;
+        let mut depth = 0usize;
+        let mut max_stack = 0usize;
+        for op in &program {
+            match op {
+                CsgOp::Leaf(_) => depth += 1,
+                CsgOp::Max | CsgOp::Min => depth -= 1,
+                CsgOp::Neg => {}
+            }
+            max_stack = max_stack.max(depth);
+        }
+        Ok(Self { leaves, program, bounds, max_stack })
+    }
+
+    /// A solid of one free-form object.
+    pub fn from_free_form(f: FreeForm) -> Self {
+        let bounds = f.bounds();
+        Self {
+            leaves: vec![f],
+            program: vec![CsgOp::Leaf(0)],
+            bounds,
+            max_stack: 1,
+        }
+    }
+
+    pub fn leaves(&self) -> &[FreeForm] {
+        &self.leaves
+    }
+
+    pub fn program(&self) -> &[CsgOp] {
+        &self.program
+    }
+
+    /// The finite box that holds the solid (may be empty, e.g. for disjoint intersections).
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// The deepest the evaluation stack gets.
+    pub fn max_stack(&self) -> usize {
+        self.max_stack
+    }
+
+    /// Total perturbations over all leaves.
+    pub fn perturbation_count(&self) -> usize {
+        self.leaves.iter().map(|l| l.perturbations().len()).sum()
+    }
+
+    /// The CSG value at `p` (`≥ 0` inside).
+    pub fn eval(&self, p: DVec3) -> f64 {
+        let mut stack: Vec<f64> = Vec::with_capacity(self.max_stack);
+        for op in &self.program {
+            match *op {
+                CsgOp::Leaf(i) => stack.push(self.leaves[i as usize].eval(p)),
+                CsgOp::Max | CsgOp::Min => {
+                    let b = stack.pop().unwrap_or(f64::NEG_INFINITY);
+                    let a = stack.pop().unwrap_or(f64::NEG_INFINITY);
+                    stack.push(if *op == CsgOp::Max { a.max(b) } else { a.min(b) });
+                }
+                CsgOp::Neg => {
+                    if let Some(v) = stack.last_mut() {
+                        *v = -*v;
+                    }
+                }
+            }
+        }
+        stack.pop().unwrap_or(f64::NEG_INFINITY)
+    }
+
+    /// The outward unit normal at a surface point `p` and the leaf whose surface it is: the
+    /// gradient of the operand that is active in every `max`/`min`. Falls back to `fallback`
+    /// where the gradient vanishes (a cone's apex).
+    pub fn surface_at(&self, p: DVec3, fallback: DVec3) -> (DVec3, u32) {
+        let mut stack: Vec<(f64, DVec3, u32)> = Vec::with_capacity(self.max_stack);
+        for op in &self.program {
+            match *op {
+                CsgOp::Leaf(i) => {
+                    let (v, g) = self.leaves[i as usize].eval_with_gradient(p);
+                    stack.push((v, g, i));
+                }
+                CsgOp::Max | CsgOp::Min => {
+                    let b = stack.pop().unwrap_or((f64::NEG_INFINITY, DVec3::ZERO, 0));
+                    let a = stack.pop().unwrap_or((f64::NEG_INFINITY, DVec3::ZERO, 0));
+                    let take_a = if *op == CsgOp::Max { a.0 >= b.0 } else { a.0 <= b.0 };
+                    stack.push(if take_a { a } else { b });
+                }
+                CsgOp::Neg => {
+                    if let Some(v) = stack.last_mut() {
+                        v.0 = -v.0;
+                        v.1 = -v.1;
+                    }
+                }
+            }
+        }
+        let (_, g, leaf) = stack.pop().unwrap_or((0.0, DVec3::ZERO, 0));
+        let len = g.length();
+        let n = if len > 0.0 && len.is_finite() { -g / len } else { fallback };
+        (n, leaf)
+    }
+}
+
+fn compile(shape: Shape, leaves: &mut Vec<FreeForm>, program: &mut Vec<CsgOp>) -> Result<Aabb, GeometryError> {
+    match shape {
+        Shape::FreeForm(f) => {
+            let b = f.bounds();
+            program.push(CsgOp::Leaf(leaves.len() as u32));
+            leaves.push(f);
+            Ok(b)
+        }
+        Shape::Union(children) | Shape::Intersection(children) if children.len() < 2 => {
+            Err(GeometryError::TooFewOperands { op: "union or intersection", min: 2, got: children.len() })
+        }
+        Shape::Union(children) => {
+            let mut b = Aabb::EMPTY;
+            for (i, c) in children.into_iter().enumerate() {
+                b = b.union(&compile(c, leaves, program)?);
+                if i > 0 {
+                    program.push(CsgOp::Max);
+                }
+            }
+            Ok(b)
+        }
+        Shape::Intersection(children) => {
+            let mut b: Option<Aabb> = None;
+            for (i, c) in children.into_iter().enumerate() {
+                let cb = compile(c, leaves, program)?;
+                b = Some(b.map_or(cb, |b| b.intersection(&cb)));
+                if i > 0 {
+                    program.push(CsgOp::Min);
+                }
+            }
+            Ok(b.unwrap_or(Aabb::EMPTY))
+        }
+        Shape::Difference(a, b) => {
+            let ab = compile(*a, leaves, program)?;
+            compile(*b, leaves, program)?;
+            program.push(CsgOp::Neg);
+            program.push(CsgOp::Min);
+            Ok(ab)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Quadric;
+
+    fn ball(c: DVec3, r: f64) -> Shape {
+        Shape::FreeForm(FreeForm::new(Quadric::sphere(c, r), vec![], None).unwrap())
+    }
+
+    #[test]
+    fn csg_semantics_and_bounds() {
+        let a = ball(DVec3::ZERO, 1.0);
+        let b = ball(DVec3::new(1.0, 0.0, 0.0), 1.0);
+        let u = Solid::new(Shape::Union(vec![a.clone(), b.clone()])).unwrap();
+        let i = Solid::new(Shape::Intersection(vec![a.clone(), b.clone()])).unwrap();
+        let d = Solid::new(Shape::Difference(Box::new(a.clone()), Box::new(b.clone()))).unwrap();
+        let p_a_only = DVec3::new(-0.5, 0.0, 0.0);
+        let p_both = DVec3::new(0.5, 0.0, 0.0);
+        let p_b_only = DVec3::new(1.5, 0.0, 0.0);
+        assert!(u.eval(p_a_only) >= 0.0 && u.eval(p_both) >= 0.0 && u.eval(p_b_only) >= 0.0);
+        assert!(i.eval(p_a_only) < 0.0 && i.eval(p_both) >= 0.0 && i.eval(p_b_only) < 0.0);
+        assert!(d.eval(p_a_only) >= 0.0 && d.eval(p_both) < 0.0 && d.eval(p_b_only) < 0.0);
+        assert!((i.bounds().min.x - 0.0).abs() < 1e-6 && (i.bounds().max.x - 1.0).abs() < 1e-6);
+        assert!((u.bounds().max.x - 2.0).abs() < 1e-6);
+        assert_eq!(d.program(), &[CsgOp::Leaf(0), CsgOp::Leaf(1), CsgOp::Neg, CsgOp::Min]);
+        assert_eq!(
+            Solid::new(Shape::Union(vec![a])).unwrap_err(),
+            GeometryError::TooFewOperands { op: "union or intersection", min: 2, got: 1 }
+        );
+    }
+
+    #[test]
+    fn difference_normal_points_into_the_carved_hole() {
+        let a = ball(DVec3::ZERO, 1.0);
+        let b = ball(DVec3::new(1.0, 0.0, 0.0), 0.5);
+        let d = Solid::new(Shape::Difference(Box::new(a), Box::new(b))).unwrap();
+        // On the carved face at x = 0.5 the outward normal of the result points to −x... into the
+        // hole, i.e. toward b's centre (+x).
+        let (n, leaf) = d.surface_at(DVec3::new(0.5, 0.0, 0.0), DVec3::Z);
+        assert_eq!(leaf, 1);
+        assert!((n - DVec3::X).length() < 1e-12);
+    }
+}

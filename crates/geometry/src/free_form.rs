@@ -1,0 +1,201 @@
+//! A free-form object: a base quadric plus perturbations, `F′ = F + Σ fᵢ Rᵢ`, inside a finite box.
+
+use crate::{GeometryError, Perturbation, Quadric};
+use fray_core::Aabb;
+use glam::DVec3;
+
+/// `F′(p) = F(p) + Σ fᵢ Rᵢ(p)` restricted to a finite box.
+///
+/// The box is derived when possible: the base quadric's solid ellipsoid united with the supports
+/// of the perturbations that add material (`f > 0`); outside that box `F′ < 0` is guaranteed, so a
+/// derived box never changes the shape. An explicit box *clips* the shape (it acts as a CSG
+/// intersection with the box), which is how planes, cylinders and cones are made finite.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreeForm {
+    base: Quadric,
+    perturbations: Vec<Perturbation>,
+    bounds: Aabb,
+    clips: bool,
+}
+
+impl FreeForm {
+    /// Builds the object; `bounds = None` asks for a derived box, which fails with
+    /// [`GeometryError::Unbounded`] when the shape is not provably finite.
+    pub fn new(base: Quadric, perturbations: Vec<Perturbation>, bounds: Option<Aabb>) -> Result<Self, GeometryError> {
+        if !base.is_finite() {
+            return Err(GeometryError::NotFinite { field: "base" });
+        }
+        for p in &perturbations {
+            if !p.quadric.is_finite() {
+                return Err(GeometryError::NotFinite { field: "perturbations.quadric" });
+            }
+            if !p.form_factor.is_finite() {
+                return Err(GeometryError::NotFinite { field: "perturbations.form_factor" });
+            }
+        }
+        let derived = Self::derived_bounds(&base, &perturbations);
+        let (bounds, clips) = match (bounds, derived) {
+            (Some(b), derived) => {
+                if !b.is_finite() {
+                    return Err(GeometryError::InvalidBounds);
+                }
+                match derived {
+                    // The explicit box holds the whole shape: it clips nothing, so use the tighter one.
+                    Some(d) if b.contains(d.min) && b.contains(d.max) => (d, false),
+                    _ => (b, true),
+                }
+            }
+            (None, Some(d)) => (d, false),
+            (None, None) => return Err(GeometryError::Unbounded),
+        };
+        Ok(Self { base, perturbations, bounds, clips })
+    }
+
+    fn derived_bounds(base: &Quadric, perturbations: &[Perturbation]) -> Option<Aabb> {
+        let mut b = base.inside_bounds()?;
+        for p in perturbations.iter().filter(|p| p.form_factor > 0.0) {
+            b = b.union(&p.support_bounds()?);
+        }
+        Some(b)
+    }
+
+    pub fn base(&self) -> &Quadric {
+        &self.base
+    }
+
+    pub fn perturbations(&self) -> &[Perturbation] {
+        &self.perturbations
+    }
+
+    /// The finite box that holds the object.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// Whether the box cuts the shape (explicit bounds), so its faces can be surface.
+    pub fn clips(&self) -> bool {
+        self.clips
+    }
+
+    /// `F′(p)` without the box.
+    #[inline]
+    pub fn eval_unclipped(&self, p: DVec3) -> f64 {
+        self.base.eval(p) + self.perturbations.iter().map(|q| q.eval(p)).sum::<f64>()
+    }
+
+    /// `∇F′(p)` without the box.
+    pub fn gradient_unclipped(&self, p: DVec3) -> DVec3 {
+        self.perturbations.iter().fold(self.base.gradient(p), |g, q| g + q.gradient(p))
+    }
+
+    /// `F′(p)` with the box: `−∞` outside a clipping box.
+    #[inline]
+    pub fn eval(&self, p: DVec3) -> f64 {
+        if self.clips && !self.bounds.contains(p) {
+            f64::NEG_INFINITY
+        } else {
+            self.eval_unclipped(p)
+        }
+    }
+
+    /// A value whose sign is the sign of the clipped object and whose gradient is the surface's
+    /// gradient at a surface point: `min(F′, distance to the box faces)` for a clipping box.
+    pub fn eval_with_gradient(&self, p: DVec3) -> (f64, DVec3) {
+        let f = self.eval_unclipped(p);
+        if self.clips {
+            let (d, n) = box_inner_distance(&self.bounds, p);
+            if d < f {
+                return (d, -n);
+            }
+        }
+        (f, self.gradient_unclipped(p))
+    }
+
+    /// The closed-form first entry for an object with no perturbations and no clipping box
+    /// (the accuracy reference); `None` if that does not apply or nothing is hit.
+    pub fn closed_form_hit(&self, ray: &fray_core::Ray, range: fray_core::Interval) -> Option<f64> {
+        if !self.perturbations.is_empty() || self.clips {
+            return None;
+        }
+        let range = self.bounds.clip_ray(ray, range)?;
+        self.base.on_ray(ray).first_nonnegative(range)
+    }
+}
+
+/// The signed distance from `p` to the nearest face of `b`, positive inside, and that face's
+/// outward normal.
+fn box_inner_distance(b: &Aabb, p: DVec3) -> (f64, DVec3) {
+    let mut best = (f64::INFINITY, DVec3::X);
+    for axis in 0..3 {
+        let lo = p[axis] - b.min[axis];
+        let hi = b.max[axis] - p[axis];
+        if lo < best.0 {
+            let mut n = DVec3::ZERO;
+            n[axis] = -1.0;
+            best = (lo, n);
+        }
+        if hi < best.0 {
+            let mut n = DVec3::ZERO;
+            n[axis] = 1.0;
+            best = (hi, n);
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_are_derived_for_ellipsoids_and_grow_with_positive_perturbations() {
+        let base = Quadric::sphere(DVec3::ZERO, 1.0);
+        let bump = Perturbation::new(0.5, Quadric::sphere(DVec3::new(1.0, 0.0, 0.0), 0.5));
+        let dent = Perturbation::new(-0.5, Quadric::sphere(DVec3::new(-1.0, 0.0, 0.0), 0.5));
+        let f = FreeForm::new(base, vec![bump, dent], None).unwrap();
+        assert!(!f.clips());
+        assert!(f.bounds().max.x >= 1.5 && f.bounds().min.x <= -1.0 && f.bounds().min.x > -1.01);
+        // Outside the derived box the function is negative: sample a shell around the box.
+        for i in 0..2000 {
+            let a = i as f64 * 0.7;
+            let dir = DVec3::new(a.cos() * (a * 0.31).sin(), (a * 0.31).cos(), a.sin() * (a * 0.31).sin());
+            let p = f.bounds().center() + dir * f.bounds().diagonal();
+            assert!(f.eval(p) < 0.0);
+        }
+    }
+
+    #[test]
+    fn unbounded_shapes_need_a_box_and_the_box_clips() {
+        let cyl = Quadric::cylinder(DVec3::ZERO, DVec3::Y, 1.0);
+        assert_eq!(FreeForm::new(cyl, vec![], None).unwrap_err(), GeometryError::Unbounded);
+        let positive_plane = Perturbation::new(1.0, Quadric::half_space(DVec3::ZERO, DVec3::Y));
+        assert_eq!(
+            FreeForm::new(Quadric::sphere(DVec3::ZERO, 1.0), vec![positive_plane], None).unwrap_err(),
+            GeometryError::Unbounded
+        );
+        let b = Aabb::new(DVec3::new(-2.0, -1.0, -2.0), DVec3::new(2.0, 1.0, 2.0));
+        let f = FreeForm::new(cyl, vec![], Some(b)).unwrap();
+        assert!(f.clips());
+        assert_eq!(f.eval(DVec3::new(0.0, 1.5, 0.0)), f64::NEG_INFINITY);
+        // On the top cap the gradient is the cap's: the outward normal is +y.
+        let (v, g) = f.eval_with_gradient(DVec3::new(0.2, 1.0 - 1e-12, 0.1));
+        assert!(v >= 0.0 && (-g.normalize() - DVec3::Y).length() < 1e-12);
+        assert!(FreeForm::new(cyl, vec![], Some(Aabb::EMPTY)).is_err());
+    }
+
+    #[test]
+    fn perturbation_gradient_matches_finite_differences() {
+        let base = Quadric::sphere(DVec3::ZERO, 1.0);
+        let bump = Perturbation::new(0.8, Quadric::ellipsoid(DVec3::new(0.8, 0.2, 0.0), DVec3::new(0.5, 0.3, 0.4)));
+        let f = FreeForm::new(base, vec![bump], None).unwrap();
+        let p = DVec3::new(0.9, 0.25, 0.05);
+        let g = f.gradient_unclipped(p);
+        let h = 1e-6;
+        for axis in 0..3 {
+            let mut e = DVec3::ZERO;
+            e[axis] = h;
+            let fd = (f.eval(p + e) - f.eval(p - e)) / (2.0 * h);
+            assert!((fd - g[axis]).abs() < 1e-6);
+        }
+    }
+}

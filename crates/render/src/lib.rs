@@ -1,0 +1,1 @@
+//! fray-render (in progress).

@@ -1,0 +1,1 @@
+//! fray-scene (in progress).

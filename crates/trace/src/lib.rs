@@ -1,0 +1,1 @@
+//! fray-trace (in progress).
