@@ -1,0 +1,102 @@
+//! The resolved scene: what a scene file means once parsed and validated, ready for a backend.
+
+use crate::FeatureSet;
+use fray_core::{Projector, Rgb};
+use fray_geometry::Solid;
+use glam::DVec3;
+
+/// A validated scene. Every field holds checked values; backends never re-validate.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Output size in pixels.
+    pub width: u32,
+    pub height: u32,
+    pub camera: Projector,
+    /// Radiance of rays that hit nothing (linear RGB).
+    pub background: Rgb,
+    /// Uniform ambient radiance that lights every surface through its `ambient` reflectance.
+    pub ambient: Rgb,
+    pub lights: Vec<Light>,
+    pub materials: Vec<Material>,
+    pub objects: Vec<Object>,
+    pub settings: Settings,
+    /// What this scene uses; backends build only what is listed.
+    pub features: FeatureSet,
+}
+
+/// Render settings stored in the scene (command-line options override them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Ray-casting tolerance in world units; `None` = `1e-10 ×` the scene's size.
+    pub epsilon: Option<f64>,
+    /// Whether lights cast shadows (shadow rays).
+    pub shadows: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self { epsilon: None, shadows: true }
+    }
+}
+
+/// A light source in radiometric units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// A distant light: `direction` is the unit vector *toward* the sun; `irradiance` (W/m²) is
+    /// measured on a surface facing it.
+    Sun { direction: DVec3, irradiance: Rgb },
+    /// A point light of radiant `intensity` (W/sr): irradiance `I cosθ / r²`.
+    Point { position: DVec3, intensity: Rgb },
+}
+
+/// A Phong-style material. Outgoing radiance at a point lit by irradiance `E` from direction `L`:
+/// `ambient · A + E · (diffuse / π + specular · (shininess + 2) / (2π) · max(0, R·V)^shininess)`,
+/// the normalised Phong lobe so that `diffuse + specular ≤ 1` conserves energy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Reflectance to the scene's ambient radiance.
+    pub ambient: Rgb,
+    /// Lambertian albedo in `[0, 1]`.
+    pub diffuse: Rgb,
+    /// Specular reflectance in `[0, 1]`.
+    pub specular: Rgb,
+    /// Phong exponent (≥ 0).
+    pub shininess: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            ambient: Rgb::splat(0.8),
+            diffuse: Rgb::splat(0.8),
+            specular: Rgb::ZERO,
+            shininess: 32.0,
+        }
+    }
+}
+
+/// One top-level object: a CSG solid with a material per leaf.
+#[derive(Clone, Debug)]
+pub struct Object {
+    pub name: String,
+    pub solid: Solid,
+    /// Index into [`Scene::materials`] for each leaf of `solid`, in leaf order.
+    pub leaf_materials: Vec<u32>,
+}
+
+impl Scene {
+    /// The box around all objects (empty if there are none).
+    pub fn bounds(&self) -> fray_core::Aabb {
+        self.objects.iter().fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()))
+    }
+
+    /// The tolerance to use: the setting, or `1e-10 ×` the scene's diagonal (1e-10 if empty).
+    pub fn epsilon(&self) -> f64 {
+        self.settings.epsilon.unwrap_or_else(|| {
+            let d = self.bounds().diagonal();
+            if d > 0.0 && d.is_finite() { 1e-10 * d } else { 1e-10 }
+        })
+    }
+}
