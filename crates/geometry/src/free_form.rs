@@ -111,10 +111,12 @@ impl FreeForm {
         (f, self.gradient_unclipped(p))
     }
 
-    /// The closed-form first entry for an object with no perturbations and no clipping box
-    /// (the accuracy reference); `None` if that does not apply or nothing is hit.
+    /// The closed-form first entry for an object with no perturbations (the accuracy
+    /// reference): the first point of the box's ray range where the quadratic is `≥ 0`, which
+    /// for a clipping box is the box face when the ray enters the box inside the quadric.
+    /// `None` if the object has perturbations or nothing is hit.
     pub fn closed_form_hit(&self, ray: &fray_core::Ray, range: fray_core::Interval) -> Option<f64> {
-        if !self.perturbations.is_empty() || self.clips {
+        if !self.perturbations.is_empty() {
             return None;
         }
         let range = self.bounds.clip_ray(ray, range)?;
