@@ -1,1 +1,33 @@
-//! fray-trace (in progress).
+//! `fray-trace`: the CPU backend and f64 reference renderer. For every pixel the projector's ray
+//! is cast against every object by binary search (`fray-geometry`); the nearest hit is shaded
+//! with ambient + Lambert (albedo/π) + normalised Phong light and hard shadows. Tiles render in
+//! parallel with rayon; the image does not depend on the thread count.
+//!
+//! ```
+//! use fray_trace::{render, TraceSettings};
+//!
+//! let scene = fray_scene::parse(
+//!     r#"Scene(
+//!         image: (width: 32, height: 24),
+//!         camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)),
+//!         lights: [Sun(direction: (0, 1, -1), irradiance: (3, 3, 3))],
+//!         objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))],
+//!     )"#,
+//!     "inline.ron",
+//! )?;
+//! let frame = render(&scene, &TraceSettings::for_scene(&scene), None)?;
+//! // The centre pixel sees the sphere at distance 3 (to within ε).
+//! assert!((frame.depth.get(16, 12) - 3.0).abs() < 1e-2);
+//! assert!(frame.depth.get(0, 0).is_infinite());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod hit;
+mod render;
+mod settings;
+mod shade;
+
+pub use hit::{SceneHit, nearest_hit, occluded};
+pub use render::{Progress, render};
+pub use settings::{TraceError, TraceSettings};
+pub use shade::{ShadeContext, SurfacePoint};

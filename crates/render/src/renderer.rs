@@ -1,0 +1,113 @@
+//! The renderer facade: options, backend choice, and the one `render` call.
+
+use fray_core::Frame;
+use fray_scene::Scene;
+use fray_trace::{TraceError, TraceSettings};
+
+/// Which backend renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Backend {
+    /// The f64 CPU reference (`fray-trace`).
+    Cpu,
+    /// The best backend available on this machine.
+    #[default]
+    Auto,
+}
+
+impl Backend {
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Auto => "auto",
+        }
+    }
+}
+
+/// The concrete backends that can run on this machine, reference first.
+pub fn available_backends() -> Vec<Backend> {
+    vec![Backend::Cpu]
+}
+
+/// Overrides of the scene's own settings; `None` keeps the scene's value.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderOptions {
+    pub backend: Backend,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    /// Ray-casting tolerance in world units.
+    pub epsilon: Option<f64>,
+    /// Worker threads for the CPU backend.
+    pub threads: Option<usize>,
+    pub shadows: Option<bool>,
+}
+
+/// Why a render failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error("image size must be 1..=16384 on each side, got {0} × {1}")]
+    BadSize(u32, u32),
+    #[error("cpu backend: {0}")]
+    Cpu(#[from] TraceError),
+}
+
+/// Renders scenes with fixed options.
+#[derive(Clone, Debug, Default)]
+pub struct Renderer {
+    options: RenderOptions,
+}
+
+impl Renderer {
+    pub fn new(options: RenderOptions) -> Self {
+        Self { options }
+    }
+
+    pub fn options(&self) -> &RenderOptions {
+        &self.options
+    }
+
+    /// The backend `render` will use for `Auto`.
+    pub fn resolved_backend(&self) -> Backend {
+        match self.options.backend {
+            Backend::Auto => available_backends()[0],
+            b => b,
+        }
+    }
+
+    /// Renders `scene`.
+    pub fn render(&self, scene: &Scene) -> Result<Frame, RenderError> {
+        self.render_with_progress(scene, None)
+    }
+
+    /// Renders `scene`, reporting (pixels done, pixels in total) as work finishes.
+    pub fn render_with_progress(&self, scene: &Scene, progress: Option<fray_trace::Progress<'_>>) -> Result<Frame, RenderError> {
+        let scene = self.sized(scene)?;
+        let mut settings = TraceSettings::for_scene(&scene);
+        if let Some(eps) = self.options.epsilon {
+            settings.epsilon = eps;
+        }
+        settings.threads = self.options.threads;
+        if let Some(s) = self.options.shadows {
+            settings.shadows = s;
+        }
+        match self.resolved_backend() {
+            Backend::Cpu | Backend::Auto => Ok(fray_trace::render(&scene, &settings, progress)?),
+        }
+    }
+
+    /// The scene at the requested size. Giving only one side keeps the scene's aspect ratio.
+    fn sized(&self, scene: &Scene) -> Result<std::borrow::Cow<'_, Scene>, RenderError> {
+        let (w, h) = match (self.options.width, self.options.height) {
+            (None, None) => return Ok(std::borrow::Cow::Borrowed(scene)),
+            (Some(w), Some(h)) => (w, h),
+            (Some(w), None) => (w, ((u64::from(w) * u64::from(scene.height)) / u64::from(scene.width.max(1))).max(1) as u32),
+            (None, Some(h)) => (((u64::from(h) * u64::from(scene.width)) / u64::from(scene.height.max(1))).max(1) as u32, h),
+        };
+        if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
+            return Err(RenderError::BadSize(w, h));
+        }
+        let mut s = scene.clone();
+        s.width = w;
+        s.height = h;
+        Ok(std::borrow::Cow::Owned(s))
+    }
+}

@@ -1,0 +1,45 @@
+//! The nearest hit over all objects of a scene: the pair (ray parameter, primitive).
+
+use fray_core::{Interval, Ray};
+use fray_geometry::{CastStats, RayCaster};
+use fray_scene::Scene;
+
+/// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneHit {
+    pub t: f64,
+    pub object: u32,
+    pub leaf: u32,
+}
+
+/// The nearest hit in `range` over every object of `scene`. Each object is searched only up to
+/// the best hit so far, so occluded objects cost little.
+pub fn nearest_hit(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    stats: &mut CastStats,
+) -> Option<SceneHit> {
+    let mut best: Option<SceneHit> = None;
+    let mut hi = range.hi;
+    for (index, object) in scene.objects.iter().enumerate() {
+        if let Some(t) = caster.cast(&object.solid, ray, Interval { lo: range.lo, hi }, eps, stats) {
+            if best.is_none_or(|b| t < b.t) {
+                hi = t;
+                let (_, leaf) = object.solid.surface_at(ray.at(t), -ray.dir);
+                best = Some(SceneHit { t, object: index as u32, leaf });
+            }
+        }
+    }
+    best
+}
+
+/// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.
+pub fn occluded(scene: &Scene, caster: &mut RayCaster, ray: &Ray, range: Interval, eps: f64, stats: &mut CastStats) -> bool {
+    scene
+        .objects
+        .iter()
+        .any(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
+}

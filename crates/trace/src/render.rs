@@ -1,0 +1,184 @@
+//! The CPU frame loop: tiles in parallel (rayon), one primary ray per pixel centre, shading, and
+//! the frame's statistics. The result does not depend on the thread count.
+
+use crate::hit::nearest_hit;
+use crate::shade::{ShadeContext, SurfacePoint};
+use crate::{TraceError, TraceSettings};
+use fray_core::{Frame, Image, Interval, RenderStats, Rgb};
+use fray_geometry::{CastStats, RayCaster};
+use fray_scene::Scene;
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Called after each finished tile with (pixels done, pixels in total).
+pub type Progress<'a> = &'a (dyn Fn(u64, u64) + Sync);
+
+/// One tile's pixels and counters.
+struct TileResult {
+    x0: u32,
+    y0: u32,
+    w: u32,
+    h: u32,
+    colour: Vec<Rgb>,
+    depth: Vec<f64>,
+    normals: Vec<Vec3>,
+    hits: u64,
+    shadow_rays: u64,
+    cast: CastStats,
+}
+
+/// Renders `scene` on the CPU.
+pub fn render(scene: &Scene, settings: &TraceSettings, progress: Option<Progress<'_>>) -> Result<Frame, TraceError> {
+    if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
+        return Err(TraceError::BadEpsilon(settings.epsilon));
+    }
+    if scene.width == 0 || scene.height == 0 {
+        return Err(TraceError::EmptyImage(scene.width, scene.height));
+    }
+    if settings.tile_size == 0 {
+        return Err(TraceError::BadTileSize);
+    }
+    let start = Instant::now();
+    let pool = {
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = settings.threads {
+            builder = builder.num_threads(n);
+        }
+        builder.build().map_err(|e| TraceError::ThreadPool {
+            threads: settings.threads.unwrap_or(0),
+            reason: e.to_string(),
+        })?
+    };
+    let (width, height) = (scene.width, scene.height);
+    let ts = settings.tile_size;
+    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(ts))
+        .flat_map(|ty| (0..width.div_ceil(ts)).map(move |tx| (tx * ts, ty * ts)))
+        .collect();
+    let total = u64::from(width) * u64::from(height);
+    let done = AtomicU64::new(0);
+    let results: Vec<TileResult> = pool.install(|| {
+        tiles
+            .par_iter()
+            .map_init(RayCaster::new, |caster, &(x0, y0)| {
+                let tile = render_tile(scene, settings, caster, x0, y0);
+                if let Some(report) = progress {
+                    let n = u64::from(tile.w) * u64::from(tile.h);
+                    report(done.fetch_add(n, Ordering::Relaxed) + n, total);
+                }
+                tile
+            })
+            .collect()
+    });
+
+    let mut colour = Image::filled(width, height, Rgb::ZERO);
+    let mut depth = Image::filled(width, height, f64::INFINITY);
+    let mut normals = Image::filled(width, height, Vec3::ZERO);
+    let mut stats = RenderStats {
+        backend: "cpu".into(),
+        threads: pool.current_num_threads(),
+        primary_rays: total,
+        epsilon: settings.epsilon,
+        ..RenderStats::default()
+    };
+    for t in &results {
+        for j in 0..t.h {
+            for i in 0..t.w {
+                let k = (j * t.w + i) as usize;
+                colour.set(t.x0 + i, t.y0 + j, t.colour[k]);
+                depth.set(t.x0 + i, t.y0 + j, t.depth[k]);
+                normals.set(t.x0 + i, t.y0 + j, t.normals[k]);
+            }
+        }
+        stats.hits += t.hits;
+        stats.shadow_rays += t.shadow_rays;
+        stats.bound_evaluations += t.cast.bound_evaluations;
+        stats.point_evaluations += t.cast.point_evaluations;
+    }
+    stats.passes.push("primary".into());
+    stats.passes.extend(scene.features.names().iter().map(|s| s.to_string()));
+    if !(settings.shadows && scene.features.shadows) {
+        stats.passes.retain(|p| p != "shadows");
+    }
+    stats.elapsed = start.elapsed();
+    Ok(Frame { colour, depth, normals, stats })
+}
+
+fn render_tile(scene: &Scene, settings: &TraceSettings, caster: &mut RayCaster, x0: u32, y0: u32) -> TileResult {
+    let w = settings.tile_size.min(scene.width - x0);
+    let h = settings.tile_size.min(scene.height - y0);
+    let n = (w * h) as usize;
+    let mut tile = TileResult {
+        x0,
+        y0,
+        w,
+        h,
+        colour: Vec::with_capacity(n),
+        depth: Vec::with_capacity(n),
+        normals: Vec::with_capacity(n),
+        hits: 0,
+        shadow_rays: 0,
+        cast: CastStats::default(),
+    };
+    let mut shade = ShadeContext {
+        scene,
+        shadows: settings.shadows && scene.features.shadows,
+        epsilon: settings.epsilon,
+        shadow_rays: 0,
+        cast: CastStats::default(),
+    };
+    for py in y0..y0 + h {
+        for px in x0..x0 + w {
+            let (c, d, nrm) = shade_pixel(scene, settings, caster, &mut shade, &mut tile.cast, px, py);
+            if d.is_finite() {
+                tile.hits += 1;
+            }
+            tile.colour.push(c);
+            tile.depth.push(d);
+            tile.normals.push(nrm);
+        }
+    }
+    tile.shadow_rays = shade.shadow_rays;
+    tile.cast += shade.cast;
+    tile
+}
+
+fn shade_pixel(
+    scene: &Scene,
+    settings: &TraceSettings,
+    caster: &mut RayCaster,
+    shade: &mut ShadeContext<'_>,
+    stats: &mut CastStats,
+    px: u32,
+    py: u32,
+) -> (Rgb, f64, Vec3) {
+    let miss = (scene.background, f64::INFINITY, Vec3::ZERO);
+    let Some(camera_ray) = scene.camera.pixel_ray(px, py, scene.width, scene.height) else {
+        return miss;
+    };
+    let ray = camera_ray.ray;
+    let range = Interval::new(camera_ray.t_near, f64::INFINITY);
+    let Some(hit) = nearest_hit(scene, caster, &ray, range, settings.epsilon, stats) else {
+        return miss;
+    };
+    let object = &scene.objects[hit.object as usize];
+    let position = ray.at(hit.t);
+    let to_viewer = -ray.dir;
+    let normal = if hit.t <= camera_ray.t_near {
+        // The picture surface cuts the object: show the cut face, facing the viewer.
+        to_viewer
+    } else {
+        object.solid.surface_at(position, to_viewer).0
+    };
+    let shading_normal = if normal.dot(to_viewer) < 0.0 { -normal } else { normal };
+    let material = object
+        .leaf_materials
+        .get(hit.leaf as usize)
+        .and_then(|&m| scene.materials.get(m as usize))
+        .cloned()
+        .unwrap_or_default();
+    let point = SurfacePoint { position, normal: shading_normal, to_viewer };
+    let radiance: DVec3 = shade.radiance(caster, &point, &material);
+    (radiance.as_vec3(), hit.t, normal.as_vec3())
+}

@@ -1,0 +1,39 @@
+//! Settings of the CPU backend.
+
+/// How the CPU backend renders. Scene settings feed the defaults; the caller may override.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSettings {
+    /// Ray-casting tolerance ε in world units.
+    pub epsilon: f64,
+    /// Worker threads; `None` = rayon's default (all cores).
+    pub threads: Option<usize>,
+    /// Cast shadow rays toward the lights.
+    pub shadows: bool,
+    /// Side of the square tiles the image is split into for parallel work.
+    pub tile_size: u32,
+}
+
+impl TraceSettings {
+    /// The settings a scene asks for: its ε (or the size-relative default) and its shadow switch.
+    pub fn for_scene(scene: &fray_scene::Scene) -> Self {
+        Self {
+            epsilon: scene.epsilon(),
+            threads: None,
+            shadows: scene.settings.shadows,
+            tile_size: 16,
+        }
+    }
+}
+
+/// Why the CPU backend refused to render.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TraceError {
+    #[error("epsilon must be finite and > 0, got {0}")]
+    BadEpsilon(f64),
+    #[error("image size must be at least 1 × 1, got {0} × {1}")]
+    EmptyImage(u32, u32),
+    #[error("tile size must be at least 1")]
+    BadTileSize,
+    #[error("could not start {threads} worker threads: {reason}")]
+    ThreadPool { threads: usize, reason: String },
+}
