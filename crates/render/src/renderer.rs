@@ -95,7 +95,7 @@ impl Renderer {
     }
 
     /// The scene at the requested size. Giving only one side keeps the scene's aspect ratio.
-    fn sized(&self, scene: &Scene) -> Result<std::borrow::Cow<'_, Scene>, RenderError> {
+    fn sized<'s>(&self, scene: &'s Scene) -> Result<std::borrow::Cow<'s, Scene>, RenderError> {
         let (w, h) = match (self.options.width, self.options.height) {
             (None, None) => return Ok(std::borrow::Cow::Borrowed(scene)),
             (Some(w), Some(h)) => (w, h),
