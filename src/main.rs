@@ -1,1 +1,198 @@
-fn main() {}
+//! The `fray` command line: render a scene file to PNG or EXR.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use fray_core::ToneMap;
+use fray_render::output::{BitDepth, PngOptions, write_image};
+use fray_render::{Backend, RenderOptions, Renderer};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The scene rendered when none is named: the turboprop aircraft.
+const DEFAULT_SCENE: &str = include_str!("../data/scenes/turboprop.ron");
+const DEFAULT_SCENE_NAME: &str = "data/scenes/turboprop.ron (built in)";
+
+#[derive(Parser, Debug)]
+#[command(name = "fray", version, about = "Ray casting of functionally defined scenes")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene file (the built-in default scene if none is given).
+    Render(RenderArgs),
+    /// Parse and validate a scene file, and print what it uses.
+    Check {
+        /// The scene file (.ron).
+        scene: PathBuf,
+    },
+}
+
+#[derive(clap::Args, Debug, Default)]
+struct RenderArgs {
+    /// The scene file (.ron); the built-in turboprop scene if omitted.
+    scene: Option<PathBuf>,
+    /// Output image: .png (sRGB, tone-mapped) or .exr (linear colour, depth Z, normals).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Image width in pixels (keeps the aspect ratio if --height is not given).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (keeps the aspect ratio if --width is not given).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Ray-casting tolerance in world units (default: 1e-10 × the scene's size).
+    #[arg(long)]
+    eps: Option<f64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Which backend renders.
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    backend: BackendArg,
+    /// Turn shadow rays off.
+    #[arg(long)]
+    no_shadows: bool,
+    /// Exposure multiplier applied before tone mapping (PNG only).
+    #[arg(long, default_value_t = 1.0)]
+    exposure: f32,
+    /// Tone map for PNG output.
+    #[arg(long, value_enum, default_value_t = ToneMapArg::Clamp)]
+    tone_map: ToneMapArg,
+    /// Bits per channel for PNG output.
+    #[arg(long, default_value_t = 8, value_parser = clap::builder::PossibleValuesParser::new(["8", "16"]).map(|s| s.parse::<u8>().unwrap_or(8)))]
+    bit_depth: u8,
+    /// No progress bar and no summary line.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum BackendArg {
+    Cpu,
+    #[default]
+    Auto,
+}
+
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum ToneMapArg {
+    #[default]
+    Clamp,
+    Reinhard,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => render(&RenderArgs::default()),
+        Some(Command::Render(args)) => render(&args),
+        Some(Command::Check { scene }) => check(&scene),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn load(path: Option<&Path>) -> Result<(fray_scene::Scene, String), String> {
+    match path {
+        Some(p) => fray_scene::load(p).map(|s| (s, p.display().to_string())).map_err(|e| e.to_string()),
+        None => fray_scene::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME)
+            .map(|s| (s, DEFAULT_SCENE_NAME.to_string()))
+            .map_err(|e| e.to_string()),
+    }
+}
+
+fn check(path: &Path) -> Result<(), String> {
+    let (scene, name) = load(Some(path))?;
+    let leaves: usize = scene.objects.iter().map(|o| o.solid.leaves().len()).sum();
+    let perturbations: usize = scene.objects.iter().map(|o| o.solid.perturbation_count()).sum();
+    println!(
+        "{name}: ok — {}×{}, {} objects ({leaves} free forms, {perturbations} perturbations), {} lights, {} materials; features: {}",
+        scene.width,
+        scene.height,
+        scene.objects.len(),
+        scene.lights.len(),
+        scene.materials.len(),
+        scene.features.names().join(", ")
+    );
+    Ok(())
+}
+
+fn render(args: &RenderArgs) -> Result<(), String> {
+    let (scene, name) = load(args.scene.as_deref())?;
+    let output = args.output.clone().unwrap_or_else(|| {
+        let stem = args
+            .scene
+            .as_deref()
+            .and_then(|p| p.file_stem())
+            .map_or_else(|| "turboprop".to_string(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.png"))
+    });
+    let renderer = Renderer::new(RenderOptions {
+        backend: match args.backend {
+            BackendArg::Cpu => Backend::Cpu,
+            BackendArg::Auto => Backend::Auto,
+        },
+        width: args.width,
+        height: args.height,
+        epsilon: args.eps,
+        threads: args.threads,
+        shadows: args.no_shadows.then_some(false),
+    });
+    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::new(0);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} eta {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let report = |done: u64, total: u64| {
+        if let Some(bar) = &bar {
+            bar.set_length(total);
+            bar.set_position(done);
+        }
+    };
+    let frame = renderer.render_with_progress(&scene, Some(&report)).map_err(|e| format!("{name}: {e}"))?;
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    let png = PngOptions {
+        bit_depth: if args.bit_depth == 16 { BitDepth::Sixteen } else { BitDepth::Eight },
+        tone_map: match args.tone_map {
+            ToneMapArg::Clamp => ToneMap::Clamp,
+            ToneMapArg::Reinhard => ToneMap::Reinhard,
+        },
+        exposure: args.exposure,
+    };
+    write_image(&frame, &output, &png).map_err(|e| e.to_string())?;
+    if !args.quiet {
+        let s = &frame.stats;
+        println!(
+            "{name} → {}: {}×{} in {:.1} ms ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray, ε = {:.3e}; ran: {}",
+            output.display(),
+            frame.colour.width(),
+            frame.colour.height(),
+            s.elapsed.as_secs_f64() * 1e3,
+            s.backend,
+            s.threads,
+            s.rays_per_second() / 1e6,
+            s.primary_rays,
+            s.shadow_rays,
+            100.0 * s.hits as f64 / s.primary_rays.max(1) as f64,
+            s.steps_per_ray(),
+            s.point_evaluations as f64 / s.rays().max(1) as f64,
+            s.epsilon,
+            s.passes.join(", "),
+        );
+    }
+    Ok(())
+}
