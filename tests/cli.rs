@@ -1,0 +1,115 @@
+//! End-to-end tests of the `fray` binary: the default scene, outputs, and clear errors (never a
+//! panic) for malformed scenes.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn fray(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fray"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the fray binary runs")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fray-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn default_scene_renders_to_png() {
+    let dir = temp_dir("default");
+    let out = dir.join("plane.png");
+    let o = fray(&["render", "--width", "64", "--quiet", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&out).expect("a readable PNG").to_rgb8();
+    assert_eq!(img.width(), 64);
+    // The aircraft covers part of the frame: not every pixel is the background.
+    let first = *img.get_pixel(0, 0);
+    assert!(img.pixels().any(|p| *p != first));
+}
+
+#[test]
+fn summary_line_reports_time_and_steps() {
+    let dir = temp_dir("summary");
+    let out = dir.join("csg.exr");
+    let o = fray(&["render", "data/scenes/csg.ron", "--width", "48", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("Mrays/s") && stdout.contains("per ray") && stdout.contains("ms"), "{stdout}");
+    assert!(std::fs::metadata(&out).map(|m| m.len() > 0).unwrap_or(false));
+}
+
+#[test]
+fn check_lists_features() {
+    let o = fray(&["check", "data/scenes/csg.ron"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("csg") && stdout.contains("free-form"), "{stdout}");
+}
+
+/// Writes `body` to a scene file and runs `fray render` on it; returns stderr.
+fn render_bad(name: &str, body: &str) -> (String, PathBuf) {
+    let dir = temp_dir(name);
+    let scene = dir.join(format!("{name}.ron"));
+    std::fs::write(&scene, body).expect("write scene");
+    let o = fray(&["render", scene.to_str().unwrap(), "-o", dir.join("x.png").to_str().unwrap()]);
+    assert!(!o.status.success(), "{name}: a malformed scene must fail");
+    let err = stderr(&o);
+    assert!(!err.contains("panicked"), "{name}: panicked: {err}");
+    (err, scene)
+}
+
+fn assert_names(err: &str, scene: &Path, line: u32, field: &str) {
+    let file = scene.display().to_string();
+    assert!(err.contains(&file), "names the file: {err}");
+    assert!(err.contains(&format!(":{line}:")), "names line {line}: {err}");
+    assert!(err.contains(field), "names the field `{field}`: {err}");
+}
+
+#[test]
+fn malformed_scenes_fail_with_file_line_and_field() {
+    let (err, path) = render_bad("syntax", "Scene(\n  image: (width: 10, height: 10),\n  objects: [ (shape: Sphere(center: (0, 0, 0) radius: 1)) ],\n)\n");
+    assert_names(&err, &path, 3, "");
+
+    let (err, path) = render_bad(
+        "unknown_field",
+        "Scene(\n  camera: Pinhole(eye: (0, 0, -5), look_at: (0, 0, 0)),\n  objects: [ (shape: Sphere(center: (0, 0, 0), radius: 1, colour: 3)) ],\n)\n",
+    );
+    assert_names(&err, &path, 3, "colour");
+
+    let (err, path) = render_bad(
+        "negative_radius",
+        "Scene(\n  camera: Pinhole(eye: (0, 0, -5), look_at: (0, 0, 0)),\n  objects: [\n    (shape: Sphere(center: (0, 0, 0), radius: -1)),\n  ],\n)\n",
+    );
+    assert_names(&err, &path, 4, "radius");
+
+    let (err, path) = render_bad(
+        "unbounded",
+        "Scene(\n  camera: Pinhole(eye: (0, 0, -5), look_at: (0, 0, 0)),\n  objects: [\n    (shape: FreeForm(base: Cylinder(point: (0, 0, 0), axis: (0, 1, 0), radius: 1))),\n  ],\n)\n",
+    );
+    assert_names(&err, &path, 4, "shape");
+    assert!(err.contains("unbounded") || err.contains("bounds"), "{err}");
+}
+
+#[test]
+fn missing_scene_file_is_a_clear_error() {
+    let o = fray(&["render", "no/such/scene.ron"]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(err.contains("no/such/scene.ron") && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn unsupported_output_extension_is_a_clear_error() {
+    let o = fray(&["render", "data/scenes/csg.ron", "--width", "8", "-o", "out.bmp"]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(err.contains("out.bmp") && !err.contains("panicked"), "{err}");
+}
