@@ -22,18 +22,19 @@ pub fn nearest_hit(
     eps: f64,
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
-    let mut best: Option<SceneHit> = None;
+    let mut best: Option<(f64, usize)> = None;
     let mut hi = range.hi;
     for (index, object) in scene.objects.iter().enumerate() {
         if let Some(t) = caster.cast(&object.solid, ray, Interval { lo: range.lo, hi }, eps, stats) {
-            if best.is_none_or(|b| t < b.t) {
+            if best.is_none_or(|(bt, _)| t < bt) {
                 hi = t;
-                let (_, leaf) = object.solid.surface_at(ray.at(t), -ray.dir);
-                best = Some(SceneHit { t, object: index as u32, leaf });
+                best = Some((t, index));
             }
         }
     }
-    best
+    let (t, index) = best?;
+    let (_, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
+    Some(SceneHit { t, object: index as u32, leaf })
 }
 
 /// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.
