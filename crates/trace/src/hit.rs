@@ -4,12 +4,14 @@ use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster};
 use fray_scene::Scene;
 
-/// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit.
+/// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit, and
+/// the outward unit normal there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneHit {
     pub t: f64,
     pub object: u32,
     pub leaf: u32,
+    pub normal: glam::DVec3,
 }
 
 /// The nearest hit in `range` over every object of `scene`. Each object is searched only up to
@@ -33,8 +35,8 @@ pub fn nearest_hit(
         }
     }
     let (t, index) = best?;
-    let (_, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
-    Some(SceneHit { t, object: index as u32, leaf })
+    let (normal, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
+    Some(SceneHit { t, object: index as u32, leaf, normal })
 }
 
 /// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.

@@ -169,7 +169,7 @@ fn shade_pixel(
         // The picture surface cuts the object: show the cut face, facing the viewer.
         to_viewer
     } else {
-        object.solid.surface_at(position, to_viewer).0
+        hit.normal
     };
     let shading_normal = if normal.dot(to_viewer) < 0.0 { -normal } else { normal };
     let material = object
