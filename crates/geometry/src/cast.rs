@@ -68,7 +68,14 @@ impl RayCaster {
     }
 
     /// The first `t` in `range` where `solid` is non-negative, to within `eps` (world units).
-    pub fn cast(&mut self, solid: &Solid, ray: &Ray, range: Interval, eps: f64, stats: &mut CastStats) -> Option<f64> {
+    pub fn cast(
+        &mut self,
+        solid: &Solid,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        stats: &mut CastStats,
+    ) -> Option<f64> {
         let range = solid.bounds().clip_ray(ray, range)?;
         if !self.prepare(solid, ray, range) {
             return None;
@@ -108,36 +115,50 @@ impl RayCaster {
     }
 
     fn leaf_bound(&self, leaf: &LeafOnRay, seg: Interval) -> Bound {
-        let Some(present) = leaf.present else { return ABSENT };
+        let Some(present) = leaf.present else {
+            return ABSENT;
+        };
         let mut inner = seg;
         if leaf.clips {
             if seg.hi < present.lo || seg.lo > present.hi {
                 return ABSENT;
             }
-            inner = Interval { lo: seg.lo.max(present.lo), hi: seg.hi.min(present.hi) };
+            inner = Interval {
+                lo: seg.lo.max(present.lo),
+                hi: seg.hi.min(present.hi),
+            };
         }
         let mut value = leaf.base.range(inner);
         let mut slope = leaf.base.derivative_range(inner);
-        for &(f, q) in &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize] {
+        for &(f, q) in
+            &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize]
+        {
             let qr = q.range(inner).positive_part();
             value = value + qr.cube().scale(f);
             slope = slope + (qr.square() * q.derivative_range(inner)).scale(3.0 * f);
         }
         if inner != seg {
             // Part of the segment is outside the clipping box, where the value is −∞.
-            value = Interval { lo: f64::NEG_INFINITY, hi: value.hi };
+            value = Interval {
+                lo: f64::NEG_INFINITY,
+                hi: value.hi,
+            };
             slope = Interval::EVERYTHING;
         }
         Bound { value, slope }
     }
 
     fn leaf_value(&self, leaf: &LeafOnRay, t: f64) -> f64 {
-        let Some(present) = leaf.present else { return f64::NEG_INFINITY };
+        let Some(present) = leaf.present else {
+            return f64::NEG_INFINITY;
+        };
         if leaf.clips && (t < present.lo || t > present.hi) {
             return f64::NEG_INFINITY;
         }
         let mut v = leaf.base.eval(t);
-        for &(f, q) in &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize] {
+        for &(f, q) in
+            &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize]
+        {
             let qt = q.eval(t);
             if qt > 0.0 {
                 v += f * qt * qt * qt;
@@ -162,15 +183,27 @@ impl RayCaster {
                     let is_max = *op == CsgOp::Max;
                     // If one operand dominates over the whole segment, the result *is* that
                     // operand; otherwise its slope lies between the two operands' slopes.
-                    let a_wins = if is_max { a.value.lo >= b.value.hi } else { a.value.hi <= b.value.lo };
-                    let b_wins = if is_max { b.value.lo >= a.value.hi } else { b.value.hi <= a.value.lo };
+                    let a_wins = if is_max {
+                        a.value.lo >= b.value.hi
+                    } else {
+                        a.value.hi <= b.value.lo
+                    };
+                    let b_wins = if is_max {
+                        b.value.lo >= a.value.hi
+                    } else {
+                        b.value.hi <= a.value.lo
+                    };
                     stack.push(if a_wins {
                         a
                     } else if b_wins {
                         b
                     } else {
                         Bound {
-                            value: if is_max { a.value.max(b.value) } else { a.value.min(b.value) },
+                            value: if is_max {
+                                a.value.max(b.value)
+                            } else {
+                                a.value.min(b.value)
+                            },
                             slope: a.slope.hull(b.slope),
                         }
                     });
@@ -201,7 +234,11 @@ impl RayCaster {
                 CsgOp::Max | CsgOp::Min => {
                     let b = stack.pop().unwrap_or(f64::NEG_INFINITY);
                     let a = stack.pop().unwrap_or(f64::NEG_INFINITY);
-                    stack.push(if *op == CsgOp::Max { a.max(b) } else { a.min(b) });
+                    stack.push(if *op == CsgOp::Max {
+                        a.max(b)
+                    } else {
+                        a.min(b)
+                    });
                 }
                 CsgOp::Neg => {
                     if let Some(v) = stack.last_mut() {
@@ -215,7 +252,13 @@ impl RayCaster {
         result
     }
 
-    fn search(&mut self, program: &[CsgOp], range: Interval, eps: f64, stats: &mut CastStats) -> Option<f64> {
+    fn search(
+        &mut self,
+        program: &[CsgOp],
+        range: Interval,
+        eps: f64,
+        stats: &mut CastStats,
+    ) -> Option<f64> {
         if self.value(program, range.lo, stats) >= 0.0 {
             return Some(range.lo);
         }
@@ -276,7 +319,14 @@ impl RayCaster {
 
     /// Illinois regula falsi on a bracket with `f(a) < 0 ≤ f(b)` and a single root; returns a
     /// point `t ≥ root` with `t − root ≤ eps` and `f(t) ≥ 0`.
-    fn illinois(&mut self, program: &[CsgOp], (mut a, mut fa): (f64, f64), (mut b, mut fb): (f64, f64), eps: f64, stats: &mut CastStats) -> f64 {
+    fn illinois(
+        &mut self,
+        program: &[CsgOp],
+        (mut a, mut fa): (f64, f64),
+        (mut b, mut fb): (f64, f64),
+        eps: f64,
+        stats: &mut CastStats,
+    ) -> f64 {
         let mut last_side = 0i8;
         let mut width_before = b - a;
         for iteration in 0..200 {

@@ -57,7 +57,12 @@ impl Solid {
             }
             max_stack = max_stack.max(depth);
         }
-        Ok(Self { leaves, program, bounds, max_stack })
+        Ok(Self {
+            leaves,
+            program,
+            bounds,
+            max_stack,
+        })
     }
 
     /// A solid of one free-form object.
@@ -103,7 +108,11 @@ impl Solid {
                 CsgOp::Max | CsgOp::Min => {
                     let b = stack.pop().unwrap_or(f64::NEG_INFINITY);
                     let a = stack.pop().unwrap_or(f64::NEG_INFINITY);
-                    stack.push(if *op == CsgOp::Max { a.max(b) } else { a.min(b) });
+                    stack.push(if *op == CsgOp::Max {
+                        a.max(b)
+                    } else {
+                        a.min(b)
+                    });
                 }
                 CsgOp::Neg => {
                     if let Some(v) = stack.last_mut() {
@@ -129,7 +138,11 @@ impl Solid {
                 CsgOp::Max | CsgOp::Min => {
                     let b = stack.pop().unwrap_or((f64::NEG_INFINITY, DVec3::ZERO, 0));
                     let a = stack.pop().unwrap_or((f64::NEG_INFINITY, DVec3::ZERO, 0));
-                    let take_a = if *op == CsgOp::Max { a.0 >= b.0 } else { a.0 <= b.0 };
+                    let take_a = if *op == CsgOp::Max {
+                        a.0 >= b.0
+                    } else {
+                        a.0 <= b.0
+                    };
                     stack.push(if take_a { a } else { b });
                 }
                 CsgOp::Neg => {
@@ -142,12 +155,20 @@ impl Solid {
         }
         let (_, g, leaf) = stack.pop().unwrap_or((0.0, DVec3::ZERO, 0));
         let len = g.length();
-        let n = if len > 0.0 && len.is_finite() { -g / len } else { fallback };
+        let n = if len > 0.0 && len.is_finite() {
+            -g / len
+        } else {
+            fallback
+        };
         (n, leaf)
     }
 }
 
-fn compile(shape: Shape, leaves: &mut Vec<FreeForm>, program: &mut Vec<CsgOp>) -> Result<Aabb, GeometryError> {
+fn compile(
+    shape: Shape,
+    leaves: &mut Vec<FreeForm>,
+    program: &mut Vec<CsgOp>,
+) -> Result<Aabb, GeometryError> {
     match shape {
         Shape::FreeForm(f) => {
             let b = f.bounds();
@@ -156,7 +177,11 @@ fn compile(shape: Shape, leaves: &mut Vec<FreeForm>, program: &mut Vec<CsgOp>) -
             Ok(b)
         }
         Shape::Union(children) | Shape::Intersection(children) if children.len() < 2 => {
-            Err(GeometryError::TooFewOperands { op: "union or intersection", min: 2, got: children.len() })
+            Err(GeometryError::TooFewOperands {
+                op: "union or intersection",
+                min: 2,
+                got: children.len(),
+            })
         }
         Shape::Union(children) => {
             let mut b = Aabb::EMPTY;
@@ -213,10 +238,17 @@ mod tests {
         assert!(d.eval(p_a_only) >= 0.0 && d.eval(p_both) < 0.0 && d.eval(p_b_only) < 0.0);
         assert!((i.bounds().min.x - 0.0).abs() < 1e-6 && (i.bounds().max.x - 1.0).abs() < 1e-6);
         assert!((u.bounds().max.x - 2.0).abs() < 1e-6);
-        assert_eq!(d.program(), &[CsgOp::Leaf(0), CsgOp::Leaf(1), CsgOp::Neg, CsgOp::Min]);
+        assert_eq!(
+            d.program(),
+            &[CsgOp::Leaf(0), CsgOp::Leaf(1), CsgOp::Neg, CsgOp::Min]
+        );
         assert_eq!(
             Solid::new(Shape::Union(vec![a])).unwrap_err(),
-            GeometryError::TooFewOperands { op: "union or intersection", min: 2, got: 1 }
+            GeometryError::TooFewOperands {
+                op: "union or intersection",
+                min: 2,
+                got: 1
+            }
         );
     }
 

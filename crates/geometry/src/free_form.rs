@@ -21,16 +21,24 @@ pub struct FreeForm {
 impl FreeForm {
     /// Builds the object; `bounds = None` asks for a derived box, which fails with
     /// [`GeometryError::Unbounded`] when the shape is not provably finite.
-    pub fn new(base: Quadric, perturbations: Vec<Perturbation>, bounds: Option<Aabb>) -> Result<Self, GeometryError> {
+    pub fn new(
+        base: Quadric,
+        perturbations: Vec<Perturbation>,
+        bounds: Option<Aabb>,
+    ) -> Result<Self, GeometryError> {
         if !base.is_finite() {
             return Err(GeometryError::NotFinite { field: "base" });
         }
         for p in &perturbations {
             if !p.quadric.is_finite() {
-                return Err(GeometryError::NotFinite { field: "perturbations.quadric" });
+                return Err(GeometryError::NotFinite {
+                    field: "perturbations.quadric",
+                });
             }
             if !p.form_factor.is_finite() {
-                return Err(GeometryError::NotFinite { field: "perturbations.form_factor" });
+                return Err(GeometryError::NotFinite {
+                    field: "perturbations.form_factor",
+                });
             }
         }
         let derived = Self::derived_bounds(&base, &perturbations);
@@ -48,7 +56,12 @@ impl FreeForm {
             (None, Some(d)) => (d, false),
             (None, None) => return Err(GeometryError::Unbounded),
         };
-        Ok(Self { base, perturbations, bounds, clips })
+        Ok(Self {
+            base,
+            perturbations,
+            bounds,
+            clips,
+        })
     }
 
     fn derived_bounds(base: &Quadric, perturbations: &[Perturbation]) -> Option<Aabb> {
@@ -85,7 +98,9 @@ impl FreeForm {
 
     /// `∇F′(p)` without the box.
     pub fn gradient_unclipped(&self, p: DVec3) -> DVec3 {
-        self.perturbations.iter().fold(self.base.gradient(p), |g, q| g + q.gradient(p))
+        self.perturbations
+            .iter()
+            .fold(self.base.gradient(p), |g, q| g + q.gradient(p))
     }
 
     /// `F′(p)` with the box: `−∞` outside a clipping box.
@@ -160,7 +175,11 @@ mod tests {
         // Outside the derived box the function is negative: sample a shell around the box.
         for i in 0..2000 {
             let a = i as f64 * 0.7;
-            let dir = DVec3::new(a.cos() * (a * 0.31).sin(), (a * 0.31).cos(), a.sin() * (a * 0.31).sin());
+            let dir = DVec3::new(
+                a.cos() * (a * 0.31).sin(),
+                (a * 0.31).cos(),
+                a.sin() * (a * 0.31).sin(),
+            );
             let p = f.bounds().center() + dir * f.bounds().diagonal();
             assert!(f.eval(p) < 0.0);
         }
@@ -169,10 +188,18 @@ mod tests {
     #[test]
     fn unbounded_shapes_need_a_box_and_the_box_clips() {
         let cyl = Quadric::cylinder(DVec3::ZERO, DVec3::Y, 1.0);
-        assert_eq!(FreeForm::new(cyl, vec![], None).unwrap_err(), GeometryError::Unbounded);
+        assert_eq!(
+            FreeForm::new(cyl, vec![], None).unwrap_err(),
+            GeometryError::Unbounded
+        );
         let positive_plane = Perturbation::new(1.0, Quadric::half_space(DVec3::ZERO, DVec3::Y));
         assert_eq!(
-            FreeForm::new(Quadric::sphere(DVec3::ZERO, 1.0), vec![positive_plane], None).unwrap_err(),
+            FreeForm::new(
+                Quadric::sphere(DVec3::ZERO, 1.0),
+                vec![positive_plane],
+                None
+            )
+            .unwrap_err(),
             GeometryError::Unbounded
         );
         let b = Aabb::new(DVec3::new(-2.0, -1.0, -2.0), DVec3::new(2.0, 1.0, 2.0));
@@ -188,7 +215,10 @@ mod tests {
     #[test]
     fn perturbation_gradient_matches_finite_differences() {
         let base = Quadric::sphere(DVec3::ZERO, 1.0);
-        let bump = Perturbation::new(0.8, Quadric::ellipsoid(DVec3::new(0.8, 0.2, 0.0), DVec3::new(0.5, 0.3, 0.4)));
+        let bump = Perturbation::new(
+            0.8,
+            Quadric::ellipsoid(DVec3::new(0.8, 0.2, 0.0), DVec3::new(0.5, 0.3, 0.4)),
+        );
         let f = FreeForm::new(base, vec![bump], None).unwrap();
         let p = DVec3::new(0.9, 0.25, 0.05);
         let g = f.gradient_unclipped(p);

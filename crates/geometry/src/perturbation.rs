@@ -15,21 +15,32 @@ pub struct Perturbation {
 
 impl Perturbation {
     pub fn new(form_factor: f64, quadric: Quadric) -> Self {
-        Self { form_factor, quadric }
+        Self {
+            form_factor,
+            quadric,
+        }
     }
 
     /// `f · R(p)`.
     #[inline]
     pub fn eval(&self, p: DVec3) -> f64 {
         let q = self.quadric.eval(p);
-        if q > 0.0 { self.form_factor * q * q * q } else { 0.0 }
+        if q > 0.0 {
+            self.form_factor * q * q * q
+        } else {
+            0.0
+        }
     }
 
     /// `∇(f · R) = 3 f Q² ∇Q` inside the support, 0 outside.
     #[inline]
     pub fn gradient(&self, p: DVec3) -> DVec3 {
         let q = self.quadric.eval(p);
-        if q > 0.0 { self.quadric.gradient(p) * (3.0 * self.form_factor * q * q) } else { DVec3::ZERO }
+        if q > 0.0 {
+            self.quadric.gradient(p) * (3.0 * self.form_factor * q * q)
+        } else {
+            DVec3::ZERO
+        }
     }
 
     /// The box of the support `{Q > 0}` if it is bounded.

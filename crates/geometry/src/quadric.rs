@@ -29,7 +29,10 @@ pub enum Sheets {
 impl Quadric {
     /// A quadric from its ten coefficients about `origin`.
     pub const fn new(origin: DVec3, coefficients: [f64; 10]) -> Self {
-        Self { origin, coefficients }
+        Self {
+            origin,
+            coefficients,
+        }
     }
 
     /// `F(x) = xᵀ M x + b·x + k` about `origin`, `M` symmetric.
@@ -68,7 +71,10 @@ impl Quadric {
     /// Solid axis-aligned ellipsoid `1 − Σ (xᵢ / rᵢ)²`.
     pub fn ellipsoid(center: DVec3, radii: DVec3) -> Self {
         let inv = (radii * radii).recip();
-        Self::new(center, [-inv.x, -inv.y, -inv.z, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
+        Self::new(
+            center,
+            [-inv.x, -inv.y, -inv.z, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+        )
     }
 
     /// Half-space through `point` whose outward normal is `normal`: `F = −n̂·(x − point)` (metres).
@@ -105,7 +111,13 @@ impl Quadric {
 
     /// Solid hyperboloid about `center` along `axis`, waist (or vertex) radius `radius`, axial
     /// scale `height`: one sheet `1 − ρ²/r² + (a·x)²/h²`, two sheets `(a·x)²/h² − ρ²/r² − 1`.
-    pub fn hyperboloid(center: DVec3, axis: DVec3, radius: f64, height: f64, sheets: Sheets) -> Self {
+    pub fn hyperboloid(
+        center: DVec3,
+        axis: DVec3,
+        radius: f64,
+        height: f64,
+        sheets: Sheets,
+    ) -> Self {
         let a = axis.normalize();
         let radial = (DMat3::IDENTITY - outer(a, a)) * (-1.0 / (radius * radius));
         let axial = outer(a, a) * (1.0 / (height * height));
@@ -150,7 +162,9 @@ impl Quadric {
         let o = ray.origin - self.origin;
         let d = ray.dir;
         let [a11, a22, a33, a12, a13, a23, a14, a24, a34, _] = self.coefficients;
-        let a = d.x * (a11 * d.x + a12 * d.y + a13 * d.z) + d.y * (a22 * d.y + a23 * d.z) + a33 * d.z * d.z;
+        let a = d.x * (a11 * d.x + a12 * d.y + a13 * d.z)
+            + d.y * (a22 * d.y + a23 * d.z)
+            + a33 * d.z * d.z;
         let b = 2.0 * (a11 * o.x * d.x + a22 * o.y * d.y + a33 * o.z * d.z)
             + a12 * (o.x * d.y + o.y * d.x)
             + a13 * (o.x * d.z + o.z * d.x)
@@ -158,7 +172,11 @@ impl Quadric {
             + a14 * d.x
             + a24 * d.y
             + a34 * d.z;
-        RayQuadratic { a, b, c: self.eval_local(o) }
+        RayQuadratic {
+            a,
+            b,
+            c: self.eval_local(o),
+        }
     }
 
     /// A conservative range of `F` over a world-space box (natural interval extension).
@@ -226,9 +244,17 @@ impl Quadric {
     }
 
     fn from_homogeneous(origin: DVec3, q: &DMat4) -> Self {
-        let m = DMat3::from_cols(q.x_axis.truncate(), q.y_axis.truncate(), q.z_axis.truncate());
+        let m = DMat3::from_cols(
+            q.x_axis.truncate(),
+            q.y_axis.truncate(),
+            q.z_axis.truncate(),
+        );
         let m = (m + m.transpose()) * 0.5;
-        let b = DVec3::new(q.x_axis.w + q.w_axis.x, q.y_axis.w + q.w_axis.y, q.z_axis.w + q.w_axis.z);
+        let b = DVec3::new(
+            q.x_axis.w + q.w_axis.x,
+            q.y_axis.w + q.w_axis.y,
+            q.z_axis.w + q.w_axis.z,
+        );
         Self::from_parts(origin, m, b, q.w_axis.w)
     }
 
@@ -246,7 +272,12 @@ impl Quadric {
         let m1 = neg.x_axis.x;
         let m2 = neg.x_axis.x * neg.y_axis.y - neg.x_axis.y * neg.y_axis.x;
         let m3 = neg.determinant();
-        let scale = neg.x_axis.x.abs().max(neg.y_axis.y.abs()).max(neg.z_axis.z.abs());
+        let scale = neg
+            .x_axis
+            .x
+            .abs()
+            .max(neg.y_axis.y.abs())
+            .max(neg.z_axis.z.abs());
         if !(m1 > 0.0 && m2 > 1e-14 * scale * scale && m3 > 1e-14 * scale * scale * scale) {
             return None;
         }
@@ -265,7 +296,10 @@ impl Quadric {
         let centre = self.origin + c;
         let size = half.max_element().max(1e-300);
         // A small margin so a derived box never clips the surface it bounds.
-        Some(Aabb::from_center_half(centre, half).expanded(1e-9 * size + 4.0 * f64::EPSILON * centre.abs().max_element()))
+        Some(
+            Aabb::from_center_half(centre, half)
+                .expanded(1e-9 * size + 4.0 * f64::EPSILON * centre.abs().max_element()),
+        )
     }
 }
 
@@ -308,7 +342,10 @@ mod tests {
 
     #[test]
     fn gradient_matches_finite_differences() {
-        let q = Quadric::new(DVec3::new(0.3, -1.0, 2.0), [1.0, -2.0, 0.5, 0.3, -0.7, 1.1, 0.2, -0.4, 0.9, -3.0]);
+        let q = Quadric::new(
+            DVec3::new(0.3, -1.0, 2.0),
+            [1.0, -2.0, 0.5, 0.3, -0.7, 1.1, 0.2, -0.4, 0.9, -3.0],
+        );
         let p = DVec3::new(0.7, 0.2, -0.4);
         let g = q.gradient(p);
         let h = 1e-6;
@@ -316,13 +353,20 @@ mod tests {
             let mut e = DVec3::ZERO;
             e[axis] = h;
             let fd = (q.eval(p + e) - q.eval(p - e)) / (2.0 * h);
-            assert!((fd - g[axis]).abs() < 1e-7, "axis {axis}: {fd} vs {}", g[axis]);
+            assert!(
+                (fd - g[axis]).abs() < 1e-7,
+                "axis {axis}: {fd} vs {}",
+                g[axis]
+            );
         }
     }
 
     #[test]
     fn on_ray_agrees_with_point_evaluation() {
-        let q = Quadric::new(DVec3::new(5.0, 0.0, 1.0), [1.0, -2.0, 0.5, 0.3, -0.7, 1.1, 0.2, -0.4, 0.9, -3.0]);
+        let q = Quadric::new(
+            DVec3::new(5.0, 0.0, 1.0),
+            [1.0, -2.0, 0.5, 0.3, -0.7, 1.1, 0.2, -0.4, 0.9, -3.0],
+        );
         let ray = Ray::new(DVec3::new(-1.0, 2.0, 0.5), DVec3::new(0.3, -0.2, 1.0)).unwrap();
         let rq = q.on_ray(&ray);
         for t in [-2.0, 0.0, 0.5, 3.7] {
@@ -339,10 +383,17 @@ mod tests {
             DVec3::new(-4.0, 7.0, 2.0),
         );
         let qt = q.transformed(&t).unwrap();
-        for p in [DVec3::new(1.5, 0.3, -1.0), DVec3::new(0.0, 1.9, 0.0), DVec3::new(3.0, 3.0, 3.0)] {
+        for p in [
+            DVec3::new(1.5, 0.3, -1.0),
+            DVec3::new(0.0, 1.9, 0.0),
+            DVec3::new(3.0, 3.0, 3.0),
+        ] {
             assert!((qt.eval(t.transform_point3(p)) - q.eval(p)).abs() < 1e-12);
         }
-        assert!(q.transformed(&DAffine3::from_scale(DVec3::new(1.0, 0.0, 1.0))).is_none());
+        assert!(
+            q.transformed(&DAffine3::from_scale(DVec3::new(1.0, 0.0, 1.0)))
+                .is_none()
+        );
     }
 
     #[test]
@@ -357,26 +408,50 @@ mod tests {
         let br = qr.inside_bounds().unwrap();
         for i in 0..1000 {
             let a = i as f64 * 0.1;
-            let p = DVec3::new(1.0 + a.cos() * (a * 0.37).sin(), 2.0 + 2.0 * a.sin() * (a * 0.37).sin(), 3.0 + 3.0 * (a * 0.37).cos());
+            let p = DVec3::new(
+                1.0 + a.cos() * (a * 0.37).sin(),
+                2.0 + 2.0 * a.sin() * (a * 0.37).sin(),
+                3.0 + 3.0 * (a * 0.37).cos(),
+            );
             assert!(br.contains(t.transform_point3(p)));
         }
-        assert!(Quadric::cylinder(DVec3::ZERO, DVec3::Y, 1.0).inside_bounds().is_none());
-        assert!(Quadric::half_space(DVec3::ZERO, DVec3::Y).inside_bounds().is_none());
-        assert!(Quadric::sphere(DVec3::ZERO, 1.0).negated().inside_bounds().is_none());
+        assert!(
+            Quadric::cylinder(DVec3::ZERO, DVec3::Y, 1.0)
+                .inside_bounds()
+                .is_none()
+        );
+        assert!(
+            Quadric::half_space(DVec3::ZERO, DVec3::Y)
+                .inside_bounds()
+                .is_none()
+        );
+        assert!(
+            Quadric::sphere(DVec3::ZERO, 1.0)
+                .negated()
+                .inside_bounds()
+                .is_none()
+        );
         // 1 + |x|²... negated sphere of negative level: empty.
-        let empty = Quadric::new(DVec3::ZERO, [-1.0, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]);
+        let empty = Quadric::new(
+            DVec3::ZERO,
+            [-1.0, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0],
+        );
         assert!(empty.inside_bounds().unwrap().is_empty());
     }
 
     #[test]
     fn box_range_contains_sampled_values() {
-        let q = Quadric::new(DVec3::new(0.3, -1.0, 2.0), [1.0, -2.0, 0.5, 0.3, -0.7, 1.1, 0.2, -0.4, 0.9, -3.0]);
+        let q = Quadric::new(
+            DVec3::new(0.3, -1.0, 2.0),
+            [1.0, -2.0, 0.5, 0.3, -0.7, 1.1, 0.2, -0.4, 0.9, -3.0],
+        );
         let b = Aabb::new(DVec3::new(-1.0, 0.0, 1.0), DVec3::new(0.5, 2.0, 1.5));
         let r = q.range_on_box(&b);
         for i in 0..=10 {
             for j in 0..=10 {
                 for k in 0..=10 {
-                    let p = b.min + (b.max - b.min) * DVec3::new(i as f64, j as f64, k as f64) / 10.0;
+                    let p =
+                        b.min + (b.max - b.min) * DVec3::new(i as f64, j as f64, k as f64) / 10.0;
                     assert!(r.contains(q.eval(p)));
                 }
             }

@@ -47,7 +47,8 @@ impl RayQuadratic {
     /// Roots are found with the cancellation-free formulas (`q = −½(b + sign(b)√Δ)`, roots `q/a`
     /// and `c/q`), and degenerate (linear, constant) cases are handled.
     pub fn first_nonnegative(&self, range: Interval) -> Option<f64> {
-        if !(range.lo <= range.hi) {
+        // An empty or NaN range has no first point.
+        if range.lo > range.hi || range.lo.is_nan() || range.hi.is_nan() {
             return None;
         }
         if self.eval(range.lo) >= 0.0 {
@@ -88,7 +89,11 @@ mod tests {
 
     #[test]
     fn range_includes_vertex() {
-        let q = RayQuadratic { a: -1.0, b: 2.0, c: 0.0 }; // max 1 at t = 1
+        let q = RayQuadratic {
+            a: -1.0,
+            b: 2.0,
+            c: 0.0,
+        }; // max 1 at t = 1
         let r = q.range(Interval::new(0.0, 3.0));
         assert_eq!((r.lo, r.hi), (-3.0, 1.0));
     }
@@ -96,18 +101,34 @@ mod tests {
     #[test]
     fn first_nonnegative_handles_all_cases() {
         // Entering a sphere-like bump between 1 and 3.
-        let q = RayQuadratic { a: -1.0, b: 4.0, c: -3.0 };
+        let q = RayQuadratic {
+            a: -1.0,
+            b: 4.0,
+            c: -3.0,
+        };
         assert_eq!(q.first_nonnegative(Interval::new(0.0, 10.0)), Some(1.0));
         assert_eq!(q.first_nonnegative(Interval::new(2.0, 10.0)), Some(2.0));
         assert_eq!(q.first_nonnegative(Interval::new(3.5, 10.0)), None);
         // Linear.
-        let l = RayQuadratic { a: 0.0, b: 1.0, c: -2.0 };
+        let l = RayQuadratic {
+            a: 0.0,
+            b: 1.0,
+            c: -2.0,
+        };
         assert_eq!(l.first_nonnegative(Interval::new(0.0, 10.0)), Some(2.0));
         // Negative everywhere.
-        let n = RayQuadratic { a: -1.0, b: 0.0, c: -1.0 };
+        let n = RayQuadratic {
+            a: -1.0,
+            b: 0.0,
+            c: -1.0,
+        };
         assert_eq!(n.first_nonnegative(Interval::new(0.0, 10.0)), None);
         // Upward parabola starting inside its negative part: exit root.
-        let u = RayQuadratic { a: 1.0, b: -4.0, c: 3.0 };
+        let u = RayQuadratic {
+            a: 1.0,
+            b: -4.0,
+            c: 3.0,
+        };
         assert_eq!(u.first_nonnegative(Interval::new(2.0, 10.0)), Some(3.0));
     }
 }
