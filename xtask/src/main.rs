@@ -1,1 +1,103 @@
-fn main() {}
+//! `cargo xtask`: fray's developer tasks. This file only parses arguments and dispatches.
+
+mod bless;
+mod compare;
+mod regress;
+mod render;
+mod report;
+mod thresholds;
+mod workspace;
+
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Debug, Parser)]
+#[command(name = "cargo xtask", about = "fray's developer tasks")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// One variant per task; add new tasks (e.g. `Bench(BenchArgs)`) here and in `main`.
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Render every scene on every available backend and compare with the references.
+    Regress(RegressArgs),
+    /// Render scenes on the CPU backend and write them as the new references.
+    Bless(BlessArgs),
+}
+
+/// Arguments shared by the tasks that render the scene set.
+#[derive(Debug, Args)]
+struct SceneSetArgs {
+    /// Directory of `*.ron` scenes [default: data/scenes]
+    #[arg(long, value_name = "DIR")]
+    scenes: Option<PathBuf>,
+    /// Directory of reference images and thresholds.ron [default: data/reference]
+    #[arg(long, value_name = "DIR")]
+    reference: Option<PathBuf>,
+    /// Test image width in pixels; the height keeps each scene's aspect ratio
+    #[arg(long, value_name = "N", default_value_t = 160,
+          value_parser = clap::value_parser!(u32).range(1..=16384))]
+    size: u32,
+}
+
+impl SceneSetArgs {
+    fn scenes(&self) -> PathBuf {
+        self.scenes
+            .clone()
+            .unwrap_or_else(workspace::default_scenes)
+    }
+
+    fn reference(&self) -> PathBuf {
+        self.reference
+            .clone()
+            .unwrap_or_else(workspace::default_reference)
+    }
+}
+
+#[derive(Debug, Args)]
+struct RegressArgs {
+    #[command(flatten)]
+    set: SceneSetArgs,
+    /// Directory for the rendered images, diffs and index.html [default: target/regress]
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct BlessArgs {
+    #[command(flatten)]
+    set: SceneSetArgs,
+    /// Scenes to bless, by file stem; all when none are given
+    #[arg(value_name = "SCENE_STEMS")]
+    stems: Vec<String>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Regress(args) => regress::run(&regress::RegressOptions {
+            scenes: args.set.scenes(),
+            reference: args.set.reference(),
+            out: args.out.unwrap_or_else(workspace::default_regress_out),
+            width: args.set.size,
+        }),
+        Command::Bless(args) => bless::run(&bless::BlessOptions {
+            scenes: args.set.scenes(),
+            reference: args.set.reference(),
+            width: args.set.size,
+            stems: args.stems,
+        })
+        .map(|()| true),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! `cargo xtask regress`: render every scene on every available backend at test size, compare
+//! with the blessed references (and the backends with each other), write the HTML report.
+
+use crate::compare::{compare, diff_image};
+use crate::render::{Rendered, backend_name, load, render, save_rgb8};
+use crate::report::{self, Row, console_line};
+use crate::thresholds::{ThresholdTable, Thresholds};
+use crate::workspace::{SceneFile, list_scenes};
+use fray_core::Image;
+use fray_render::available_backends;
+use fray_render::output::read_png_rgb8;
+use std::path::{Path, PathBuf};
+
+/// Where regress reads and writes, and the test size.
+#[derive(Clone, Debug)]
+pub struct RegressOptions {
+    pub scenes: PathBuf,
+    pub reference: PathBuf,
+    pub out: PathBuf,
+    /// Image width; the height keeps the scene's aspect ratio.
+    pub width: u32,
+}
+
+/// Runs the regression; `Ok(true)` when every row passed. `Err` is a setup failure (no scene
+/// directory, unreadable thresholds, unwritable output directory).
+pub fn run(options: &RegressOptions) -> Result<bool, String> {
+    let scenes = list_scenes(&options.scenes)?;
+    let thresholds = ThresholdTable::load(&options.reference)?;
+    let backends = available_backends();
+    if backends.is_empty() {
+        return Err("no backend is available".to_owned());
+    }
+    std::fs::create_dir_all(&options.out)
+        .map_err(|e| format!("cannot create {}: {e}", options.out.display()))?;
+    if scenes.is_empty() {
+        println!("regress: no *.ron scenes in {}", options.scenes.display());
+    }
+
+    let mut rows = Vec::new();
+    for scene in &scenes {
+        for row in regress_scene(scene, options, thresholds.get(&scene.stem), &backends) {
+            println!("{}", console_line(&row));
+            rows.push(row);
+        }
+    }
+
+    let title = format!(
+        "fray regress — {} scenes, width {}",
+        scenes.len(),
+        options.width
+    );
+    report::write(&options.out, &rows, &title)?;
+    let failed = rows.iter().filter(|r| !r.pass).count();
+    println!(
+        "regress: {} passed, {failed} failed; report: {}",
+        rows.len() - failed,
+        options.out.join("index.html").display()
+    );
+    Ok(failed == 0)
+}
+
+/// The reference image of `stem`, copied into the report directory. `Err` is the row message.
+fn reference(stem: &str, options: &RegressOptions) -> Result<(Image<[u8; 3]>, String), String> {
+    let path = options.reference.join(format!("{stem}.png"));
+    if !path.exists() {
+        return Err(format!(
+            "no reference {}: run `cargo xtask bless {stem}`",
+            path.display()
+        ));
+    }
+    let image = read_png_rgb8(&path).map_err(|e| e.to_string())?;
+    let copy = format!("{stem}.reference.png");
+    save_rgb8(&image, &options.out.join(&copy))?;
+    Ok((image, copy))
+}
+
+/// Compares `actual` with `expected` into `row`, writing the diff image as `diff_name`.
+fn judge(
+    row: &mut Row,
+    expected: &Image<[u8; 3]>,
+    actual: &Image<[u8; 3]>,
+    out: &Path,
+    diff_name: String,
+) {
+    let result = compare(expected, actual).and_then(|m| Ok((m, diff_image(expected, actual)?)));
+    match result {
+        Ok((metrics, diff)) => {
+            row.metrics = Some(metrics);
+            row.pass = row.thresholds.pass(&metrics);
+            match save_rgb8(&diff, &out.join(&diff_name)) {
+                Ok(()) => row.diff = Some(diff_name),
+                Err(e) => row.message = Some(e),
+            }
+        }
+        Err(mismatch) => {
+            row.pass = false;
+            row.message = Some(format!("{mismatch} (blessed at another --size?)"));
+        }
+    }
+}
+
+fn regress_scene(
+    scene: &SceneFile,
+    options: &RegressOptions,
+    thresholds: Thresholds,
+    backends: &[fray_render::Backend],
+) -> Vec<Row> {
+    let stem = scene.stem.as_str();
+    let loaded = match load(&scene.path) {
+        Ok(s) => s,
+        Err(e) => {
+            let msg = format!("cannot load {}: {e}", scene.path.display());
+            return vec![Row::failure(stem, "-", msg)];
+        }
+    };
+    let reference = reference(stem, options);
+
+    let mut rows = Vec::new();
+    let mut first: Option<(String, Rendered)> = None;
+    for &backend in backends {
+        let name = backend_name(backend);
+        let mut row = Row::failure(stem, &name, String::new());
+        row.thresholds = thresholds;
+        row.message = None;
+        let rendered = match render(&loaded, backend, options.width) {
+            Ok(r) => r,
+            Err(e) => {
+                rows.push(Row::failure(stem, &name, format!("render failed: {e}")));
+                continue;
+            }
+        };
+        row.render = Some((rendered.wall, rendered.frame.stats.clone()));
+        let actual_name = format!("{stem}.{name}.png");
+        match save_rgb8(&rendered.image, &options.out.join(&actual_name)) {
+            Ok(()) => row.actual = Some(actual_name),
+            Err(e) => row.message = Some(e),
+        }
+        match &reference {
+            Ok((expected, copy)) => {
+                row.reference = Some(copy.clone());
+                let diff_name = format!("{stem}.{name}.diff.png");
+                judge(&mut row, expected, &rendered.image, &options.out, diff_name);
+            }
+            Err(e) => {
+                row.pass = false;
+                row.message = Some(e.clone());
+            }
+        }
+        rows.push(row);
+
+        // Backends beyond the first (the reference backend) are also held to the first.
+        match &first {
+            None => first = Some((name, rendered)),
+            Some((first_name, first_rendered)) => {
+                let pair = format!("{name} vs {first_name}");
+                let mut row = Row::failure(stem, &pair, String::new());
+                row.message = None;
+                row.thresholds = thresholds;
+                row.reference = Some(format!("{stem}.{first_name}.png"));
+                row.actual = Some(format!("{stem}.{name}.png"));
+                let diff_name = format!("{stem}.{name}-vs-{first_name}.diff.png");
+                judge(
+                    &mut row,
+                    &first_rendered.image,
+                    &rendered.image,
+                    &options.out,
+                    diff_name,
+                );
+                rows.push(row);
+            }
+        }
+    }
+    rows
+}
