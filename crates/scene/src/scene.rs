@@ -35,7 +35,10 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Self { epsilon: None, shadows: true }
+        Self {
+            epsilon: None,
+            shadows: true,
+        }
     }
 }
 
@@ -89,14 +92,20 @@ pub struct Object {
 impl Scene {
     /// The box around all objects (empty if there are none).
     pub fn bounds(&self) -> fray_core::Aabb {
-        self.objects.iter().fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()))
+        self.objects
+            .iter()
+            .fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()))
     }
 
     /// The tolerance to use: the setting, or `1e-10 ×` the scene's diagonal (1e-10 if empty).
     pub fn epsilon(&self) -> f64 {
         self.settings.epsilon.unwrap_or_else(|| {
             let d = self.bounds().diagonal();
-            if d > 0.0 && d.is_finite() { 1e-10 * d } else { 1e-10 }
+            if d > 0.0 && d.is_finite() {
+                1e-10 * d
+            } else {
+                1e-10
+            }
         })
     }
 }

@@ -1,0 +1,466 @@
+//! The scene description: serde types that mirror a RON scene file field for field, before
+//! validation (see `docs/scene-format.md` for the reference).
+//!
+//! Vectors and colours are RON tuples `(x, y, z)`, angles are in degrees, every optional field has
+//! a default, and unknown fields are rejected. Nothing here is checked beyond its type: ranges,
+//! finiteness, names and boundedness are checked when the description is resolved into a
+//! [`crate::Scene`].
+
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer};
+use std::collections::BTreeMap;
+
+/// A 3-vector or linear RGB colour, written `(x, y, z)`.
+pub type Vec3 = [f64; 3];
+
+/// The whole scene file: `Scene(image: …, camera: …, …)` (the `Scene` name is optional).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Scene")]
+pub struct Scene {
+    #[serde(default)]
+    pub image: Image,
+    #[serde(default)]
+    pub camera: Camera,
+    /// Radiance of rays that hit nothing (linear RGB).
+    #[serde(default = "default_background")]
+    pub background: Vec3,
+    /// Uniform ambient radiance.
+    #[serde(default = "default_ambient")]
+    pub ambient: Vec3,
+    #[serde(default)]
+    pub lights: Vec<Light>,
+    /// Named materials; resolved in sorted-name order after the built-in default material.
+    #[serde(default)]
+    pub materials: BTreeMap<String, Material>,
+    #[serde(default)]
+    pub objects: Vec<Object>,
+    #[serde(default)]
+    pub settings: Settings,
+}
+
+fn default_background() -> Vec3 {
+    [0.05, 0.05, 0.08]
+}
+
+fn default_ambient() -> Vec3 {
+    [0.03, 0.03, 0.03]
+}
+
+/// Output size in pixels, each in `1..=16384`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Image {
+    #[serde(default = "default_width", deserialize_with = "pixels")]
+    pub width: u32,
+    #[serde(default = "default_height", deserialize_with = "pixels")]
+    pub height: u32,
+}
+
+/// A pixel count: any number is read, so `1.5` or `-3` gets a clear message instead of a syntax
+/// error.
+fn pixels<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    let v = f64::deserialize(d)?;
+    let max = crate::MAX_IMAGE_SIDE;
+    if v.fract() == 0.0 && v >= 1.0 && v <= f64::from(max) {
+        Ok(v as u32)
+    } else {
+        Err(D::Error::custom(format!(
+            "must be a whole number of pixels in 1..={max}, got {v}"
+        )))
+    }
+}
+
+fn default_width() -> u32 {
+    640
+}
+
+fn default_height() -> u32 {
+    480
+}
+
+impl Default for Image {
+    fn default() -> Self {
+        Self {
+            width: default_width(),
+            height: default_height(),
+        }
+    }
+}
+
+/// The projector. Angles in degrees.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Camera {
+    /// A pinhole camera with a planar picture `near` in front of the eye.
+    Pinhole {
+        eye: Vec3,
+        look_at: Vec3,
+        #[serde(default = "default_up")]
+        up: Vec3,
+        /// Vertical field of view in degrees, in `(0, 180)`.
+        #[serde(default = "default_fov_y")]
+        fov_y: f64,
+        /// Distance to the picture plane (the near clip), `> 0`.
+        #[serde(default = "default_near")]
+        near: f64,
+    },
+    /// A parallel projection; the picture is `height` world units tall.
+    Parallel {
+        eye: Vec3,
+        look_at: Vec3,
+        #[serde(default = "default_up")]
+        up: Vec3,
+        height: f64,
+        #[serde(default)]
+        near: f64,
+    },
+    /// A spherical (optionally rippled) picture surface around `centre`, seen from `eye`.
+    Sphere {
+        eye: Vec3,
+        /// Defaults to `eye`.
+        #[serde(default)]
+        centre: Option<Vec3>,
+        look_at: Vec3,
+        #[serde(default = "default_up")]
+        up: Vec3,
+        /// Degrees, in `(0, 360]`.
+        #[serde(default = "default_sphere_fov_x")]
+        fov_x: f64,
+        /// Degrees, in `(0, 180]`.
+        #[serde(default = "default_sphere_fov_y")]
+        fov_y: f64,
+        #[serde(default = "one")]
+        radius: f64,
+        #[serde(default)]
+        ripple_amplitude: f64,
+        #[serde(default)]
+        ripple_frequency: f64,
+    },
+}
+
+impl Default for Camera {
+    /// `Pinhole(eye: (0, 1, -5), look_at: (0, 0, 0))` with the other defaults.
+    fn default() -> Self {
+        Camera::Pinhole {
+            eye: [0.0, 1.0, -5.0],
+            look_at: [0.0, 0.0, 0.0],
+            up: default_up(),
+            fov_y: default_fov_y(),
+            near: default_near(),
+        }
+    }
+}
+
+fn default_up() -> Vec3 {
+    [0.0, 1.0, 0.0]
+}
+
+fn default_fov_y() -> f64 {
+    45.0
+}
+
+fn default_near() -> f64 {
+    0.01
+}
+
+fn default_sphere_fov_x() -> f64 {
+    360.0
+}
+
+fn default_sphere_fov_y() -> f64 {
+    180.0
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn ones() -> Vec3 {
+    [1.0, 1.0, 1.0]
+}
+
+fn zeros() -> Vec3 {
+    [0.0, 0.0, 0.0]
+}
+
+fn y_axis() -> Vec3 {
+    [0.0, 1.0, 0.0]
+}
+
+/// A light source in radiometric units.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Light {
+    /// A distant light; `direction` points *toward* the sun (normalised when resolved).
+    Sun {
+        direction: Vec3,
+        /// W/m² on a surface facing the sun.
+        #[serde(default = "default_irradiance")]
+        irradiance: Vec3,
+    },
+    /// A point light of radiant intensity `intensity` (W/sr).
+    Point {
+        position: Vec3,
+        #[serde(default = "default_intensity")]
+        intensity: Vec3,
+    },
+}
+
+fn default_irradiance() -> Vec3 {
+    [3.0, 3.0, 3.0]
+}
+
+fn default_intensity() -> Vec3 {
+    [50.0, 50.0, 50.0]
+}
+
+/// A named material; every field is optional (defaults: [`crate::Material::default`]).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Lambertian albedo in `[0, 1]`; default `(0.8, 0.8, 0.8)`.
+    #[serde(default)]
+    pub diffuse: Option<Vec3>,
+    /// Specular reflectance in `[0, 1]`; default `(0, 0, 0)`.
+    #[serde(default)]
+    pub specular: Option<Vec3>,
+    /// Phong exponent `≥ 0`; default 32.
+    #[serde(default)]
+    pub shininess: Option<f64>,
+    /// Reflectance to the ambient radiance in `[0, 1]`; default: the diffuse albedo.
+    #[serde(default)]
+    pub ambient: Option<Vec3>,
+}
+
+/// One top-level object.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    /// Default: `object<i>`, `i` the object's index.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A key of `materials`; default: the built-in default material.
+    #[serde(default)]
+    pub material: Option<String>,
+    pub shape: Shape,
+}
+
+/// A CSG tree of free-form objects. In a file, any [`Quadric`] variant may stand for a shape
+/// directly (a free-form object with no perturbations), e.g. `shape: Sphere(radius: 1)`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(from = "ShapeRepr")]
+pub enum Shape {
+    FreeForm(FreeForm),
+    /// Shorthand for a [`FreeForm`] with only a base quadric.
+    Quadric(Quadric),
+    Union(Vec<Shape>),
+    Intersection(Vec<Shape>),
+    Difference(Box<Shape>, Box<Shape>),
+    /// `shape` with `transform` applied to every quadric below it (not to explicit `bounds`).
+    Transformed {
+        shape: Box<Shape>,
+        transform: Transform,
+    },
+}
+
+/// A free-form object: a base quadric deformed by perturbations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreeForm {
+    pub base: Quadric,
+    pub perturbations: Vec<Perturbation>,
+    /// World-space clipping box (never transformed).
+    pub bounds: Option<Bounds>,
+    /// Overrides the object's material for this leaf.
+    pub material: Option<String>,
+    /// Applied to the base and the perturbations' quadrics.
+    pub transform: Option<Transform>,
+}
+
+/// One perturbation term `f · Q³` (where `Q > 0`).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Perturbation {
+    pub form_factor: f64,
+    pub quadric: Quadric,
+}
+
+/// An axis-aligned box in world space.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+/// Which hyperboloid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum Sheets {
+    #[default]
+    One,
+    Two,
+}
+
+/// An affine transform: scale, then rotate (about x, then y, then z, degrees, world axes), then
+/// translate.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    #[serde(default = "zeros")]
+    pub translate: Vec3,
+    /// Degrees about x, y, z, applied in that order.
+    #[serde(default = "zeros")]
+    pub rotate: Vec3,
+    #[serde(default = "ones")]
+    pub scale: Vec3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self {
+            translate: zeros(),
+            rotate: zeros(),
+            scale: ones(),
+        }
+    }
+}
+
+/// Render settings stored in the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    /// Ray-casting tolerance in world units, `> 0`; default `1e-10 ×` the scene's size.
+    #[serde(default)]
+    pub epsilon: Option<f64>,
+    #[serde(default = "yes")]
+    pub shadows: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            epsilon: None,
+            shadows: true,
+        }
+    }
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Declares [`Quadric`] and the private shape representation that also accepts every quadric
+/// variant as a shape, from one list of variants.
+macro_rules! quadrics {
+    ($( $(#[$vm:meta])* $name:ident { $( $(#[$fm:meta])* $field:ident : $ty:ty ),* $(,)? } ),* $(,)?) => {
+        /// A quadric. Positions default to the origin and axes to `(0, 1, 0)`; angles in degrees.
+        #[derive(Clone, Debug, PartialEq, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub enum Quadric {
+            $( $(#[$vm])* $name { $( $(#[$fm])* $field: $ty ),* } ),*
+        }
+
+        /// What a `Shape` looks like in a file: the CSG variants plus every quadric variant.
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields, rename = "Shape")]
+        enum ShapeRepr {
+            FreeForm {
+                base: Quadric,
+                #[serde(default)]
+                perturbations: Vec<Perturbation>,
+                #[serde(default)]
+                bounds: Option<Bounds>,
+                #[serde(default)]
+                material: Option<String>,
+                #[serde(default)]
+                transform: Option<Transform>,
+            },
+            Union(Vec<Shape>),
+            Intersection(Vec<Shape>),
+            Difference(Box<Shape>, Box<Shape>),
+            Transformed {
+                shape: Box<Shape>,
+                #[serde(default)]
+                transform: Transform,
+            },
+            $( $name { $( $(#[$fm])* $field: $ty ),* } ),*
+        }
+
+        impl From<ShapeRepr> for Shape {
+            fn from(r: ShapeRepr) -> Self {
+                match r {
+                    ShapeRepr::FreeForm { base, perturbations, bounds, material, transform } => {
+                        Shape::FreeForm(FreeForm { base, perturbations, bounds, material, transform })
+                    }
+                    ShapeRepr::Union(v) => Shape::Union(v),
+                    ShapeRepr::Intersection(v) => Shape::Intersection(v),
+                    ShapeRepr::Difference(a, b) => Shape::Difference(a, b),
+                    ShapeRepr::Transformed { shape, transform } => Shape::Transformed { shape, transform },
+                    $( ShapeRepr::$name { $( $field ),* } => Shape::Quadric(Quadric::$name { $( $field ),* }) ),*
+                }
+            }
+        }
+    };
+}
+
+quadrics! {
+    /// Solid ball.
+    Sphere {
+        #[serde(default = "zeros")]
+        center: Vec3,
+        radius: f64,
+    },
+    /// Solid axis-aligned ellipsoid with semi-axes `radii`.
+    Ellipsoid {
+        #[serde(default = "zeros")]
+        center: Vec3,
+        radii: Vec3,
+    },
+    /// The half-space below the plane through `point`; `normal` points out of the solid.
+    HalfSpace {
+        #[serde(default = "zeros")]
+        point: Vec3,
+        #[serde(default = "y_axis")]
+        normal: Vec3,
+    },
+    /// Infinite solid cylinder around the line through `point` along `axis`.
+    Cylinder {
+        #[serde(default = "zeros")]
+        point: Vec3,
+        #[serde(default = "y_axis")]
+        axis: Vec3,
+        radius: f64,
+    },
+    /// Infinite solid double cone; `half_angle` in degrees, in `(0, 90)`.
+    Cone {
+        #[serde(default = "zeros")]
+        apex: Vec3,
+        #[serde(default = "y_axis")]
+        axis: Vec3,
+        half_angle: f64,
+    },
+    /// Solid paraboloid opening along `axis` from `vertex`.
+    Paraboloid {
+        #[serde(default = "zeros")]
+        vertex: Vec3,
+        #[serde(default = "y_axis")]
+        axis: Vec3,
+        focal_length: f64,
+    },
+    /// Solid hyperboloid of one or two sheets.
+    Hyperboloid {
+        #[serde(default = "zeros")]
+        center: Vec3,
+        #[serde(default = "y_axis")]
+        axis: Vec3,
+        radius: f64,
+        height: f64,
+        #[serde(default)]
+        sheets: Sheets,
+    },
+    /// Ten coefficients `(A11, A22, A33, A12, A13, A23, A14, A24, A34, A44)` about `origin`.
+    General {
+        #[serde(default = "zeros")]
+        origin: Vec3,
+        coefficients: [f64; 10],
+    },
+}

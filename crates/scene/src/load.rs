@@ -1,0 +1,158 @@
+//! Loading scene files: read → parse (RON, `implicit_some` on) → validate → resolve.
+
+use crate::description;
+use crate::locate::{LineColumn, locate};
+use crate::path::{FieldPath, Segment};
+use crate::resolve::resolve;
+use crate::{Scene, SceneError};
+use ron::error::{Error as RonError, SpannedError};
+use ron::extensions::Extensions;
+use std::path::Path;
+
+/// Reads, parses, validates and resolves the scene file at `path`. Errors name the file.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let source = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse(&source, &path.display().to_string())
+}
+
+/// Parses, validates and resolves scene text; `file` is the name errors report.
+pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
+    let d = parse_description(source, file)?;
+    resolve(&d).map_err(|e| {
+        let LineColumn { line, column } = locate(source, &e.path);
+        SceneError::Invalid {
+            file: file.to_owned(),
+            line,
+            column,
+            field: e.path.to_string(),
+            message: e.message,
+        }
+    })
+}
+
+/// Parses scene text into its [`description::Scene`] without validating values (types, field
+/// names and syntax are checked); `file` is the name errors report.
+pub fn parse_description(source: &str, file: &str) -> Result<description::Scene, SceneError> {
+    let options = ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
+    let mut de = ron::Deserializer::from_str_with_options(source, &options)
+        .map_err(|e| ron_error(file, e, &FieldPath::root()))?;
+    match serde_path_to_error::deserialize::<_, description::Scene>(&mut de) {
+        Ok(scene) => match de.end() {
+            Ok(()) => Ok(scene),
+            Err(code) => Err(ron_error(file, de.span_error(code), &FieldPath::root())),
+        },
+        Err(e) => {
+            let path = FieldPath::from_serde(e.path());
+            let code = e.into_inner();
+            Err(ron_error(file, de.span_error(code), &path))
+        }
+    }
+}
+
+/// A `ron` error at `path` as a [`SceneError`]: `Invalid` (with the field) for errors about
+/// what a value is, `Syntax` for malformed text.
+fn ron_error(file: &str, e: SpannedError, path: &FieldPath) -> SceneError {
+    let position = e.span.end;
+    let (line, column) = (position.line, position.col);
+    let file = file.to_owned();
+    let list = |names: &[&str]| -> String {
+        let names: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+        if names.is_empty() {
+            "none".to_owned()
+        } else {
+            names.join(", ")
+        }
+    };
+    let (field, message) = match &e.code {
+        RonError::NoSuchStructField {
+            expected, found, ..
+        } => {
+            // The tracked path usually ends with the unknown key already.
+            let field = match path.segments.last() {
+                Some(Segment::Field(last)) if last == found => path.clone(),
+                _ => path.field(found),
+            };
+            (
+                field,
+                format!(
+                    "unknown field `{found}`, expected one of {}",
+                    list(expected)
+                ),
+            )
+        }
+        RonError::NoSuchEnumVariant {
+            expected, found, ..
+        } => (
+            path.clone(),
+            format!(
+                "unknown variant `{found}`, expected one of {}",
+                list(expected)
+            ),
+        ),
+        RonError::MissingStructField { field, .. } => {
+            (path.field(field), "missing required field".to_owned())
+        }
+        RonError::DuplicateStructField { field, .. } => {
+            (path.field(field), "field given twice".to_owned())
+        }
+        RonError::Message(_)
+        | RonError::ExpectedArray
+        | RonError::ExpectedBoolean
+        | RonError::ExpectedChar
+        | RonError::ExpectedByteLiteral
+        | RonError::ExpectedFloat
+        | RonError::ExpectedInteger
+        | RonError::ExpectedOption
+        | RonError::ExpectedMap
+        | RonError::ExpectedDifferentStructName { .. }
+        | RonError::ExpectedStructLike
+        | RonError::ExpectedNamedStructLike(_)
+        | RonError::ExpectedUnit
+        | RonError::ExpectedString
+        | RonError::ExpectedByteString
+        | RonError::IntegerOutOfBounds
+        | RonError::InvalidValueForType { .. }
+        | RonError::ExpectedDifferentLength { .. }
+        | RonError::ExpectedRawValue
+        | RonError::ExpectedStructName(_) => (path.clone(), wrong_type_message(&e.code)),
+        code => {
+            return SceneError::Syntax {
+                file,
+                line,
+                column,
+                message: code.to_string(),
+            };
+        }
+    };
+    SceneError::Invalid {
+        file,
+        line,
+        column,
+        field: field.to_string(),
+        message,
+    }
+}
+
+fn wrong_type_message(code: &RonError) -> String {
+    match code {
+        RonError::ExpectedFloat => "expected a number".to_owned(),
+        RonError::ExpectedInteger => "expected a whole number".to_owned(),
+        RonError::IntegerOutOfBounds => "the number is out of range for this field".to_owned(),
+        RonError::ExpectedBoolean => "expected `true` or `false`".to_owned(),
+        RonError::ExpectedString => "expected a string in double quotes".to_owned(),
+        RonError::InvalidValueForType { expected, found } => {
+            format!("expected {expected}, found {found}")
+        }
+        other => {
+            let text = other.to_string();
+            let mut chars = text.chars();
+            match chars.next() {
+                Some(c) => c.to_lowercase().chain(chars).collect(),
+                None => text,
+            }
+        }
+    }
+}
