@@ -65,16 +65,16 @@ fn tokenize(src: &str) -> Vec<(Tok, usize)> {
         let c = bytes[i];
         if c.is_ascii_whitespace() {
             i += 1;
-        } else if src[i..].starts_with("//") {
+        } else if bytes[i..].starts_with(b"//") {
             i = src[i..].find('\n').map_or(bytes.len(), |k| i + k);
-        } else if src[i..].starts_with("/*") {
+        } else if bytes[i..].starts_with(b"/*") {
             // Block comments nest in RON.
             let mut depth = 0usize;
             while i < bytes.len() {
-                if src[i..].starts_with("/*") {
+                if bytes[i..].starts_with(b"/*") {
                     depth += 1;
                     i += 2;
-                } else if src[i..].starts_with("*/") {
+                } else if bytes[i..].starts_with(b"*/") {
                     depth = depth.saturating_sub(1);
                     i += 2;
                     if depth == 0 {
@@ -106,7 +106,7 @@ fn tokenize(src: &str) -> Vec<(Tok, usize)> {
             i += 1;
         } else if c.is_ascii_alphabetic() || c == b'_' {
             let start = i;
-            if src[i..].starts_with("r#") {
+            if bytes[i..].starts_with(b"r#") {
                 i += 2;
             }
             let name_start = i;
@@ -433,8 +433,19 @@ Scene(
             "/* open",
             "#![",
             "é: (ü",
+            "/* é */ (a: [1, 2, 3, 4])",
+            "(a: \"\\é\", b: 'é', c: '\\é', d: [0, 1, 2, 3])",
+            "// ü\n(a: [0, 1, 2, 3])",
         ] {
             let _ = locate(src, &FieldPath::root().field("a").index(3));
+            let _ = locate(src, &FieldPath::root().field("d").index(3));
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn never_panics_on_any_text(src in "\\PC{0,120}", i in 0usize..4) {
+            let _ = locate(&src, &FieldPath::root().field("a").index(i).field("b"));
         }
     }
 }

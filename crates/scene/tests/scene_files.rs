@@ -625,3 +625,45 @@ mod fuzz {
         }
     }
 }
+
+/// The complete example in the format reference is a valid scene.
+#[test]
+fn the_documented_example_resolves() {
+    let doc = include_str!("../../../docs/scene-format.md");
+    let start = doc
+        .find("```ron\n")
+        .expect("the reference has a RON example")
+        + "```ron\n".len();
+    let len = doc[start..].find("```").expect("the example is closed");
+    let s = match parse(&doc[start..start + len], "docs/scene-format.md") {
+        Ok(s) => s,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(s.objects.len(), 4);
+    assert_eq!(s.materials.len(), 4);
+    assert_eq!(
+        s.features,
+        FeatureSet {
+            free_forms: true,
+            perturbations: true,
+            csg: true,
+            shadows: true,
+            sun: true,
+            point_lights: true
+        }
+    );
+}
+
+/// Comments, strings and names with non-ASCII text do not shift the located position.
+#[test]
+fn errors_are_located_past_unicode_and_comments() {
+    let src = "( // ünïcödé ( [ {\n  materials: { \"rouge é\": (diffuse: (0.5, 0, 0)) },\n  /* a (nested /* é */) comment */\n  objects: [\n    (name: \"ballon (é)\", material: \"rouge é\", shape: Sphere(radius: 1)),\n    (name: \"x\", shape: FreeForm(base: Sphere(radius: 1), perturbations: [\n      (form_factor: 1, quadric: Ellipsoid(radii: (1, -2, 1))),\n    ])),\n  ],\n)";
+    let e = err(src);
+    assert_eq!(
+        e.to_string(),
+        "test.ron:7:43: objects[1].shape.perturbations[0].quadric.radii: must be > 0 on every axis, got (1, -2, 1)"
+    );
+    let s = ok(&src.replace("-2", "2"));
+    assert_eq!(s.materials[1].name, "rouge é");
+    assert_eq!(s.objects[0].leaf_materials, [1]);
+}
