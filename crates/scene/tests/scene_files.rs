@@ -667,3 +667,16 @@ fn errors_are_located_past_unicode_and_comments() {
     assert_eq!(s.materials[1].name, "rouge é");
     assert_eq!(s.objects[0].leaf_materials, [1]);
 }
+
+/// Absurdly deep nesting is an error, not a stack overflow.
+#[test]
+fn deep_nesting_is_an_error() {
+    let deep = format!(
+        "(objects: [(shape: {}Sphere(radius: 1){})])",
+        "Union([".repeat(5000),
+        "])".repeat(5000)
+    );
+    assert!(parse(&deep, "deep.ron").is_err());
+    assert!(parse(&"(".repeat(100_000), "deep.ron").is_err());
+    assert!(parse(&"[".repeat(100_000), "deep.ron").is_err());
+}
