@@ -63,8 +63,8 @@ struct RenderArgs {
     #[arg(long, value_enum, default_value_t = ToneMapArg::Clamp)]
     tone_map: ToneMapArg,
     /// Bits per channel for PNG output.
-    #[arg(long, default_value_t = 8, value_parser = clap::builder::PossibleValuesParser::new(["8", "16"]).map(|s| s.parse::<u8>().unwrap_or(8)))]
-    bit_depth: u8,
+    #[arg(long, value_enum, default_value_t = BitDepthArg::Eight)]
+    bit_depth: BitDepthArg,
     /// No progress bar and no summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -75,6 +75,15 @@ enum BackendArg {
     Cpu,
     #[default]
     Auto,
+}
+
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum BitDepthArg {
+    #[default]
+    #[value(name = "8")]
+    Eight,
+    #[value(name = "16")]
+    Sixteen,
 }
 
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -166,7 +175,10 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         bar.finish_and_clear();
     }
     let png = PngOptions {
-        bit_depth: if args.bit_depth == 16 { BitDepth::Sixteen } else { BitDepth::Eight },
+        bit_depth: match args.bit_depth {
+            BitDepthArg::Eight => BitDepth::Eight,
+            BitDepthArg::Sixteen => BitDepth::Sixteen,
+        },
         tone_map: match args.tone_map {
             ToneMapArg::Clamp => ToneMap::Clamp,
             ToneMapArg::Reinhard => ToneMap::Reinhard,
