@@ -83,6 +83,26 @@ impl RayCaster {
         self.search(solid.program(), range, eps, stats)
     }
 
+    /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
+    /// box and prepares every leaf (the first step of [`RayCaster::cast`]). Returns the clipped
+    /// range, or `None` if the ray cannot reach the solid there. For benchmarks and diagnostics.
+    pub fn prepare_ray(&mut self, solid: &Solid, ray: &Ray, range: Interval) -> Option<Interval> {
+        let range = solid.bounds().clip_ray(ray, range)?;
+        self.prepare(solid, ray, range).then_some(range)
+    }
+
+    /// The conservative range of the solid's value and of its derivative along the ray over the
+    /// parameter segment `seg` of the ray last given to [`RayCaster::prepare_ray`] (with the same
+    /// `solid`): the test that [`RayCaster::cast`] applies to each segment it halves. Without a
+    /// matching `prepare_ray` it answers the uninformative `(ℝ, ℝ)`.
+    pub fn segment_bound(&mut self, solid: &Solid, seg: Interval) -> (Interval, Interval) {
+        if self.leaves.len() != solid.leaves().len() {
+            return (Interval::EVERYTHING, Interval::EVERYTHING);
+        }
+        let b = self.bound(solid.program(), seg, &mut CastStats::default());
+        (b.value, b.slope)
+    }
+
     /// Restricts every leaf to the ray; false if no leaf can be reached.
     fn prepare(&mut self, solid: &Solid, ray: &Ray, range: Interval) -> bool {
         self.leaves.clear();
