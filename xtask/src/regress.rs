@@ -109,7 +109,13 @@ fn regress_scene(
     let loaded = match load(&scene.path) {
         Ok(s) => s,
         Err(e) => {
-            let msg = format!("cannot load {}: {e}", scene.path.display());
+            let path = scene.path.display().to_string();
+            // The loader's messages usually name the file already.
+            let msg = if e.contains(&path) {
+                e
+            } else {
+                format!("cannot load {path}: {e}")
+            };
             return vec![Row::failure(stem, "-", msg)];
         }
     };
@@ -171,4 +177,77 @@ fn regress_scene(
         }
     }
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bless::{self, BlessOptions};
+    use fray_render::Backend;
+
+    const SPHERE: &str = "Scene(camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), \
+                          objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])";
+
+    #[test]
+    fn blessed_scenes_pass_on_every_backend_and_against_each_other() {
+        let dir = std::env::temp_dir().join(format!("xtask-regress-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let scenes = dir.join("scenes");
+        std::fs::create_dir_all(&scenes).unwrap();
+        std::fs::write(scenes.join("sphere.ron"), SPHERE).unwrap();
+        std::fs::write(scenes.join("broken.ron"), "Scene(").unwrap();
+        let options = RegressOptions {
+            scenes: scenes.clone(),
+            reference: dir.join("reference"),
+            out: dir.join("out"),
+            width: 24,
+        };
+        std::fs::create_dir_all(&options.out).unwrap();
+        let list = list_scenes(&scenes).unwrap();
+        let (broken, sphere) = (&list[0], &list[1]);
+        // Auto resolves to the CPU too: two "backends" that must agree exactly.
+        let backends = [Backend::Cpu, Backend::Auto];
+
+        let rows = regress_scene(sphere, &options, Thresholds::default(), &backends);
+        // Without a reference each backend fails; they still agree with each other.
+        assert_eq!(
+            rows.iter().map(|r| r.pass).collect::<Vec<_>>(),
+            [false, false, true]
+        );
+        assert!(
+            rows[0]
+                .message
+                .as_deref()
+                .unwrap()
+                .contains("cargo xtask bless sphere")
+        );
+
+        let bless = BlessOptions {
+            scenes: scenes.clone(),
+            reference: options.reference.clone(),
+            width: 24,
+            stems: vec!["sphere".into()],
+        };
+        bless::run(&bless).unwrap();
+        let rows = regress_scene(sphere, &options, Thresholds::default(), &backends);
+        let names: Vec<&str> = rows.iter().map(|r| r.backend.as_str()).collect();
+        assert_eq!(names, ["cpu", "auto", "auto vs cpu"]);
+        for row in &rows {
+            assert!(row.pass, "{row:?}");
+            assert_eq!(row.metrics.unwrap().rmse, 0.0);
+            assert!(options.out.join(row.diff.as_ref().unwrap()).is_file());
+        }
+        assert!(options.out.join("sphere.cpu.png").is_file());
+        assert!(options.out.join("sphere.reference.png").is_file());
+
+        let rows = regress_scene(broken, &options, Thresholds::default(), &backends);
+        assert_eq!(rows.len(), 1);
+        assert!(!rows[0].pass);
+        assert!(rows[0].message.as_deref().unwrap().contains("broken.ron"));
+
+        // The whole run fails because of the broken scene, and writes the report.
+        assert!(!run(&options).unwrap());
+        assert!(options.out.join("index.html").is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -102,7 +102,7 @@ fn stats_cell(render: &Option<(Duration, RenderStats)>) -> String {
     format!(
         "<td class=stats>{:.1} ms wall ({:.1} ms backend)<br>backend {}, {} threads<br>\
          {} primary + {} shadow rays, {} hits<br>{:.2} Mrays/s, {:.1} steps/ray<br>\
-         {} bound / {} point evaluations<br>ε = {:e}<br>passes: {}</td>",
+         {} bound / {} point evaluations<br>ε = {:.3e}<br>passes: {}</td>",
         wall.as_secs_f64() * 1e3,
         s.elapsed.as_secs_f64() * 1e3,
         escape(&s.backend),

@@ -41,9 +41,7 @@ pub struct ThresholdTable(BTreeMap<String, Thresholds>);
 impl ThresholdTable {
     /// Parses the RON map `{ "stem": (rmse: 1.5, bad_fraction: 0.01), ... }`.
     pub fn parse(text: &str) -> Result<Self, String> {
-        ron::from_str(text)
-            .map(Self)
-            .map_err(|e| format!("{FILE_NAME}: {e}"))
+        ron::from_str(text).map(Self).map_err(|e| e.to_string())
     }
 
     /// Reads `<dir>/thresholds.ron`; a missing file means defaults for every scene.

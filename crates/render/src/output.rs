@@ -196,11 +196,14 @@ pub fn write_exr(frame: &Frame, path: &Path) -> Result<(), OutputError> {
         channel("N.Y", normals.iter().map(|n| n.y).collect()),
         channel("N.Z", normals.iter().map(|n| n.z).collect()),
     ]);
-    let mut attributes = LayerAttributes::default();
-    attributes.comments = Some(Text::from(
-        "fray: linear RGB radiance; Z = distance along the ray (inf = no hit); N = world-space unit normal",
-    ));
-    attributes.software_name = Some(Text::from("fray"));
+    let attributes = LayerAttributes {
+        comments: Some(Text::from(
+            "fray: linear RGB radiance; Z = distance along the ray (inf = no hit); \
+             N = world-space unit normal",
+        )),
+        software_name: Some(Text::from("fray")),
+        ..LayerAttributes::default()
+    };
     let layer = Layer::new(
         (size.0 as usize, size.1 as usize),
         attributes,
