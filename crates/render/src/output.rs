@@ -55,7 +55,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &["png", "exr"];
 /// Why an image could not be written or read.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    #[error("{}: unsupported image extension (supported: .png, .exr)", path.display())]
+    #[error("{}: unsupported image extension (supported: .{})", path.display(), SUPPORTED_EXTENSIONS.join(", ."))]
     UnsupportedExtension { path: PathBuf },
     #[error("{}: the frame is empty ({width} × {height})", path.display())]
     EmptyFrame {
