@@ -14,7 +14,11 @@ const DEFAULT_SCENE: &str = include_str!("../data/scenes/turboprop.ron");
 const DEFAULT_SCENE_NAME: &str = "data/scenes/turboprop.ron (built in)";
 
 #[derive(Parser, Debug)]
-#[command(name = "fray", version, about = "Ray casting of functionally defined scenes")]
+#[command(
+    name = "fray",
+    version,
+    about = "Ray casting of functionally defined scenes"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -111,7 +115,9 @@ fn main() -> ExitCode {
 
 fn load(path: Option<&Path>) -> Result<(fray_scene::Scene, String), String> {
     match path {
-        Some(p) => fray_scene::load(p).map(|s| (s, p.display().to_string())).map_err(|e| e.to_string()),
+        Some(p) => fray_scene::load(p)
+            .map(|s| (s, p.display().to_string()))
+            .map_err(|e| e.to_string()),
         None => fray_scene::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME)
             .map(|s| (s, DEFAULT_SCENE_NAME.to_string()))
             .map_err(|e| e.to_string()),
@@ -121,7 +127,11 @@ fn load(path: Option<&Path>) -> Result<(fray_scene::Scene, String), String> {
 fn check(path: &Path) -> Result<(), String> {
     let (scene, name) = load(Some(path))?;
     let leaves: usize = scene.objects.iter().map(|o| o.solid.leaves().len()).sum();
-    let perturbations: usize = scene.objects.iter().map(|o| o.solid.perturbation_count()).sum();
+    let perturbations: usize = scene
+        .objects
+        .iter()
+        .map(|o| o.solid.perturbation_count())
+        .sum();
     println!(
         "{name}: ok — {}×{}, {} objects ({leaves} free forms, {perturbations} perturbations), {} lights, {} materials; features: {}",
         scene.width,
@@ -141,7 +151,10 @@ fn render(args: &RenderArgs) -> Result<(), String> {
             .scene
             .as_deref()
             .and_then(|p| p.file_stem())
-            .map_or_else(|| "turboprop".to_string(), |s| s.to_string_lossy().into_owned());
+            .map_or_else(
+                || "turboprop".to_string(),
+                |s| s.to_string_lossy().into_owned(),
+            );
         PathBuf::from(format!("{stem}.png"))
     });
     let renderer = Renderer::new(RenderOptions {
@@ -158,9 +171,11 @@ fn render(args: &RenderArgs) -> Result<(), String> {
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);
         bar.set_style(
-            ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} eta {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar())
-                .progress_chars("=> "),
+            ProgressStyle::with_template(
+                "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} eta {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
         );
         bar
     });
@@ -170,7 +185,9 @@ fn render(args: &RenderArgs) -> Result<(), String> {
             bar.set_position(done);
         }
     };
-    let frame = renderer.render_with_progress(&scene, Some(&report)).map_err(|e| format!("{name}: {e}"))?;
+    let frame = renderer
+        .render_with_progress(&scene, Some(&report))
+        .map_err(|e| format!("{name}: {e}"))?;
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }

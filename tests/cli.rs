@@ -26,7 +26,14 @@ fn stderr(o: &Output) -> String {
 fn default_scene_renders_to_png() {
     let dir = temp_dir("default");
     let out = dir.join("plane.png");
-    let o = fray(&["render", "--width", "64", "--quiet", "-o", out.to_str().unwrap()]);
+    let o = fray(&[
+        "render",
+        "--width",
+        "64",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let img = image::open(&out).expect("a readable PNG").to_rgb8();
     assert_eq!(img.width(), 64);
@@ -39,11 +46,25 @@ fn default_scene_renders_to_png() {
 fn summary_line_reports_time_and_steps() {
     let dir = temp_dir("summary");
     let out = dir.join("csg.exr");
-    let o = fray(&["render", "data/scenes/csg.ron", "--width", "48", "-o", out.to_str().unwrap()]);
+    let o = fray(&[
+        "render",
+        "data/scenes/csg.ron",
+        "--width",
+        "48",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("Mrays/s") && stdout.contains("per ray") && stdout.contains("ms"), "{stdout}");
-    assert!(std::fs::metadata(&out).map(|m| m.len() > 0).unwrap_or(false));
+    assert!(
+        stdout.contains("Mrays/s") && stdout.contains("per ray") && stdout.contains("ms"),
+        "{stdout}"
+    );
+    assert!(
+        std::fs::metadata(&out)
+            .map(|m| m.len() > 0)
+            .unwrap_or(false)
+    );
 }
 
 #[test]
@@ -51,7 +72,10 @@ fn check_lists_features() {
     let o = fray(&["check", "data/scenes/csg.ron"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("csg") && stdout.contains("free-form"), "{stdout}");
+    assert!(
+        stdout.contains("csg") && stdout.contains("free-form"),
+        "{stdout}"
+    );
 }
 
 /// Writes `body` to a scene file and runs `fray render` on it; returns stderr.
@@ -59,7 +83,12 @@ fn render_bad(name: &str, body: &str) -> (String, PathBuf) {
     let dir = temp_dir(name);
     let scene = dir.join(format!("{name}.ron"));
     std::fs::write(&scene, body).expect("write scene");
-    let o = fray(&["render", scene.to_str().unwrap(), "-o", dir.join("x.png").to_str().unwrap()]);
+    let o = fray(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
     assert!(!o.status.success(), "{name}: a malformed scene must fail");
     let err = stderr(&o);
     assert!(!err.contains("panicked"), "{name}: panicked: {err}");
@@ -69,13 +98,19 @@ fn render_bad(name: &str, body: &str) -> (String, PathBuf) {
 fn assert_names(err: &str, scene: &Path, line: u32, field: &str) {
     let file = scene.display().to_string();
     assert!(err.contains(&file), "names the file: {err}");
-    assert!(err.contains(&format!(":{line}:")), "names line {line}: {err}");
+    assert!(
+        err.contains(&format!(":{line}:")),
+        "names line {line}: {err}"
+    );
     assert!(err.contains(field), "names the field `{field}`: {err}");
 }
 
 #[test]
 fn malformed_scenes_fail_with_file_line_and_field() {
-    let (err, path) = render_bad("syntax", "Scene(\n  image: (width: 10, height: 10),\n  objects: [ (shape: Sphere(center: (0, 0, 0) radius: 1)) ],\n)\n");
+    let (err, path) = render_bad(
+        "syntax",
+        "Scene(\n  image: (width: 10, height: 10),\n  objects: [ (shape: Sphere(center: (0, 0, 0) radius: 1)) ],\n)\n",
+    );
     assert_names(&err, &path, 3, "");
 
     let (err, path) = render_bad(
@@ -103,13 +138,26 @@ fn missing_scene_file_is_a_clear_error() {
     let o = fray(&["render", "no/such/scene.ron"]);
     assert!(!o.status.success());
     let err = stderr(&o);
-    assert!(err.contains("no/such/scene.ron") && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("no/such/scene.ron") && !err.contains("panicked"),
+        "{err}"
+    );
 }
 
 #[test]
 fn unsupported_output_extension_is_a_clear_error() {
-    let o = fray(&["render", "data/scenes/csg.ron", "--width", "8", "-o", "out.bmp"]);
+    let o = fray(&[
+        "render",
+        "data/scenes/csg.ron",
+        "--width",
+        "8",
+        "-o",
+        "out.bmp",
+    ]);
     assert!(!o.status.success());
     let err = stderr(&o);
-    assert!(err.contains("out.bmp") && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("out.bmp") && !err.contains("panicked"),
+        "{err}"
+    );
 }

@@ -58,7 +58,11 @@ impl Aabb {
 
     /// Length of the diagonal; 0 for an empty box.
     pub fn diagonal(&self) -> f64 {
-        if self.is_empty() { 0.0 } else { (self.max - self.min).length() }
+        if self.is_empty() {
+            0.0
+        } else {
+            (self.max - self.min).length()
+        }
     }
 
     pub fn contains(&self, p: DVec3) -> bool {

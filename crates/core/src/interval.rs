@@ -30,7 +30,11 @@ impl Interval {
     /// `[lo, hi]`; the bounds are swapped if given in the wrong order.
     #[inline]
     pub fn new(lo: f64, hi: f64) -> Self {
-        if lo <= hi { Self { lo, hi } } else { Self { lo: hi, hi: lo } }
+        if lo <= hi {
+            Self { lo, hi }
+        } else {
+            Self { lo: hi, hi: lo }
+        }
     }
 
     /// The degenerate interval `[x, x]`.
@@ -133,9 +137,15 @@ impl Interval {
     #[inline]
     pub fn scale(self, k: f64) -> Self {
         if k >= 0.0 {
-            Self { lo: self.lo * k, hi: self.hi * k }
+            Self {
+                lo: self.lo * k,
+                hi: self.hi * k,
+            }
         } else {
-            Self { lo: self.hi * k, hi: self.lo * k }
+            Self {
+                lo: self.hi * k,
+                hi: self.lo * k,
+            }
         }
     }
 }
@@ -158,7 +168,10 @@ impl Neg for Interval {
     type Output = Self;
     #[inline]
     fn neg(self) -> Self {
-        Self { lo: -self.hi, hi: -self.lo }
+        Self {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
     }
 }
 

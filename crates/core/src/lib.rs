@@ -36,5 +36,7 @@ pub use frame::{Frame, RenderStats};
 pub use glam;
 pub use image::Image;
 pub use interval::Interval;
-pub use projector::{CameraRay, Parallel, Pinhole, Projector, ProjectorError, SphereSurface, ViewBasis};
+pub use projector::{
+    CameraRay, Parallel, Pinhole, Projector, ProjectorError, SphereSurface, ViewBasis,
+};
 pub use ray::Ray;

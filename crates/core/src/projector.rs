@@ -26,7 +26,9 @@ pub enum ProjectorError {
         range: &'static str,
         value: f64,
     },
-    #[error("the eye must lie strictly inside the picture sphere (distance {distance} ≥ smallest radius {radius})")]
+    #[error(
+        "the eye must lie strictly inside the picture sphere (distance {distance} ≥ smallest radius {radius})"
+    )]
     EyeOutsideSurface { distance: f64, radius: f64 },
 }
 
@@ -70,7 +72,11 @@ impl ViewBasis {
 }
 
 fn check_finite(field: &'static str, v: DVec3) -> Result<(), ProjectorError> {
-    if v.is_finite() { Ok(()) } else { Err(ProjectorError::NotFinite { field }) }
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(ProjectorError::NotFinite { field })
+    }
 }
 
 fn check_range(
@@ -82,7 +88,11 @@ fn check_range(
     if ok && value.is_finite() {
         Ok(())
     } else {
-        Err(ProjectorError::OutOfRange { field, range, value })
+        Err(ProjectorError::OutOfRange {
+            field,
+            range,
+            value,
+        })
     }
 }
 
@@ -99,7 +109,13 @@ pub struct Pinhole {
 
 impl Pinhole {
     /// `fov_y` is the vertical field of view in radians, in `(0, π)`.
-    pub fn new(eye: DVec3, look_at: DVec3, up: DVec3, fov_y: f64, near: f64) -> Result<Self, ProjectorError> {
+    pub fn new(
+        eye: DVec3,
+        look_at: DVec3,
+        up: DVec3,
+        fov_y: f64,
+        near: f64,
+    ) -> Result<Self, ProjectorError> {
         let basis = ViewBasis::look_at(eye, look_at, up)?;
         check_range("fov_y", fov_y, fov_y > 0.0 && fov_y < PI, "(0°, 180°)")?;
         check_range("near", near, near > 0.0, "(0, ∞)")?;
@@ -124,11 +140,22 @@ pub struct Parallel {
 }
 
 impl Parallel {
-    pub fn new(eye: DVec3, look_at: DVec3, up: DVec3, height: f64, near: f64) -> Result<Self, ProjectorError> {
+    pub fn new(
+        eye: DVec3,
+        look_at: DVec3,
+        up: DVec3,
+        height: f64,
+        near: f64,
+    ) -> Result<Self, ProjectorError> {
         let basis = ViewBasis::look_at(eye, look_at, up)?;
         check_range("height", height, height > 0.0, "(0, ∞)")?;
         check_range("near", near, near >= 0.0, "[0, ∞)")?;
-        Ok(Self { eye, basis, height, near })
+        Ok(Self {
+            eye,
+            basis,
+            height,
+            near,
+        })
     }
 }
 
@@ -166,16 +193,29 @@ impl SphereSurface {
     ) -> Result<Self, ProjectorError> {
         check_finite("centre", centre)?;
         let basis = ViewBasis::look_at(centre, look_at, up)?;
-        check_range("fov_x", fov_x, fov_x > 0.0 && fov_x <= 2.0 * PI, "(0°, 360°]")?;
+        check_range(
+            "fov_x",
+            fov_x,
+            fov_x > 0.0 && fov_x <= 2.0 * PI,
+            "(0°, 360°]",
+        )?;
         check_range("fov_y", fov_y, fov_y > 0.0 && fov_y <= PI, "(0°, 180°]")?;
         check_range("radius", radius, radius > 0.0, "(0, ∞)")?;
-        check_range("ripple_amplitude", amplitude, amplitude.abs() < 1.0, "(−1, 1)")?;
+        check_range(
+            "ripple_amplitude",
+            amplitude,
+            amplitude.abs() < 1.0,
+            "(−1, 1)",
+        )?;
         check_range("ripple_frequency", frequency, frequency >= 0.0, "[0, ∞)")?;
         check_finite("eye", eye)?;
         let distance = (eye - centre).length();
         let smallest = radius * (1.0 - amplitude.abs());
         if distance >= smallest {
-            return Err(ProjectorError::EyeOutsideSurface { distance, radius: smallest });
+            return Err(ProjectorError::EyeOutsideSurface {
+                distance,
+                radius: smallest,
+            });
         }
         Ok(Self {
             eye,
@@ -261,7 +301,14 @@ mod tests {
 
     fn pinhole() -> Projector {
         Projector::Pinhole(
-            Pinhole::new(DVec3::new(0.0, 0.0, -5.0), DVec3::ZERO, DVec3::Y, 60f64.to_radians(), 0.5).unwrap(),
+            Pinhole::new(
+                DVec3::new(0.0, 0.0, -5.0),
+                DVec3::ZERO,
+                DVec3::Y,
+                60f64.to_radians(),
+                0.5,
+            )
+            .unwrap(),
         )
     }
 
@@ -282,7 +329,9 @@ mod tests {
 
     #[test]
     fn parallel_rays_share_a_direction_and_differ_in_origin() {
-        let p = Projector::Parallel(Parallel::new(DVec3::new(0.0, 0.0, -5.0), DVec3::ZERO, DVec3::Y, 4.0, 0.0).unwrap());
+        let p = Projector::Parallel(
+            Parallel::new(DVec3::new(0.0, 0.0, -5.0), DVec3::ZERO, DVec3::Y, 4.0, 0.0).unwrap(),
+        );
         let a = p.ray(0.0, 0.0, 10, 10).unwrap();
         let b = p.ray(10.0, 10.0, 10, 10).unwrap();
         assert_eq!(a.ray.dir, b.ray.dir);
@@ -292,7 +341,18 @@ mod tests {
 
     #[test]
     fn sphere_surface_points_lie_on_the_rippled_sphere() {
-        let s = SphereSurface::new(DVec3::ZERO, DVec3::ZERO, DVec3::Z, DVec3::Y, PI, 0.5 * PI, 2.0, 0.1, 3.0).unwrap();
+        let s = SphereSurface::new(
+            DVec3::ZERO,
+            DVec3::ZERO,
+            DVec3::Z,
+            DVec3::Y,
+            PI,
+            0.5 * PI,
+            2.0,
+            0.1,
+            3.0,
+        )
+        .unwrap();
         let p = Projector::Sphere(s);
         for (x, y) in [(0.0, 0.0), (33.0, 10.0), (64.0, 32.0)] {
             let (c, pt) = p.pair(x, y, 64, 32);
@@ -315,7 +375,22 @@ mod tests {
         );
         assert!(Pinhole::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 0.0, 0.1).is_err());
         assert!(Pinhole::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 1.0, f64::NAN).is_err());
-        assert!(Pinhole::new(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Z, DVec3::Y, 1.0, 0.1).is_err());
-        assert!(SphereSurface::new(DVec3::X * 3.0, DVec3::ZERO, DVec3::Z, DVec3::Y, 1.0, 1.0, 2.0, 0.0, 0.0).is_err());
+        assert!(
+            Pinhole::new(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Z, DVec3::Y, 1.0, 0.1).is_err()
+        );
+        assert!(
+            SphereSurface::new(
+                DVec3::X * 3.0,
+                DVec3::ZERO,
+                DVec3::Z,
+                DVec3::Y,
+                1.0,
+                1.0,
+                2.0,
+                0.0,
+                0.0
+            )
+            .is_err()
+        );
     }
 }

@@ -79,7 +79,11 @@ impl Renderer {
     }
 
     /// Renders `scene`, reporting (pixels done, pixels in total) as work finishes.
-    pub fn render_with_progress(&self, scene: &Scene, progress: Option<fray_trace::Progress<'_>>) -> Result<Frame, RenderError> {
+    pub fn render_with_progress(
+        &self,
+        scene: &Scene,
+        progress: Option<fray_trace::Progress<'_>>,
+    ) -> Result<Frame, RenderError> {
         let scene = self.sized(scene)?;
         let mut settings = TraceSettings::for_scene(&scene);
         if let Some(eps) = self.options.epsilon {
@@ -99,8 +103,16 @@ impl Renderer {
         let (w, h) = match (self.options.width, self.options.height) {
             (None, None) => return Ok(std::borrow::Cow::Borrowed(scene)),
             (Some(w), Some(h)) => (w, h),
-            (Some(w), None) => (w, ((u64::from(w) * u64::from(scene.height)) / u64::from(scene.width.max(1))).max(1) as u32),
-            (None, Some(h)) => (((u64::from(h) * u64::from(scene.width)) / u64::from(scene.height.max(1))).max(1) as u32, h),
+            (Some(w), None) => (
+                w,
+                ((u64::from(w) * u64::from(scene.height)) / u64::from(scene.width.max(1))).max(1)
+                    as u32,
+            ),
+            (None, Some(h)) => (
+                ((u64::from(h) * u64::from(scene.width)) / u64::from(scene.height.max(1))).max(1)
+                    as u32,
+                h,
+            ),
         };
         if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
             return Err(RenderError::BadSize(w, h));

@@ -12,7 +12,9 @@ fn aircraft_frame(c: &mut Criterion) {
     let settings = TraceSettings::for_scene(&scene);
     let mut group = c.benchmark_group("trace");
     group.sample_size(10);
-    group.bench_function("turboprop_512x512", |b| b.iter(|| render(&scene, &settings, None).map(|f| f.stats.hits)));
+    group.bench_function("turboprop_512x512", |b| {
+        b.iter(|| render(&scene, &settings, None).map(|f| f.stats.hits))
+    });
     group.finish();
 }
 

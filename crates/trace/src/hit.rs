@@ -27,20 +27,40 @@ pub fn nearest_hit(
     let mut best: Option<(f64, usize)> = None;
     let mut hi = range.hi;
     for (index, object) in scene.objects.iter().enumerate() {
-        if let Some(t) = caster.cast(&object.solid, ray, Interval { lo: range.lo, hi }, eps, stats) {
-            if best.is_none_or(|(bt, _)| t < bt) {
-                hi = t;
-                best = Some((t, index));
-            }
+        let found = caster.cast(
+            &object.solid,
+            ray,
+            Interval { lo: range.lo, hi },
+            eps,
+            stats,
+        );
+        // The range already ends at the best hit; on a tie the earlier object keeps it.
+        if let Some(t) = found
+            && best.is_none_or(|(bt, _)| t < bt)
+        {
+            hi = t;
+            best = Some((t, index));
         }
     }
     let (t, index) = best?;
     let (normal, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
-    Some(SceneHit { t, object: index as u32, leaf, normal })
+    Some(SceneHit {
+        t,
+        object: index as u32,
+        leaf,
+        normal,
+    })
 }
 
 /// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.
-pub fn occluded(scene: &Scene, caster: &mut RayCaster, ray: &Ray, range: Interval, eps: f64, stats: &mut CastStats) -> bool {
+pub fn occluded(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    stats: &mut CastStats,
+) -> bool {
     scene
         .objects
         .iter()

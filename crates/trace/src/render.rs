@@ -30,7 +30,11 @@ struct TileResult {
 }
 
 /// Renders `scene` on the CPU.
-pub fn render(scene: &Scene, settings: &TraceSettings, progress: Option<Progress<'_>>) -> Result<Frame, TraceError> {
+pub fn render(
+    scene: &Scene,
+    settings: &TraceSettings,
+    progress: Option<Progress<'_>>,
+) -> Result<Frame, TraceError> {
     if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
         return Err(TraceError::BadEpsilon(settings.epsilon));
     }
@@ -97,15 +101,28 @@ pub fn render(scene: &Scene, settings: &TraceSettings, progress: Option<Progress
         stats.point_evaluations += t.cast.point_evaluations;
     }
     stats.passes.push("primary".into());
-    stats.passes.extend(scene.features.names().iter().map(|s| s.to_string()));
+    stats
+        .passes
+        .extend(scene.features.names().iter().map(|s| s.to_string()));
     if !(settings.shadows && scene.features.shadows) {
         stats.passes.retain(|p| p != "shadows");
     }
     stats.elapsed = start.elapsed();
-    Ok(Frame { colour, depth, normals, stats })
+    Ok(Frame {
+        colour,
+        depth,
+        normals,
+        stats,
+    })
 }
 
-fn render_tile(scene: &Scene, settings: &TraceSettings, caster: &mut RayCaster, x0: u32, y0: u32) -> TileResult {
+fn render_tile(
+    scene: &Scene,
+    settings: &TraceSettings,
+    caster: &mut RayCaster,
+    x0: u32,
+    y0: u32,
+) -> TileResult {
     let w = settings.tile_size.min(scene.width - x0);
     let h = settings.tile_size.min(scene.height - y0);
     let n = (w * h) as usize;
@@ -130,7 +147,8 @@ fn render_tile(scene: &Scene, settings: &TraceSettings, caster: &mut RayCaster, 
     };
     for py in y0..y0 + h {
         for px in x0..x0 + w {
-            let (c, d, nrm) = shade_pixel(scene, settings, caster, &mut shade, &mut tile.cast, px, py);
+            let (c, d, nrm) =
+                shade_pixel(scene, settings, caster, &mut shade, &mut tile.cast, px, py);
             if d.is_finite() {
                 tile.hits += 1;
             }
@@ -171,14 +189,22 @@ fn shade_pixel(
     } else {
         hit.normal
     };
-    let shading_normal = if normal.dot(to_viewer) < 0.0 { -normal } else { normal };
+    let shading_normal = if normal.dot(to_viewer) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
     let material = object
         .leaf_materials
         .get(hit.leaf as usize)
         .and_then(|&m| scene.materials.get(m as usize))
         .cloned()
         .unwrap_or_default();
-    let point = SurfacePoint { position, normal: shading_normal, to_viewer };
+    let point = SurfacePoint {
+        position,
+        normal: shading_normal,
+        to_viewer,
+    };
     let radiance: DVec3 = shade.radiance(caster, &point, &material);
     (radiance.as_vec3(), hit.t, normal.as_vec3())
 }

@@ -28,7 +28,12 @@ pub struct ShadeContext<'a> {
 
 impl ShadeContext<'_> {
     /// Outgoing linear radiance at `point` (f64 RGB).
-    pub fn radiance(&mut self, caster: &mut RayCaster, point: &SurfacePoint, material: &Material) -> DVec3 {
+    pub fn radiance(
+        &mut self,
+        caster: &mut RayCaster,
+        point: &SurfacePoint,
+        material: &Material,
+    ) -> DVec3 {
         let ambient = material.ambient.as_dvec3() * self.scene.ambient.as_dvec3();
         let mut total = ambient;
         let diffuse = material.diffuse.as_dvec3() / std::f64::consts::PI;
@@ -37,8 +42,14 @@ impl ShadeContext<'_> {
         let lobe_norm = (material.shininess + 2.0) / (2.0 * std::f64::consts::PI);
         for light in &self.scene.lights {
             let (to_light, irradiance, distance) = match *light {
-                Light::Sun { direction, irradiance } => (direction, irradiance.as_dvec3(), f64::INFINITY),
-                Light::Point { position, intensity } => {
+                Light::Sun {
+                    direction,
+                    irradiance,
+                } => (direction, irradiance.as_dvec3(), f64::INFINITY),
+                Light::Point {
+                    position,
+                    intensity,
+                } => {
                     let d = position - point.position;
                     let r2 = d.length_squared();
                     if r2 == 0.0 {
@@ -66,14 +77,29 @@ impl ShadeContext<'_> {
         total
     }
 
-    fn in_shadow(&mut self, caster: &mut RayCaster, point: &SurfacePoint, to_light: DVec3, distance: f64) -> bool {
+    fn in_shadow(
+        &mut self,
+        caster: &mut RayCaster,
+        point: &SurfacePoint,
+        to_light: DVec3,
+        distance: f64,
+    ) -> bool {
         // Leave the surface along the normal by far more than the hit error (≤ ε), so the shadow
         // ray does not find the surface it starts on.
         let offset = 1e3 * self.epsilon + 1e-12 * point.position.abs().max_element();
         let origin = point.position + point.normal * offset;
-        let Some(ray) = Ray::new(origin, to_light) else { return false };
+        let Some(ray) = Ray::new(origin, to_light) else {
+            return false;
+        };
         self.shadow_rays += 1;
         let range = Interval::new(0.0, distance);
-        occluded(self.scene, caster, &ray, range, self.epsilon, &mut self.cast)
+        occluded(
+            self.scene,
+            caster,
+            &ray,
+            range,
+            self.epsilon,
+            &mut self.cast,
+        )
     }
 }

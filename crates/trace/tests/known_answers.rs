@@ -33,9 +33,16 @@ fn lambert_sun_radiance_matches_closed_form() {
     );
     let frame = render(&s, &settings(&s), None).unwrap();
     let got = frame.colour.get(15, 15).as_dvec3();
-    let expected = DVec3::new(0.25 * 0.1 + 0.5 / PI * 2.0, 0.25 * 0.2 + 0.6 / PI * 3.0, 0.25 * 0.3 + 0.7 / PI * 4.0);
+    let expected = DVec3::new(
+        0.25 * 0.1 + 0.5 / PI * 2.0,
+        0.25 * 0.2 + 0.6 / PI * 3.0,
+        0.25 * 0.3 + 0.7 / PI * 4.0,
+    );
     // f32 storage: relative error ≤ 1e-6.
-    assert!((got - expected).abs().max_element() <= 1e-6 * expected.max_element(), "{got} vs {expected}");
+    assert!(
+        (got - expected).abs().max_element() <= 1e-6 * expected.max_element(),
+        "{got} vs {expected}"
+    );
     // Corners miss: background.
     assert_eq!(frame.colour.get(0, 0).as_dvec3(), s.background.as_dvec3());
 }
@@ -56,11 +63,14 @@ fn point_light_follows_inverse_square_law() {
     let frame = render(&s, &settings(&s), None).unwrap();
     let got = f64::from(frame.colour.get(10, 10).x);
     let expected = 0.9 / PI * 8.0 / 4.0; // r = 2
-    assert!((got - expected).abs() <= 1e-6 * expected, "{got} vs {expected}");
+    assert!(
+        (got - expected).abs() <= 1e-6 * expected,
+        "{got} vs {expected}"
+    );
 }
 
-/// A ball floating over a slab in a vertical sun: the slab point straight below the ball is in
-/// shadow (ambient only); a slab point far to the side is lit.
+/// A ball floating over a slab in a 45° sun: its shadow falls on the slab around the origin
+/// (ambient only there); a slab point well outside the shadow is lit.
 #[test]
 fn shadow_rays_darken_occluded_points() {
     let src = |shadows: bool| {
@@ -69,7 +79,7 @@ fn shadow_rays_darken_occluded_points() {
                 image: (width: 41, height: 41),
                 camera: Parallel(eye: (0, 10, 0), look_at: (0, 0, 0), up: (0, 0, 1), height: 8),
                 ambient: (0.05, 0.05, 0.05),
-                lights: [Sun(direction: (0, 1, 0), irradiance: (3, 3, 3))],
+                lights: [Sun(direction: (1, 1, 0), irradiance: (3, 3, 3))],
                 objects: [
                     (name: "ball", shape: Sphere(center: (3, 3, 0), radius: 1)),
                     (name: "slab", shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)), bounds: (min: (-5, -1, -5), max: (5, 0, 5)))),
@@ -85,7 +95,7 @@ fn shadow_rays_darken_occluded_points() {
     // Find the pixel that sees the slab at x = 0 (under nothing) and one next to the ball's shadow.
     let width = 41.0;
     let px_for_x = |x: f64| ((width * 0.5) - x / 8.0 * width) as u32; // camera right is −x here
-    let open = px_for_x(-2.0);
+    let open = px_for_x(-3.0);
     let open_lit = shadowed.colour.get(open, 20).x;
     assert!(open_lit > 0.5, "open slab should be sunlit, got {open_lit}");
     assert!(shadowed.stats.shadow_rays > 0 && lit.stats.shadow_rays == 0);
@@ -94,15 +104,22 @@ fn shadow_rays_darken_occluded_points() {
     let mut darker = 0;
     for (a, b) in lit.colour.pixels().iter().zip(shadowed.colour.pixels()) {
         assert!(b.x <= a.x + 1e-7);
-        if a.x - b.x > 0.5 {
+        if a.x - b.x > 0.4 {
             darker += 1;
         }
     }
-    assert!(darker > 5, "the ball must cast a shadow on the slab ({darker} pixels)");
+    assert!(
+        darker > 5,
+        "the ball must cast a shadow on the slab ({darker} pixels)"
+    );
     // Shadowed slab pixels have exactly the ambient term left.
     for (a, b) in lit.colour.pixels().iter().zip(shadowed.colour.pixels()) {
-        if a.x - b.x > 0.5 {
-            assert!((b.x - 0.8 * 0.05).abs() < 1e-6, "shadow = ambient only, got {}", b.x);
+        if a.x - b.x > 0.4 {
+            assert!(
+                (b.x - 0.8 * 0.05).abs() < 1e-6,
+                "shadow = ambient only, got {}",
+                b.x
+            );
         }
     }
 }
@@ -122,7 +139,10 @@ fn picture_surface_clips_what_lies_before_it() {
     let r = s.camera.pixel_ray(4, 4, 9, 9).unwrap();
     assert_eq!(*frame.depth.get(4, 4), r.t_near);
     let n = frame.normals.get(4, 4).as_dvec3();
-    assert!((n + r.ray.dir).length() < 1e-6, "the cut face faces the viewer");
+    assert!(
+        (n + r.ray.dir).length() < 1e-6,
+        "the cut face faces the viewer"
+    );
 }
 
 /// Every pixel's depth agrees with the closed-form sphere intersection to within ε.
@@ -147,7 +167,10 @@ fn depth_matches_closed_form_on_every_pixel() {
             match exact {
                 Some(t) => {
                     hits += 1;
-                    assert!((got - t).abs() <= st.epsilon, "pixel ({px},{py}): {got} vs {t}");
+                    assert!(
+                        (got - t).abs() <= st.epsilon,
+                        "pixel ({px},{py}): {got} vs {t}"
+                    );
                 }
                 None => assert!(got.is_infinite(), "pixel ({px},{py}) should miss"),
             }
