@@ -32,9 +32,13 @@ impl std::ops::AddAssign for CastStats {
 /// One leaf restricted to the current ray.
 #[derive(Clone, Copy, Debug)]
 struct LeafOnRay {
-    /// Where the leaf can be non-negative; `None` if never on this ray (the value is `−∞`).
+    /// Where the leaf can be non-negative; `None` if never on this ray. Outside it the leaf's
+    /// value is taken as `−∞`: exact for a clipping box, and for a derived box *sign-equivalent*
+    /// (there `F′ < 0`, and replacing a negative operand by `−∞` keeps the sign of every
+    /// max/min/neg composition), which is all the search decides on. This lets a segment skip
+    /// every leaf whose box it misses.
     present: Option<Interval>,
-    /// Whether outside `present` the value is `−∞` (a clipping box) rather than `F′` itself.
+    /// Whether the box cuts the shape, so a segment straddling it has no slope information.
     clips: bool,
     base: RayQuadratic,
     perturbations: (u32, u32),
@@ -113,13 +117,12 @@ impl RayCaster {
             let start = self.perturbations.len() as u32;
             if let Some(present) = present {
                 any = true;
-                // A clipping leaf only matters inside its box; a derived box may be ignored
-                // (F′ < 0 outside it) but then F′ must be exact over the whole range.
-                let span = if leaf.clips() { present } else { range };
                 for p in leaf.perturbations() {
                     let q = p.quadric.on_ray(ray);
-                    // Per-ray pruning: a support the ray never enters contributes 0.
-                    if p.form_factor != 0.0 && q.range(span).hi > 0.0 {
+                    // Per-ray pruning: a support the ray never enters inside the leaf's box
+                    // contributes 0 there. (Outside a derived box the pruned F′ stays < 0:
+                    // F < 0 there and the supports of bumps lie inside the box.)
+                    if p.form_factor != 0.0 && q.range(present).hi > 0.0 {
                         self.perturbations.push((p.form_factor, q));
                     }
                 }
@@ -138,11 +141,11 @@ impl RayCaster {
         let Some(present) = leaf.present else {
             return ABSENT;
         };
+        if seg.hi < present.lo || seg.lo > present.hi {
+            return ABSENT;
+        }
         let mut inner = seg;
         if leaf.clips {
-            if seg.hi < present.lo || seg.lo > present.hi {
-                return ABSENT;
-            }
             inner = Interval {
                 lo: seg.lo.max(present.lo),
                 hi: seg.hi.min(present.hi),
@@ -172,7 +175,7 @@ impl RayCaster {
         let Some(present) = leaf.present else {
             return f64::NEG_INFINITY;
         };
-        if leaf.clips && (t < present.lo || t > present.hi) {
+        if t < present.lo || t > present.hi {
             return f64::NEG_INFINITY;
         }
         let mut v = leaf.base.eval(t);
