@@ -12,26 +12,9 @@ use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, FreeForm, Perturbation, Quadric, RayCaster, Solid};
 use glam::DVec3;
 
-/// SplitMix64: deterministic scene and rays.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    fn direction(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(self.unit(), self.unit(), self.unit()) * 2.0 - 1.0;
-            if v.length_squared() > 1e-6 && v.length_squared() <= 1.0 {
-                return v.normalize();
-            }
-        }
-    }
-}
+#[path = "../tests/common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 /// An ellipsoid with `n` small bumps and dents centred on its surface.
 fn object(n: usize) -> Solid {

@@ -29,37 +29,8 @@ const SAMPLES: usize = 1000;
 const RAYS_PER_CASE: usize = 100;
 const TOL: f64 = 1e-9;
 
-/// SplitMix64 for the rays of one case (the objects come from proptest strategies).
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn direction(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let l2 = v.length_squared();
-            if l2 > 1e-6 && l2 <= 1.0 {
-                return v / l2.sqrt();
-            }
-        }
-    }
-}
+mod common;
+use common::rng::Rng;
 
 fn vec3(lo: f64, hi: f64) -> impl Strategy<Value = DVec3> {
     (lo..hi, lo..hi, lo..hi).prop_map(|(x, y, z)| DVec3::new(x, y, z))
