@@ -282,6 +282,10 @@ pub struct FreeForm {
 pub struct Perturbation {
     pub form_factor: f64,
     pub quadric: Quadric,
+    /// Applied to this perturbation's quadric alone, before the free form's own transform
+    /// (e.g. to tilt an ellipsoidal bump).
+    #[serde(default)]
+    pub transform: Option<Transform>,
 }
 
 /// An axis-aligned box in world space.

@@ -486,7 +486,11 @@ impl ShapeContext<'_> {
             if form_factor != 0.0 {
                 self.features.perturbations = true;
             }
-            let q = placed(path, quadric(&pp.field("quadric"), &p.quadric)?, t)?;
+            let own = match &p.transform {
+                Some(own) => transform(&pp.field("transform"), own)?,
+                None => DAffine3::IDENTITY,
+            };
+            let q = placed(&pp, quadric(&pp.field("quadric"), &p.quadric)?, t * own)?;
             perts.push(Perturbation::new(form_factor, q));
         }
         let f = FreeForm::new(base, perts, bounds).map_err(|e| {

@@ -680,3 +680,52 @@ fn deep_nesting_is_an_error() {
     assert!(parse(&"(".repeat(100_000), "deep.ron").is_err());
     assert!(parse(&"[".repeat(100_000), "deep.ron").is_err());
 }
+
+/// A perturbation's own `transform` moves its quadric alone: a long bump rotated 90° about z
+/// equals the bump written with swapped radii.
+#[test]
+fn perturbation_transform_rotates_its_quadric_only() {
+    let rotated = fray_scene::parse(
+        r#"Scene(objects: [(shape: FreeForm(
+            base: Sphere(center: (0, 0, 0), radius: 1),
+            perturbations: [(form_factor: 0.5, quadric: Ellipsoid(center: (0, 0, 0), radii: (2, 0.5, 0.5)), transform: (rotate: (0, 0, 90), translate: (0, 1, 0)))],
+        ))])"#,
+        "rotated.ron",
+    )
+    .expect("parses");
+    let written = fray_scene::parse(
+        r#"Scene(objects: [(shape: FreeForm(
+            base: Sphere(center: (0, 0, 0), radius: 1),
+            perturbations: [(form_factor: 0.5, quadric: Ellipsoid(center: (0, 1, 0), radii: (0.5, 2, 0.5)))],
+        ))])"#,
+        "written.ron",
+    )
+    .expect("parses");
+    let a = rotated.objects[0].solid.leaves()[0].clone();
+    let b = written.objects[0].solid.leaves()[0].clone();
+    // The base is untouched.
+    assert_eq!(a.base(), b.base());
+    for p in [
+        glam::DVec3::new(0.0, 2.5, 0.0),
+        glam::DVec3::new(0.3, 1.2, -0.1),
+        glam::DVec3::new(1.0, 1.0, 0.0),
+    ] {
+        assert!(
+            (a.eval(p) - b.eval(p)).abs() < 1e-12,
+            "at {p}: {} vs {}",
+            a.eval(p),
+            b.eval(p)
+        );
+    }
+    // A bad perturbation transform names its field.
+    let err = fray_scene::parse(
+        "Scene(objects: [(shape: FreeForm(base: Sphere(center: (0, 0, 0), radius: 1),\n  perturbations: [(form_factor: 1, quadric: Sphere(center: (0, 0, 0), radius: 1), transform: (scale: (0, 1, 1)))]))])",
+        "bad.ron",
+    )
+    .expect_err("zero scale is rejected");
+    let text = err.to_string();
+    assert!(
+        text.contains("perturbations[0].transform.scale") && text.contains("bad.ron:2:"),
+        "{text}"
+    );
+}
