@@ -34,6 +34,12 @@ pub struct RenderStats {
     pub point_evaluations: u64,
     /// The ray-casting tolerance ε that was used, in world units.
     pub epsilon: f64,
+    /// Quadtree cells whose ray bundle was tested (0 when no culling ran).
+    pub cells_visited: u64,
+    /// Quadtree cells dropped because nothing could be hit in them.
+    pub cells_culled: u64,
+    /// Work items (tiles with candidates) that were rendered per pixel.
+    pub work_items: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).
     pub passes: Vec<String>,
     /// Wall time of the render call.

@@ -10,7 +10,7 @@
 //! Contract: the returned `t` is the first point of the range (up to `ε`) where `F′ ≥ 0`; it is
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
 
-use crate::{CsgOp, RayQuadratic, Solid};
+use crate::{ActiveSet, CsgOp, RayQuadratic, Solid};
 use fray_core::{Interval, Ray};
 
 /// Work counters of the ray caster.
@@ -81,10 +81,29 @@ impl RayCaster {
         stats: &mut CastStats,
     ) -> Option<f64> {
         let range = solid.bounds().clip_ray(ray, range)?;
-        if !self.prepare(solid, ray, range) {
+        if !self.prepare(solid, ray, range, None) {
             return None;
         }
         self.search(solid.program(), range, eps, stats)
+    }
+
+    /// [`RayCaster::cast`] restricted to the leaves and perturbations of `active` (and its pruned
+    /// program): the same answer whenever `active` is conservative for this ray (see
+    /// [`ActiveSet`]), at the cost of only what is active.
+    pub fn cast_with(
+        &mut self,
+        solid: &Solid,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        active: &ActiveSet,
+        stats: &mut CastStats,
+    ) -> Option<f64> {
+        let range = solid.bounds().clip_ray(ray, range)?;
+        if !self.prepare(solid, ray, range, Some(active)) {
+            return None;
+        }
+        self.search(active.program(), range, eps, stats)
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
@@ -92,7 +111,7 @@ impl RayCaster {
     /// range, or `None` if the ray cannot reach the solid there. For benchmarks and diagnostics.
     pub fn prepare_ray(&mut self, solid: &Solid, ray: &Ray, range: Interval) -> Option<Interval> {
         let range = solid.bounds().clip_ray(ray, range)?;
-        self.prepare(solid, ray, range).then_some(range)
+        self.prepare(solid, ray, range, None).then_some(range)
     }
 
     /// The conservative range of the solid's value and of its derivative along the ray over the
@@ -107,17 +126,37 @@ impl RayCaster {
         (b.value, b.slope)
     }
 
-    /// Restricts every leaf to the ray; false if no leaf can be reached.
-    fn prepare(&mut self, solid: &Solid, ray: &Ray, range: Interval) -> bool {
+    /// Restricts every leaf (every active one, given a subset) to the ray; false if no leaf can
+    /// be reached.
+    fn prepare(
+        &mut self,
+        solid: &Solid,
+        ray: &Ray,
+        range: Interval,
+        active: Option<&ActiveSet>,
+    ) -> bool {
         self.leaves.clear();
         self.perturbations.clear();
         let mut any = false;
-        for leaf in solid.leaves() {
-            let present = leaf.bounds().clip_ray(ray, range);
+        for (i, leaf) in solid.leaves().iter().enumerate() {
+            let present = match active {
+                Some(a) if !a.leaf_is_active(i) => None,
+                _ => leaf.bounds().clip_ray(ray, range),
+            };
             let start = self.perturbations.len() as u32;
             if let Some(present) = present {
                 any = true;
-                for p in leaf.perturbations() {
+                let all = leaf.perturbations();
+                let subset = active.map(|a| a.leaf_perturbations(i));
+                let count = subset.map_or(all.len(), <[u32]>::len);
+                for k in 0..count {
+                    let p = match subset {
+                        Some(s) => match all.get(s[k] as usize) {
+                            Some(p) => p,
+                            None => continue,
+                        },
+                        None => &all[k],
+                    };
                     let q = p.quadric.on_ray(ray);
                     // Per-ray pruning: a support the ray never enters inside the leaf's box
                     // contributes 0 there. (Outside a derived box the pruned F′ stays < 0:

@@ -27,6 +27,7 @@
 //! # Ok::<(), fray_geometry::GeometryError>(())
 //! ```
 
+mod active;
 mod cast;
 mod csg;
 mod error;
@@ -35,6 +36,7 @@ mod perturbation;
 mod quadric;
 mod ray_quadratic;
 
+pub use active::ActiveSet;
 pub use cast::{CastStats, RayCaster};
 pub use csg::{CsgOp, Shape, Solid};
 pub use error::GeometryError;

@@ -1,7 +1,7 @@
 //! The nearest hit over all objects of a scene: the pair (ray parameter, primitive).
 
 use fray_core::{Interval, Ray};
-use fray_geometry::{CastStats, RayCaster};
+use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::Scene;
 
 /// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit, and
@@ -35,6 +35,51 @@ pub fn nearest_hit(
             stats,
         );
         // The range already ends at the best hit; on a tie the earlier object keeps it.
+        if let Some(t) = found
+            && best.is_none_or(|(bt, _)| t < bt)
+        {
+            hi = t;
+            best = Some((t, index));
+        }
+    }
+    let (t, index) = best?;
+    let (normal, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
+    Some(SceneHit {
+        t,
+        object: index as u32,
+        leaf,
+        normal,
+    })
+}
+
+/// [`nearest_hit`] over a subset: only the listed objects (increasing indices), each cast with
+/// its [`ActiveSet`]. The same hit as [`nearest_hit`] when the subset is conservative for the ray
+/// (objects left out cannot be hit, sets hold what the ray may need) — what a quadtree work item
+/// guarantees for the rays of its tile.
+pub fn nearest_hit_among(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    candidates: &[(u32, ActiveSet)],
+    stats: &mut CastStats,
+) -> Option<SceneHit> {
+    let mut best: Option<(f64, usize)> = None;
+    let mut hi = range.hi;
+    for (index, active) in candidates {
+        let index = *index as usize;
+        let Some(object) = scene.objects.get(index) else {
+            continue;
+        };
+        let found = caster.cast_with(
+            &object.solid,
+            ray,
+            Interval { lo: range.lo, hi },
+            eps,
+            active,
+            stats,
+        );
         if let Some(t) = found
             && best.is_none_or(|(bt, _)| t < bt)
         {

@@ -1,7 +1,10 @@
 //! `fray-trace`: the CPU backend and f64 reference renderer. For every pixel the projector's ray
 //! is cast against every object by binary search (`fray-geometry`); the nearest hit is shaded
 //! with ambient + Lambert (albedo/π) + normalised Phong light and hard shadows. Tiles render in
-//! parallel with rayon; the image does not depend on the thread count.
+//! parallel with rayon; the image does not depend on the thread count. With
+//! [`TraceSettings::culling`] (the default) the tiles come from the `fray-quadtree` scheduler:
+//! empty tiles are skipped and each tile casts only the objects, CSG leaves and perturbations its
+//! rays may meet — the same image, less work.
 //!
 //! ```
 //! use fray_trace::{render, TraceSettings};
@@ -22,12 +25,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod cull;
 mod hit;
 mod render;
 mod settings;
 mod shade;
 
-pub use hit::{SceneHit, nearest_hit, occluded};
+pub use hit::{SceneHit, nearest_hit, nearest_hit_among, occluded};
 pub use render::{Progress, render};
 pub use settings::{TraceError, TraceSettings};
 pub use shade::{ShadeContext, SurfacePoint};

@@ -1,11 +1,12 @@
 //! The CPU frame loop: tiles in parallel (rayon), one primary ray per pixel centre, shading, and
 //! the frame's statistics. The result does not depend on the thread count.
 
-use crate::hit::nearest_hit;
+use crate::cull::work_list;
+use crate::hit::{nearest_hit, nearest_hit_among};
 use crate::shade::{ShadeContext, SurfacePoint};
 use crate::{TraceError, TraceSettings};
 use fray_core::{Frame, Image, Interval, RenderStats, Rgb};
-use fray_geometry::{CastStats, RayCaster};
+use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::Scene;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -57,16 +58,60 @@ pub fn render(
     };
     let (width, height) = (scene.width, scene.height);
     let ts = settings.tile_size;
-    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(ts))
-        .flat_map(|ty| (0..width.div_ceil(ts)).map(move |tx| (tx * ts, ty * ts)))
-        .collect();
     let total = u64::from(width) * u64::from(height);
     let done = AtomicU64::new(0);
+    // Tiles `(x0, y0, x1, y1)`, with the index of their work item when culling.
+    let (tiles, list): (Vec<Tile>, _) = if settings.culling {
+        let list = pool.install(|| work_list(scene, ts))?;
+        let tiles = list
+            .items
+            .iter()
+            .enumerate()
+            .map(|(k, it)| Tile {
+                rect: (it.x0, it.y0, it.x1, it.y1),
+                item: Some(k),
+            })
+            .collect();
+        (tiles, Some(list))
+    } else {
+        let tiles = (0..height.div_ceil(ts))
+            .flat_map(|ty| {
+                (0..width.div_ceil(ts)).map(move |tx| Tile {
+                    rect: (
+                        tx * ts,
+                        ty * ts,
+                        (tx * ts + ts).min(width),
+                        (ty * ts + ts).min(height),
+                    ),
+                    item: None,
+                })
+            })
+            .collect();
+        (tiles, None)
+    };
     let results: Vec<TileResult> = pool.install(|| {
         tiles
             .par_iter()
-            .map_init(RayCaster::new, |caster, &(x0, y0)| {
-                let tile = render_tile(scene, settings, caster, x0, y0);
+            .map_init(RayCaster::new, |caster, t| {
+                let candidates: Option<Vec<(u32, ActiveSet)>> = match (t.item, list.as_ref()) {
+                    (Some(k), Some(list)) => Some(
+                        list.candidates_of(&list.items[k])
+                            .iter()
+                            .map(|c| {
+                                let solid = &scene.objects[c.object as usize].solid;
+                                let mut a = ActiveSet::new();
+                                a.set(
+                                    solid,
+                                    c.leaves(&list.leaves),
+                                    c.perturbations(&list.perturbations),
+                                );
+                                (c.object, a)
+                            })
+                            .collect(),
+                    ),
+                    _ => None,
+                };
+                let tile = render_tile(scene, settings, caster, t.rect, candidates.as_deref());
                 if let Some(report) = progress {
                     let n = u64::from(tile.w) * u64::from(tile.h);
                     report(done.fetch_add(n, Ordering::Relaxed) + n, total);
@@ -76,7 +121,11 @@ pub fn render(
             .collect()
     });
 
-    let mut colour = Image::filled(width, height, Rgb::ZERO);
+    if let Some(report) = progress {
+        // Culled tiles are done too (background).
+        report(total, total);
+    }
+    let mut colour = Image::filled(width, height, scene.background);
     let mut depth = Image::filled(width, height, f64::INFINITY);
     let mut normals = Image::filled(width, height, Vec3::ZERO);
     let mut stats = RenderStats {
@@ -86,6 +135,11 @@ pub fn render(
         epsilon: settings.epsilon,
         ..RenderStats::default()
     };
+    if let Some(list) = &list {
+        stats.cells_visited = list.stats.cells_visited;
+        stats.cells_culled = list.stats.cells_culled;
+        stats.work_items = list.stats.items;
+    }
     for t in &results {
         for j in 0..t.h {
             for i in 0..t.w {
@@ -99,6 +153,9 @@ pub fn render(
         stats.shadow_rays += t.shadow_rays;
         stats.bound_evaluations += t.cast.bound_evaluations;
         stats.point_evaluations += t.cast.point_evaluations;
+    }
+    if list.is_some() {
+        stats.passes.push("quadtree".into());
     }
     stats.passes.push("primary".into());
     stats
@@ -116,15 +173,20 @@ pub fn render(
     })
 }
 
+/// A rectangle of pixels `[x0, x1) × [y0, y1)` and its work item, if culled.
+struct Tile {
+    rect: (u32, u32, u32, u32),
+    item: Option<usize>,
+}
+
 fn render_tile(
     scene: &Scene,
     settings: &TraceSettings,
     caster: &mut RayCaster,
-    x0: u32,
-    y0: u32,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    candidates: Option<&[(u32, ActiveSet)]>,
 ) -> TileResult {
-    let w = settings.tile_size.min(scene.width - x0);
-    let h = settings.tile_size.min(scene.height - y0);
+    let (w, h) = (x1 - x0, y1 - y0);
     let n = (w * h) as usize;
     let mut tile = TileResult {
         x0,
@@ -147,8 +209,15 @@ fn render_tile(
     };
     for py in y0..y0 + h {
         for px in x0..x0 + w {
-            let (c, d, nrm) =
-                shade_pixel(scene, settings, caster, &mut shade, &mut tile.cast, px, py);
+            let (c, d, nrm) = shade_pixel(
+                scene,
+                settings,
+                caster,
+                &mut shade,
+                &mut tile.cast,
+                (px, py),
+                candidates,
+            );
             if d.is_finite() {
                 tile.hits += 1;
             }
@@ -168,8 +237,8 @@ fn shade_pixel(
     caster: &mut RayCaster,
     shade: &mut ShadeContext<'_>,
     stats: &mut CastStats,
-    px: u32,
-    py: u32,
+    (px, py): (u32, u32),
+    candidates: Option<&[(u32, ActiveSet)]>,
 ) -> (Rgb, f64, Vec3) {
     let miss = (scene.background, f64::INFINITY, Vec3::ZERO);
     let Some(camera_ray) = scene.camera.pixel_ray(px, py, scene.width, scene.height) else {
@@ -177,7 +246,12 @@ fn shade_pixel(
     };
     let ray = camera_ray.ray;
     let range = Interval::new(camera_ray.t_near, f64::INFINITY);
-    let Some(hit) = nearest_hit(scene, caster, &ray, range, settings.epsilon, stats) else {
+    let eps = settings.epsilon;
+    let hit = match candidates {
+        Some(c) => nearest_hit_among(scene, caster, &ray, range, eps, c, stats),
+        None => nearest_hit(scene, caster, &ray, range, eps, stats),
+    };
+    let Some(hit) = hit else {
         return miss;
     };
     let object = &scene.objects[hit.object as usize];

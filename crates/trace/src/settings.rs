@@ -11,6 +11,10 @@ pub struct TraceSettings {
     pub shadows: bool,
     /// Side of the square tiles the image is split into for parallel work.
     pub tile_size: u32,
+    /// Cull with the quadtree scheduler (`fray-quadtree`): tiles and candidate objects, leaves
+    /// and perturbations that provably cannot matter are skipped. Lossless: the image is the same
+    /// with it off.
+    pub culling: bool,
 }
 
 impl TraceSettings {
@@ -21,6 +25,7 @@ impl TraceSettings {
             threads: None,
             shadows: scene.settings.shadows,
             tile_size: 16,
+            culling: true,
         }
     }
 }
@@ -34,6 +39,8 @@ pub enum TraceError {
     EmptyImage(u32, u32),
     #[error("tile size must be at least 1")]
     BadTileSize,
+    #[error("quadtree: {0}")]
+    Quadtree(#[from] fray_quadtree::QuadtreeError),
     #[error("could not start {threads} worker threads: {reason}")]
     ThreadPool { threads: usize, reason: String },
 }

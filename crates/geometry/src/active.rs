@@ -1,0 +1,252 @@
+//! A subset of a solid's leaves and perturbations that may matter for a set of rays (one image
+//! tile), with the CSG program pruned to it: the input of [`crate::RayCaster::cast_with`].
+//!
+//! A leaf left out is taken as absent (`−∞`) and folded out of the postfix program
+//! (`max(a, −∞) = a`, `min(a, −∞) = −∞`, `−(−∞) = +∞`, …). Casting with the subset gives the
+//! same answer as casting with everything exactly when the subset is *conservative* for the
+//! ray: every leaf left out has a box the ray misses, and every perturbation left out has a
+//! support the ray does not enter within its leaf's box — the same things the per-ray pruning
+//! drops, so the arithmetic that remains is the same, term for term.
+
+use crate::{CsgOp, Solid};
+use fray_core::Aabb;
+
+/// Which leaves and perturbations of one [`Solid`] are active, and the pruned program.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ActiveSet {
+    leaf_active: Vec<bool>,
+    /// Per leaf, the range of its active perturbations in `perturbations`.
+    leaf_perturbations: Vec<(u32, u32)>,
+    /// Leaf-local perturbation indices, increasing within each leaf.
+    perturbations: Vec<u32>,
+    program: Vec<CsgOp>,
+    stack: Vec<Term>,
+}
+
+/// A folded operand: a known constant or a run of code at the end of the output program.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Term {
+    NegInf,
+    PosInf,
+    Code(usize),
+}
+
+impl ActiveSet {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Every leaf and perturbation of `solid` active: casting with it equals [`crate::RayCaster::cast`].
+    pub fn all(solid: &Solid) -> Self {
+        let leaves: Vec<u32> = (0..solid.leaves().len() as u32).collect();
+        let perturbations: Vec<u32> = (0..solid.perturbation_count() as u32).collect();
+        let mut set = Self::new();
+        set.set(solid, &leaves, &perturbations);
+        set
+    }
+
+    /// Makes `leaves` (indices into `solid.leaves()`) and `perturbations` (object-wide indices:
+    /// leaf 0's perturbations first, then leaf 1's, …; increasing) the active subset, and prunes
+    /// the program. Perturbations of inactive leaves are ignored. Returns `false` when the pruned
+    /// solid is `−∞` everywhere, i.e. no ray for which the subset is conservative can hit it.
+    pub fn set(&mut self, solid: &Solid, leaves: &[u32], perturbations: &[u32]) -> bool {
+        let n = solid.leaves().len();
+        self.leaf_active.clear();
+        self.leaf_active.resize(n, false);
+        for &l in leaves {
+            if let Some(a) = self.leaf_active.get_mut(l as usize) {
+                *a = true;
+            }
+        }
+        self.leaf_perturbations.clear();
+        self.perturbations.clear();
+        let mut global = perturbations.iter().copied().peekable();
+        let mut first = 0u32;
+        for (i, leaf) in solid.leaves().iter().enumerate() {
+            let count = leaf.perturbations().len() as u32;
+            let start = self.perturbations.len() as u32;
+            while let Some(&g) = global.peek() {
+                if g >= first + count {
+                    break;
+                }
+                if g >= first && self.leaf_active[i] {
+                    self.perturbations.push(g - first);
+                }
+                global.next();
+            }
+            self.leaf_perturbations
+                .push((start, self.perturbations.len() as u32));
+            first += count;
+        }
+        self.fold(solid)
+    }
+
+    /// Whether leaf `i` is active.
+    #[inline]
+    pub fn leaf_is_active(&self, i: usize) -> bool {
+        self.leaf_active.get(i).copied().unwrap_or(false)
+    }
+
+    /// The active perturbations of leaf `i`, as indices into that leaf's perturbations.
+    #[inline]
+    pub fn leaf_perturbations(&self, i: usize) -> &[u32] {
+        self.leaf_perturbations
+            .get(i)
+            .and_then(|&(s, e)| self.perturbations.get(s as usize..e as usize))
+            .unwrap_or(&[])
+    }
+
+    /// The pruned postfix program.
+    pub fn program(&self) -> &[CsgOp] {
+        &self.program
+    }
+
+    fn fold(&mut self, solid: &Solid) -> bool {
+        self.program.clear();
+        self.stack.clear();
+        for op in solid.program() {
+            match *op {
+                CsgOp::Leaf(i) => {
+                    if self.leaf_is_active(i as usize) {
+                        self.stack.push(Term::Code(self.program.len()));
+                        self.program.push(CsgOp::Leaf(i));
+                    } else {
+                        self.stack.push(Term::NegInf);
+                    }
+                }
+                CsgOp::Neg => {
+                    let t = match self.stack.pop() {
+                        Some(Term::NegInf) | None => Term::PosInf,
+                        Some(Term::PosInf) => Term::NegInf,
+                        Some(Term::Code(s)) => {
+                            self.program.push(CsgOp::Neg);
+                            Term::Code(s)
+                        }
+                    };
+                    self.stack.push(t);
+                }
+                CsgOp::Max | CsgOp::Min => {
+                    let b = self.stack.pop().unwrap_or(Term::NegInf);
+                    let a = self.stack.pop().unwrap_or(Term::NegInf);
+                    // The absorbing constant of the operation, and its identity.
+                    let (absorbing, identity) = if *op == CsgOp::Max {
+                        (Term::PosInf, Term::NegInf)
+                    } else {
+                        (Term::NegInf, Term::PosInf)
+                    };
+                    let t = match (a, b) {
+                        (Term::Code(s), Term::Code(_)) => {
+                            self.program.push(*op);
+                            Term::Code(s)
+                        }
+                        (x, y) if x == absorbing || y == absorbing => {
+                            // Drop whatever code the operands left.
+                            if let Term::Code(s) = a {
+                                self.program.truncate(s);
+                            } else if let Term::Code(s) = b {
+                                self.program.truncate(s);
+                            }
+                            absorbing
+                        }
+                        (x, y) if x == identity => y,
+                        (x, _) => x, // y is the identity
+                    };
+                    self.stack.push(t);
+                }
+            }
+        }
+        match self.stack.pop() {
+            Some(Term::Code(_)) => true,
+            Some(Term::NegInf) | None => false,
+            Some(Term::PosInf) => {
+                // Non-negative wherever every active leaf is absent: keep the whole program
+                // (inactive leaves still read as absent), which casts exactly like the original.
+                self.program.clear();
+                self.program.extend_from_slice(solid.program());
+                true
+            }
+        }
+    }
+}
+
+impl Solid {
+    /// The leaves and perturbations that a set of rays may need, given a conservative test
+    /// `may_meet(box)` ("some ray of the set may pass through the box"): a leaf is kept when its
+    /// box may be met, a perturbation (with a non-zero form factor, of a kept leaf) when its
+    /// support box clipped to the leaf's box may be met — or the leaf's box, for an unbounded
+    /// support. Writes object-wide indices (see [`ActiveSet::set`]) into the two lists (cleared).
+    pub fn active_parts(
+        &self,
+        mut may_meet: impl FnMut(&Aabb) -> bool,
+        leaves: &mut Vec<u32>,
+        perturbations: &mut Vec<u32>,
+    ) {
+        leaves.clear();
+        perturbations.clear();
+        let mut first = 0u32;
+        for (i, leaf) in self.leaves().iter().enumerate() {
+            let count = leaf.perturbations().len() as u32;
+            let leaf_box = leaf.bounds();
+            if may_meet(&leaf_box) {
+                leaves.push(i as u32);
+                for (k, p) in leaf.perturbations().iter().enumerate() {
+                    if p.form_factor == 0.0 {
+                        continue;
+                    }
+                    let keep = match p.support_bounds() {
+                        Some(s) => {
+                            let clipped = s.intersection(&leaf_box);
+                            if clipped.is_empty() {
+                                may_meet(&s)
+                            } else {
+                                may_meet(&clipped)
+                            }
+                        }
+                        None => true,
+                    };
+                    if keep {
+                        perturbations.push(first + k as u32);
+                    }
+                }
+            }
+            first += count;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{FreeForm, Quadric, Shape};
+    use glam::DVec3;
+
+    fn ball(x: f64) -> Shape {
+        Shape::FreeForm(
+            FreeForm::new(Quadric::sphere(DVec3::new(x, 0.0, 0.0), 1.0), vec![], None).unwrap(),
+        )
+    }
+
+    #[test]
+    fn folding_drops_absent_operands() {
+        // (a ∪ b) − c
+        let s = Solid::new(Shape::Difference(
+            Box::new(Shape::Union(vec![ball(0.0), ball(3.0)])),
+            Box::new(ball(1.0)),
+        ))
+        .unwrap();
+        let mut set = ActiveSet::new();
+        assert!(set.set(&s, &[0, 1, 2], &[]));
+        assert_eq!(set.program(), s.program());
+        assert!(set.set(&s, &[1], &[]));
+        assert_eq!(set.program(), &[CsgOp::Leaf(1)]);
+        assert!(set.set(&s, &[0, 2], &[]));
+        assert_eq!(
+            set.program(),
+            &[CsgOp::Leaf(0), CsgOp::Leaf(2), CsgOp::Neg, CsgOp::Min]
+        );
+        assert!(!set.set(&s, &[2], &[]));
+        // a ∩ b with b absent is empty.
+        let s = Solid::new(Shape::Intersection(vec![ball(0.0), ball(1.0)])).unwrap();
+        assert!(!set.set(&s, &[0], &[]));
+    }
+}

@@ -1,0 +1,183 @@
+//! The ray bundle of an image cell: a conservative description of the rays through all of its
+//! pixel centres, for every projector kind, and the conservative box-versus-bundle test.
+//!
+//! A bundle says: every ray of the cell starts within `origin_radius` of `origin` and its unit
+//! direction makes an angle of at most `half_angle` with `axis`. For a pinhole the directions of
+//! the pixel centres are an affine image of the rectangle, so the cone around the four corner
+//! rays holds them all; for a parallel projection the origins are affine in the pixel and the
+//! direction is fixed; for the sphere picture surface, whose directions are not linear in the
+//! pixel, the picture points of the cell are bounded by interval arithmetic over its azimuth and
+//! elevation ranges (ripple included) and the cone is the one from the eye around that ball.
+
+use crate::trig::{cos_range, sin_range};
+use fray_core::{Aabb, Interval, Projector, Ray};
+use glam::DVec3;
+use std::f64::consts::PI;
+
+/// Angular slack added to every cone (radians): covers the rounding of normalised directions
+/// (`acos` of a dot product one ulp below 1 is already ≈ 1.5e-8).
+const ANGLE_SLACK: f64 = 1e-7;
+/// Relative slack on distances: covers rounding in the projector and in the callers' evaluations.
+const RELATIVE_SLACK: f64 = 1e-7;
+
+/// A conservative description of all rays through the pixel centres of the cell
+/// `[x0, x1) × [y0, y1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayBundle {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+    /// Every ray's origin lies within `origin_radius` of this point.
+    pub origin: DVec3,
+    pub origin_radius: f64,
+    /// Every ray's unit direction is within `half_angle` of this unit vector.
+    pub axis: DVec3,
+    /// In radians; `≥ π` means "any direction" (no culling possible).
+    pub half_angle: f64,
+}
+
+impl RayBundle {
+    /// The bundle of the cell `[x0, x1) × [y0, y1)` (non-empty) of a `width × height` image.
+    pub fn of_cell(
+        projector: &Projector,
+        (width, height): (u32, u32),
+        (x0, y0, x1, y1): (u32, u32, u32, u32),
+    ) -> Self {
+        let (xa, xb) = (f64::from(x0) + 0.5, f64::from(x1.max(x0 + 1)) - 0.5);
+        let (ya, yb) = (f64::from(y0) + 0.5, f64::from(y1.max(y0 + 1)) - 0.5);
+        let mut bundle = Self {
+            x0,
+            y0,
+            x1,
+            y1,
+            origin: DVec3::ZERO,
+            origin_radius: 0.0,
+            axis: DVec3::Z,
+            half_angle: 2.0 * PI,
+        };
+        let corners = [(xa, ya), (xb, ya), (xa, yb), (xb, yb)];
+        match projector {
+            Projector::Pinhole(p) => {
+                bundle.origin = p.eye;
+                bundle.origin_radius = 1e-12 * p.eye.length();
+                let dirs = corners.map(|(x, y)| {
+                    projector
+                        .ray(x, y, width, height)
+                        .map_or(DVec3::ZERO, |r| r.ray.dir)
+                });
+                bundle.set_cone_around(&dirs);
+            }
+            Projector::Parallel(p) => {
+                let origins = corners.map(|(x, y)| projector.pair(x, y, width, height).0);
+                let centre = origins.iter().sum::<DVec3>() * 0.25;
+                let spread = origins
+                    .iter()
+                    .map(|o| (*o - centre).length())
+                    .fold(0.0, f64::max);
+                bundle.origin = centre;
+                bundle.origin_radius =
+                    spread * (1.0 + RELATIVE_SLACK) + 1e-12 * (centre.length() + p.height);
+                bundle.axis = p.basis.forward;
+                bundle.half_angle = ANGLE_SLACK;
+            }
+            Projector::Sphere(s) => {
+                let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
+                let theta = |x: f64| 0.5 * s.fov_x * (2.0 * x / w - 1.0);
+                let phi = |y: f64| 0.5 * s.fov_y * (1.0 - 2.0 * y / h);
+                let widen = |i: Interval| {
+                    let m = 1e-12 * (1.0 + i.lo.abs().max(i.hi.abs()));
+                    Interval::new(i.lo - m, i.hi + m)
+                };
+                let th = widen(Interval::new(theta(xa), theta(xb)));
+                let ph = widen(Interval::new(phi(yb), phi(ya)));
+                let (ct, st, cp, sp) = (cos_range(th), sin_range(th), cos_range(ph), sin_range(ph));
+                let ripple = cos_range(th.scale(s.frequency)) * cos_range(ph.scale(s.frequency));
+                let r = (Interval::point(1.0) + ripple.scale(s.amplitude)).scale(s.radius);
+                let local = [cp * ct * r, cp * st * r, sp * r];
+                let b = &s.basis;
+                let mid = s.centre
+                    + b.forward * local[0].mid()
+                    + b.right * local[1].mid()
+                    + b.up * local[2].mid();
+                let half = DVec3::new(local[0].width(), local[1].width(), local[2].width()) * 0.5;
+                let rho = half.length() * (1.0 + RELATIVE_SLACK)
+                    + 1e-12 * (s.radius + s.centre.length() + s.eye.length());
+                bundle.origin = s.eye;
+                bundle.origin_radius = 1e-12 * s.eye.length();
+                let v = mid - s.eye;
+                let l = v.length();
+                if l > rho * (1.0 + RELATIVE_SLACK) && l.is_finite() {
+                    bundle.axis = v / l;
+                    bundle.half_angle = (rho / l).asin() + ANGLE_SLACK;
+                }
+            }
+        }
+        bundle
+    }
+
+    /// Sets the cone to the smallest-ish cap around the unit vectors `dirs` (their geodesic hull
+    /// included: a cap narrower than a hemisphere is convex); "any direction" when that is wide.
+    fn set_cone_around(&mut self, dirs: &[DVec3]) {
+        let sum: DVec3 = dirs.iter().sum();
+        let len = sum.length();
+        if !(len > 0.0 && len.is_finite()) || dirs.contains(&DVec3::ZERO) {
+            return;
+        }
+        let axis = sum / len;
+        let angle = dirs
+            .iter()
+            .map(|d| d.dot(axis).clamp(-1.0, 1.0).acos())
+            .fold(0.0, f64::max)
+            + ANGLE_SLACK;
+        if angle < 0.5 * PI - 1e-6 {
+            self.axis = axis;
+            self.half_angle = angle;
+        }
+    }
+
+    /// Whether the bundle can hold no constraint on directions.
+    pub fn is_unbounded(&self) -> bool {
+        self.half_angle >= PI
+    }
+
+    /// Whether `ray` is one of the rays the bundle describes (origin in the ball, direction in
+    /// the cone): what the bundle promises for every pixel-centre ray of its cell.
+    pub fn contains(&self, ray: &Ray) -> bool {
+        if (ray.origin - self.origin).length() > self.origin_radius {
+            return false;
+        }
+        self.is_unbounded() || ray.dir.dot(self.axis).clamp(-1.0, 1.0).acos() <= self.half_angle
+    }
+
+    /// A conservative range of the ray parameter `t ≥ 0` where rays of the bundle can be inside
+    /// `b`; `None` when no ray of the bundle meets the box. Empty or non-finite boxes are not
+    /// culled (`Some([0, ∞])`). The box is slightly inflated, so a box the bundle misses is
+    /// missed by a margin well above the rounding of the callers' per-ray tests.
+    pub fn box_range(&self, b: &Aabb) -> Option<Interval> {
+        let all = Interval::new(0.0, f64::INFINITY);
+        if !b.is_finite() {
+            return Some(all);
+        }
+        let c = b.center();
+        let v = c - self.origin;
+        let l = v.length();
+        let radius = (0.5 * (b.max - b.min).length() + self.origin_radius) * (1.0 + RELATIVE_SLACK)
+            + 1e-9 * (l + c.length());
+        let near = Interval::new(0.0, l + radius);
+        if l <= radius || self.is_unbounded() {
+            return Some(near);
+        }
+        let beta = (v.dot(self.axis) / l).clamp(-1.0, 1.0).acos();
+        let gap = beta - self.half_angle;
+        let range = Interval::new((l - radius).max(0.0), l + radius);
+        if gap <= 0.0 {
+            return Some(range);
+        }
+        // The nearest point of the cone to the centre is on its surface (or the apex).
+        if gap >= 0.5 * PI || l * gap.sin() > radius {
+            return None;
+        }
+        Some(range)
+    }
+}

@@ -1,0 +1,121 @@
+//! The CPU tracer's cell test for the quadtree scheduler: which objects, leaves and perturbations
+//! of the scene a cell's ray bundle may meet (box versus bundle), and the work list it yields.
+//!
+//! Every test is conservative against the per-ray tests of the ray caster (a box the bundle
+//! misses is missed by every ray of the cell, with a margin), so casting a tile's pixels with its
+//! [`ActiveSet`]s gives exactly the image of casting with everything.
+
+use fray_core::Aabb;
+use fray_geometry::ActiveSet;
+use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, WorkList, build};
+use fray_scene::Scene;
+
+/// The boxes the cell test needs, gathered once per frame.
+struct ObjectBoxes {
+    solid: Aabb,
+    leaves: Vec<Aabb>,
+    /// Per object-wide perturbation: its leaf and the box to test (`None`: always kept while its
+    /// leaf is, as for an unbounded support).
+    perturbations: Vec<(u32, Option<Aabb>)>,
+}
+
+fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
+    scene
+        .objects
+        .iter()
+        .map(|o| {
+            let mut perturbations = Vec::new();
+            for (i, leaf) in o.solid.leaves().iter().enumerate() {
+                for p in leaf.perturbations() {
+                    let b = p.support_bounds().map(|s| {
+                        let clipped = s.intersection(&leaf.bounds());
+                        if clipped.is_empty() { s } else { clipped }
+                    });
+                    perturbations.push((i as u32, b));
+                }
+            }
+            ObjectBoxes {
+                solid: o.solid.bounds(),
+                leaves: o.solid.leaves().iter().map(|l| l.bounds()).collect(),
+                perturbations,
+            }
+        })
+        .collect()
+}
+
+/// Builds the work list of `scene` with tiles of `cell_size` pixels.
+pub(crate) fn work_list(
+    scene: &Scene,
+    cell_size: u32,
+) -> Result<WorkList, fray_quadtree::QuadtreeError> {
+    let boxes = object_boxes(scene);
+    let mut root = Candidates::new();
+    for (i, (object, b)) in scene.objects.iter().zip(&boxes).enumerate() {
+        root.begin(i as u32, 0.0, f64::INFINITY);
+        for l in 0..b.leaves.len() as u32 {
+            root.push_leaf(l);
+        }
+        for (k, p) in object
+            .solid
+            .leaves()
+            .iter()
+            .flat_map(|l| l.perturbations())
+            .enumerate()
+        {
+            // Zero form factors never contribute (the caster drops them per ray too).
+            if p.form_factor != 0.0 {
+                root.push_perturbation(k as u32);
+            }
+        }
+    }
+    let mut active = ActiveSet::new();
+    let mut kept_leaves: Vec<bool> = Vec::new();
+    let test = |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
+        for c in &parent.candidates {
+            let Some(b) = boxes.get(c.object as usize) else {
+                continue;
+            };
+            let Some(t) = bundle.box_range(&b.solid) else {
+                continue;
+            };
+            out.begin(c.object, t.lo, t.hi);
+            kept_leaves.clear();
+            kept_leaves.resize(b.leaves.len(), false);
+            for &l in c.leaves(&parent.leaves) {
+                if bundle.box_range(&b.leaves[l as usize]).is_some() {
+                    kept_leaves[l as usize] = true;
+                    out.push_leaf(l);
+                }
+            }
+            for &p in c.perturbations(&parent.perturbations) {
+                let (leaf, pbox) = b.perturbations[p as usize];
+                if kept_leaves[leaf as usize]
+                    && pbox.is_none_or(|pb| bundle.box_range(&pb).is_some())
+                {
+                    out.push_perturbation(p);
+                }
+            }
+            let solid = &scene.objects[c.object as usize].solid;
+            let (leaves, perts) = out
+                .candidates
+                .last()
+                .map(|last| {
+                    (
+                        last.leaves(&out.leaves),
+                        last.perturbations(&out.perturbations),
+                    )
+                })
+                .unwrap_or((&[], &[]));
+            if !active.set(solid, leaves, perts) {
+                out.cancel();
+            }
+        }
+    };
+    build(
+        &scene.camera,
+        (scene.width, scene.height),
+        &QuadtreeConfig { cell_size },
+        &root,
+        test,
+    )
+}
