@@ -128,6 +128,43 @@ impl Solid {
     /// gradient of the operand that is active in every `max`/`min`. Falls back to `fallback`
     /// where the gradient vanishes (a cone's apex).
     pub fn surface_at(&self, p: DVec3, fallback: DVec3) -> (DVec3, u32) {
+        // A fixed stack for the usual shallow programs: no allocation per surface point.
+        const INLINE: usize = 32;
+        if self.max_stack <= INLINE {
+            let mut stack = [(0.0, DVec3::ZERO, 0u32); INLINE];
+            let mut len = 0usize;
+            for op in &self.program {
+                match *op {
+                    CsgOp::Leaf(i) => {
+                        let (v, g) = self.leaves[i as usize].eval_with_gradient(p);
+                        stack[len] = (v, g, i);
+                        len += 1;
+                    }
+                    CsgOp::Max | CsgOp::Min => {
+                        let b = stack[len - 1];
+                        let a = stack[len - 2];
+                        len -= 1;
+                        let take_a = if *op == CsgOp::Max {
+                            a.0 >= b.0
+                        } else {
+                            a.0 <= b.0
+                        };
+                        stack[len - 1] = if take_a { a } else { b };
+                    }
+                    CsgOp::Neg => {
+                        let v = &mut stack[len - 1];
+                        v.0 = -v.0;
+                        v.1 = -v.1;
+                    }
+                }
+            }
+            let (_, g, leaf) = if len > 0 {
+                stack[len - 1]
+            } else {
+                (0.0, DVec3::ZERO, 0)
+            };
+            return Self::outward(g, leaf, fallback);
+        }
         let mut stack: Vec<(f64, DVec3, u32)> = Vec::with_capacity(self.max_stack);
         for op in &self.program {
             match *op {
@@ -154,6 +191,11 @@ impl Solid {
             }
         }
         let (_, g, leaf) = stack.pop().unwrap_or((0.0, DVec3::ZERO, 0));
+        Self::outward(g, leaf, fallback)
+    }
+
+    /// The outward unit normal from an F-rep gradient (`−∇F`), or `fallback` where it vanishes.
+    fn outward(g: DVec3, leaf: u32, fallback: DVec3) -> (DVec3, u32) {
         let len = g.length();
         let n = if len > 0.0 && len.is_finite() {
             -g / len

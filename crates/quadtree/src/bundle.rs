@@ -35,6 +35,9 @@ pub struct RayBundle {
     pub axis: DVec3,
     /// In radians; `≥ π` means "any direction" (no culling possible).
     pub half_angle: f64,
+    /// Side planes `(n, p)` of the bundle (pinhole and parallel): every point of every ray has
+    /// `n · (x − p) ≥ 0`. Unused planes have `n = 0`.
+    pub planes: [(DVec3, DVec3); 4],
 }
 
 impl RayBundle {
@@ -55,6 +58,7 @@ impl RayBundle {
             origin_radius: 0.0,
             axis: DVec3::Z,
             half_angle: 2.0 * PI,
+            planes: [(DVec3::ZERO, DVec3::ZERO); 4],
         };
         let corners = [(xa, ya), (xb, ya), (xa, yb), (xb, yb)];
         match projector {
@@ -67,6 +71,15 @@ impl RayBundle {
                         .map_or(DVec3::ZERO, |r| r.ray.dir)
                 });
                 bundle.set_cone_around(&dirs);
+                // The pixel-centre directions are an affine image of the rectangle: the cone
+                // spanned by the corner rays holds them, bounded by the planes through the eye
+                // and two adjacent corner rays.
+                let ring = [dirs[0], dirs[1], dirs[3], dirs[2]];
+                let inside: DVec3 = dirs.iter().sum();
+                for k in 0..4 {
+                    let n = ring[k].cross(ring[(k + 1) % 4]);
+                    bundle.planes[k] = (orient(n, inside), p.eye);
+                }
             }
             Projector::Parallel(p) => {
                 let origins = corners.map(|(x, y)| projector.pair(x, y, width, height).0);
@@ -80,6 +93,14 @@ impl RayBundle {
                     spread * (1.0 + RELATIVE_SLACK) + 1e-12 * (centre.length() + p.height);
                 bundle.axis = p.basis.forward;
                 bundle.half_angle = ANGLE_SLACK;
+                // Origins fill the rectangle of the corner origins; rays run along `forward`:
+                // the side planes contain `forward` and an edge of the rectangle.
+                let ring = [origins[0], origins[1], origins[3], origins[2]];
+                for k in 0..4 {
+                    let (a, b) = (ring[k], ring[(k + 1) % 4]);
+                    let n = (b - a).cross(p.basis.forward);
+                    bundle.planes[k] = (orient(n, centre - a), a);
+                }
             }
             Projector::Sphere(s) => {
                 let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
@@ -136,6 +157,21 @@ impl RayBundle {
         }
     }
 
+    /// Whether the whole box lies strictly outside one of the side planes (by a margin).
+    fn outside_a_plane(&self, b: &Aabb) -> bool {
+        let c = b.center();
+        let h = 0.5 * (b.max - b.min);
+        self.planes.iter().any(|&(n, p)| {
+            if n == DVec3::ZERO {
+                return false;
+            }
+            // The largest n · (x − p) over the box, against a margin for rounding.
+            let best = n.dot(c - p) + n.abs().dot(h);
+            let margin = RELATIVE_SLACK * (h.length() + (c - p).length() + p.length()) + 1e-12;
+            best < -margin
+        })
+    }
+
     /// Whether the bundle can hold no constraint on directions.
     pub fn is_unbounded(&self) -> bool {
         self.half_angle >= PI
@@ -164,6 +200,9 @@ impl RayBundle {
         let l = v.length();
         let radius = (0.5 * (b.max - b.min).length() + self.origin_radius) * (1.0 + RELATIVE_SLACK)
             + 1e-9 * (l + c.length());
+        if self.outside_a_plane(b) {
+            return None;
+        }
         let near = Interval::new(0.0, l + radius);
         if l <= radius || self.is_unbounded() {
             return Some(near);
@@ -180,4 +219,14 @@ impl RayBundle {
         }
         Some(range)
     }
+}
+
+/// `n` normalised and flipped so that `n · inside ≥ 0`; zero if degenerate (plane unused).
+fn orient(n: DVec3, inside: DVec3) -> DVec3 {
+    let len = n.length();
+    if !(len > 0.0 && len.is_finite()) {
+        return DVec3::ZERO;
+    }
+    let n = n / len;
+    if n.dot(inside) < 0.0 { -n } else { n }
 }

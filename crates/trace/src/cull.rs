@@ -43,11 +43,9 @@ fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
         .collect()
 }
 
-/// Builds the work list of `scene` with tiles of `cell_size` pixels.
-pub(crate) fn work_list(
-    scene: &Scene,
-    cell_size: u32,
-) -> Result<WorkList, fray_quadtree::QuadtreeError> {
+/// The quadtree work list the CPU backend renders from when culling: tiles of at most
+/// `cell_size` pixels with their candidate objects, active leaves and perturbations.
+pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     let boxes = object_boxes(scene);
     let mut root = Candidates::new();
     for (i, (object, b)) in scene.objects.iter().zip(&boxes).enumerate() {

@@ -31,6 +31,7 @@ mod render;
 mod settings;
 mod shade;
 
+pub use cull::work_list;
 pub use hit::{SceneHit, nearest_hit, nearest_hit_among, occluded};
 pub use render::{Progress, render};
 pub use settings::{TraceError, TraceSettings};
