@@ -47,7 +47,8 @@ impl ActiveSet {
 
     /// Makes `leaves` (indices into `solid.leaves()`) and `perturbations` (object-wide indices:
     /// leaf 0's perturbations first, then leaf 1's, …; increasing) the active subset, and prunes
-    /// the program. Perturbations of inactive leaves are ignored. Returns `false` when the pruned
+    /// the program. Perturbations of inactive leaves are kept for [`Solid::surface_at_with`]
+    /// (casting never reads them). Returns `false` when the pruned
     /// solid is `−∞` everywhere, i.e. no ray for which the subset is conservative can hit it.
     pub fn set(&mut self, solid: &Solid, leaves: &[u32], perturbations: &[u32]) -> bool {
         let n = solid.leaves().len();
@@ -62,14 +63,14 @@ impl ActiveSet {
         self.perturbations.clear();
         let mut global = perturbations.iter().copied().peekable();
         let mut first = 0u32;
-        for (i, leaf) in solid.leaves().iter().enumerate() {
+        for leaf in solid.leaves() {
             let count = leaf.perturbations().len() as u32;
             let start = self.perturbations.len() as u32;
             while let Some(&g) = global.peek() {
                 if g >= first + count {
                     break;
                 }
-                if g >= first && self.leaf_active[i] {
+                if g >= first {
                     self.perturbations.push(g - first);
                 }
                 global.next();

@@ -128,6 +128,28 @@ impl Solid {
     /// gradient of the operand that is active in every `max`/`min`. Falls back to `fallback`
     /// where the gradient vanishes (a cone's apex).
     pub fn surface_at(&self, p: DVec3, fallback: DVec3) -> (DVec3, u32) {
+        self.surface_by(fallback, |_, leaf| leaf.eval_with_gradient(p))
+    }
+
+    /// [`Solid::surface_at`] evaluating each leaf with only the perturbations `active` lists for
+    /// it: bit-identical when every perturbation left out is zero at `p` (as for a point on a ray
+    /// that misses its support) — and as cheap as the active perturbations.
+    pub fn surface_at_with(
+        &self,
+        p: DVec3,
+        fallback: DVec3,
+        active: &crate::ActiveSet,
+    ) -> (DVec3, u32) {
+        self.surface_by(fallback, |i, leaf| {
+            leaf.eval_with_gradient_subset(p, active.leaf_perturbations(i))
+        })
+    }
+
+    fn surface_by(
+        &self,
+        fallback: DVec3,
+        eval: impl Fn(usize, &FreeForm) -> (f64, DVec3),
+    ) -> (DVec3, u32) {
         // A fixed stack for the usual shallow programs: no allocation per surface point.
         const INLINE: usize = 32;
         if self.max_stack <= INLINE {
@@ -136,7 +158,7 @@ impl Solid {
             for op in &self.program {
                 match *op {
                     CsgOp::Leaf(i) => {
-                        let (v, g) = self.leaves[i as usize].eval_with_gradient(p);
+                        let (v, g) = eval(i as usize, &self.leaves[i as usize]);
                         stack[len] = (v, g, i);
                         len += 1;
                     }
@@ -169,7 +191,7 @@ impl Solid {
         for op in &self.program {
             match *op {
                 CsgOp::Leaf(i) => {
-                    let (v, g) = self.leaves[i as usize].eval_with_gradient(p);
+                    let (v, g) = eval(i as usize, &self.leaves[i as usize]);
                     stack.push((v, g, i));
                 }
                 CsgOp::Max | CsgOp::Min => {

@@ -126,6 +126,32 @@ impl FreeForm {
         (f, self.gradient_unclipped(p))
     }
 
+    /// [`FreeForm::eval_with_gradient`] summing only the perturbations `subset` (increasing
+    /// indices). Bit-identical to it when every perturbation left out is zero at `p` (`Q(p) ≤ 0`):
+    /// the left-out terms are `+0`, whose only effect on a sum is turning a `−0` into `+0`, which
+    /// one `+ 0.0` at the end reproduces.
+    pub fn eval_with_gradient_subset(&self, p: DVec3, subset: &[u32]) -> (f64, DVec3) {
+        let terms = || {
+            subset
+                .iter()
+                .filter_map(|&k| self.perturbations.get(k as usize))
+        };
+        let dropped = subset.len() < self.perturbations.len();
+        let sum = terms().map(|q| q.eval(p)).sum::<f64>();
+        let f = self.base.eval(p) + if dropped { sum + 0.0 } else { sum };
+        if self.clips {
+            let (d, n) = box_inner_distance(&self.bounds, p);
+            if d < f {
+                return (d, -n);
+            }
+        }
+        let mut g = terms().fold(self.base.gradient(p), |g, q| g + q.gradient(p));
+        if dropped {
+            g += DVec3::ZERO;
+        }
+        (f, g)
+    }
+
     /// The closed-form first entry for an object with no perturbations (the accuracy
     /// reference): the first point of the box's ray range where the quadratic is `≥ 0`, which
     /// for a clipping box is the box face when the ray enters the box inside the quadric.

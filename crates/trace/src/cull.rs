@@ -14,9 +14,10 @@ use fray_scene::Scene;
 struct ObjectBoxes {
     solid: Aabb,
     leaves: Vec<Aabb>,
-    /// Per object-wide perturbation: its leaf and the box to test (`None`: always kept while its
-    /// leaf is, as for an unbounded support).
-    perturbations: Vec<(u32, Option<Aabb>)>,
+    /// Per object-wide perturbation: its support box (`None`: unbounded, always kept). The whole
+    /// box, not its part inside the leaf's box: a perturbation is dropped only where it is zero
+    /// all along the tile's rays, so normals evaluated with the subset are exact too.
+    perturbations: Vec<Option<Aabb>>,
 }
 
 fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
@@ -25,13 +26,9 @@ fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
         .iter()
         .map(|o| {
             let mut perturbations = Vec::new();
-            for (i, leaf) in o.solid.leaves().iter().enumerate() {
+            for leaf in o.solid.leaves() {
                 for p in leaf.perturbations() {
-                    let b = p.support_bounds().map(|s| {
-                        let clipped = s.intersection(&leaf.bounds());
-                        if clipped.is_empty() { s } else { clipped }
-                    });
-                    perturbations.push((i as u32, b));
+                    perturbations.push(p.support_bounds());
                 }
             }
             ObjectBoxes {
@@ -53,21 +50,13 @@ pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtre
         for l in 0..b.leaves.len() as u32 {
             root.push_leaf(l);
         }
-        for (k, p) in object
-            .solid
-            .leaves()
-            .iter()
-            .flat_map(|l| l.perturbations())
-            .enumerate()
-        {
-            // Zero form factors never contribute (the caster drops them per ray too).
-            if p.form_factor != 0.0 {
-                root.push_perturbation(k as u32);
-            }
+        // Every perturbation, zero form factors included (the caster skips those per ray; the
+        // normals sum them like the full evaluation does).
+        for k in 0..object.solid.perturbation_count() as u32 {
+            root.push_perturbation(k);
         }
     }
     let mut active = ActiveSet::new();
-    let mut kept_leaves: Vec<bool> = Vec::new();
     let test = |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
         for c in &parent.candidates {
             let Some(b) = boxes.get(c.object as usize) else {
@@ -77,19 +66,13 @@ pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtre
                 continue;
             };
             out.begin(c.object, t.lo, t.hi);
-            kept_leaves.clear();
-            kept_leaves.resize(b.leaves.len(), false);
             for &l in c.leaves(&parent.leaves) {
                 if bundle.box_range(&b.leaves[l as usize]).is_some() {
-                    kept_leaves[l as usize] = true;
                     out.push_leaf(l);
                 }
             }
             for &p in c.perturbations(&parent.perturbations) {
-                let (leaf, pbox) = b.perturbations[p as usize];
-                if kept_leaves[leaf as usize]
-                    && pbox.is_none_or(|pb| bundle.box_range(&pb).is_some())
-                {
+                if b.perturbations[p as usize].is_none_or(|pb| bundle.box_range(&pb).is_some()) {
                     out.push_perturbation(p);
                 }
             }

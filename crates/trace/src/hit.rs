@@ -65,7 +65,7 @@ pub fn nearest_hit_among(
     candidates: &[(u32, ActiveSet)],
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
-    let mut best: Option<(f64, usize)> = None;
+    let mut best: Option<(f64, usize, &ActiveSet)> = None;
     let mut hi = range.hi;
     for (index, active) in candidates {
         let index = *index as usize;
@@ -81,14 +81,16 @@ pub fn nearest_hit_among(
             stats,
         );
         if let Some(t) = found
-            && best.is_none_or(|(bt, _)| t < bt)
+            && best.is_none_or(|(bt, _, _)| t < bt)
         {
             hi = t;
-            best = Some((t, index));
+            best = Some((t, index, active));
         }
     }
-    let (t, index) = best?;
-    let (normal, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
+    let (t, index, active) = best?;
+    let (normal, leaf) = scene.objects[index]
+        .solid
+        .surface_at_with(ray.at(t), -ray.dir, active);
     Some(SceneHit {
         t,
         object: index as u32,

@@ -60,15 +60,17 @@ fn assert_lossless(scene: &fray_scene::Scene, what: &str) -> (RenderStats, Rende
                 a.to_bits() == b.to_bits(),
                 "{what}: depth differs at ({x}, {y}): {a} vs {b}"
             );
+            // Bit for bit (a −0 against a +0 would count as a difference).
+            let bits = |v: &glam::Vec3| v.to_array().map(f32::to_bits);
             assert_eq!(
-                plain.normals.get(x, y),
-                culled.normals.get(x, y),
-                "{what} ({x}, {y})"
+                bits(plain.normals.get(x, y)),
+                bits(culled.normals.get(x, y)),
+                "{what}: normal differs at ({x}, {y})"
             );
             assert_eq!(
-                plain.colour.get(x, y),
-                culled.colour.get(x, y),
-                "{what} ({x}, {y})"
+                bits(plain.colour.get(x, y)),
+                bits(culled.colour.get(x, y)),
+                "{what}: colour differs at ({x}, {y})"
             );
         }
     }
