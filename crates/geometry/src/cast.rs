@@ -169,7 +169,16 @@ impl RayCaster {
             self.leaves.push(LeafOnRay {
                 present,
                 clips: leaf.clips(),
-                base: leaf.base().on_ray(ray),
+                // An absent leaf's quadric is never read: skip restricting it.
+                base: if present.is_some() {
+                    leaf.base().on_ray(ray)
+                } else {
+                    RayQuadratic {
+                        a: 0.0,
+                        b: 0.0,
+                        c: 0.0,
+                    }
+                },
                 perturbations: (start, self.perturbations.len() as u32),
             });
         }
