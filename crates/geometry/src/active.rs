@@ -173,9 +173,10 @@ impl ActiveSet {
 impl Solid {
     /// The leaves and perturbations that a set of rays may need, given a conservative test
     /// `may_meet(box)` ("some ray of the set may pass through the box"): a leaf is kept when its
-    /// box may be met, a perturbation (with a non-zero form factor, of a kept leaf) when its
-    /// support box clipped to the leaf's box may be met — or the leaf's box, for an unbounded
-    /// support. Writes object-wide indices (see [`ActiveSet::set`]) into the two lists (cleared).
+    /// box may be met, a perturbation when its support box may be met (always, for an unbounded
+    /// support) — whatever its leaf, and with zero form factors too, so that
+    /// [`Solid::surface_at_with`] sums exactly the terms that can be non-zero on the rays. Writes
+    /// object-wide indices (see [`ActiveSet::set`]) into the two lists (cleared).
     pub fn active_parts(
         &self,
         mut may_meet: impl FnMut(&Aabb) -> bool,
@@ -184,33 +185,17 @@ impl Solid {
     ) {
         leaves.clear();
         perturbations.clear();
-        let mut first = 0u32;
+        let mut k = 0u32;
         for (i, leaf) in self.leaves().iter().enumerate() {
-            let count = leaf.perturbations().len() as u32;
-            let leaf_box = leaf.bounds();
-            if may_meet(&leaf_box) {
+            if may_meet(&leaf.bounds()) {
                 leaves.push(i as u32);
-                for (k, p) in leaf.perturbations().iter().enumerate() {
-                    if p.form_factor == 0.0 {
-                        continue;
-                    }
-                    let keep = match p.support_bounds() {
-                        Some(s) => {
-                            let clipped = s.intersection(&leaf_box);
-                            if clipped.is_empty() {
-                                may_meet(&s)
-                            } else {
-                                may_meet(&clipped)
-                            }
-                        }
-                        None => true,
-                    };
-                    if keep {
-                        perturbations.push(first + k as u32);
-                    }
-                }
             }
-            first += count;
+            for p in leaf.perturbations() {
+                if p.support_bounds().is_none_or(|s| may_meet(&s)) {
+                    perturbations.push(k);
+                }
+                k += 1;
+            }
         }
     }
 }
@@ -218,7 +203,8 @@ impl Solid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{FreeForm, Quadric, Shape};
+    use crate::{CastStats, FreeForm, Perturbation, Quadric, RayCaster, Shape};
+    use fray_core::{Interval, Ray};
     use glam::DVec3;
 
     fn ball(x: f64) -> Shape {
@@ -249,5 +235,62 @@ mod tests {
         // a ∩ b with b absent is empty.
         let s = Solid::new(Shape::Intersection(vec![ball(0.0), ball(1.0)])).unwrap();
         assert!(!set.set(&s, &[0], &[]));
+    }
+
+    #[test]
+    fn casting_with_everything_or_a_conservative_subset_matches_cast_bit_for_bit() {
+        let bumpy = |x: f64| {
+            let bumps = (0..6)
+                .map(|k| {
+                    let a = f64::from(k);
+                    let c = DVec3::new(x + a.cos(), 0.3 * a.sin(), a.sin());
+                    Perturbation::new(0.5 - 0.2 * a, Quadric::sphere(c, 0.4))
+                })
+                .collect();
+            Shape::FreeForm(
+                FreeForm::new(Quadric::sphere(DVec3::new(x, 0.0, 0.0), 1.0), bumps, None).unwrap(),
+            )
+        };
+        let s = Solid::new(Shape::Difference(
+            Box::new(Shape::Union(vec![bumpy(0.0), bumpy(2.5)])),
+            Box::new(ball(1.2)),
+        ))
+        .unwrap();
+        let all = ActiveSet::all(&s);
+        let mut caster = RayCaster::new();
+        let mut stats = CastStats::default();
+        for i in 0..400 {
+            let a = f64::from(i) * 0.37;
+            let origin = DVec3::new(1.2 + 6.0 * a.cos(), 2.0 * (a * 0.7).sin(), 6.0 * a.sin());
+            let target = DVec3::new(1.2 + (a * 1.3).sin(), 0.5 * a.cos(), 0.3 * (a * 2.1).cos());
+            let ray = Ray::new(origin, target - origin).unwrap();
+            let range = Interval::new(0.0, f64::INFINITY);
+            let full = caster.cast(&s, &ray, range, 1e-9, &mut stats);
+            let with = caster.cast_with(&s, &ray, range, 1e-9, &all, &mut stats);
+            assert_eq!(full.map(f64::to_bits), with.map(f64::to_bits), "ray {i}");
+            // The subset this ray needs: leaves and perturbations whose boxes it meets.
+            let (mut leaves, mut perts) = (Vec::new(), Vec::new());
+            s.active_parts(
+                |b| b.clip_ray(&ray, range).is_some(),
+                &mut leaves,
+                &mut perts,
+            );
+            let mut subset = ActiveSet::new();
+            let may_hit = subset.set(&s, &leaves, &perts);
+            let with = caster.cast_with(&s, &ray, range, 1e-9, &subset, &mut stats);
+            assert_eq!(
+                full.map(f64::to_bits),
+                with.map(f64::to_bits),
+                "ray {i} (subset)"
+            );
+            assert!(may_hit || full.is_none());
+            if let Some(t) = full {
+                let p = ray.at(t);
+                assert_eq!(
+                    s.surface_at(p, -ray.dir),
+                    s.surface_at_with(p, -ray.dir, &subset)
+                );
+            }
+        }
     }
 }
