@@ -77,6 +77,7 @@ struct RenderArgs {
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
 enum BackendArg {
     Cpu,
+    Gpu,
     #[default]
     Auto,
 }
@@ -160,6 +161,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
     let renderer = Renderer::new(RenderOptions {
         backend: match args.backend {
             BackendArg::Cpu => Backend::Cpu,
+            BackendArg::Gpu => Backend::Gpu,
             BackendArg::Auto => Backend::Auto,
         },
         width: args.width,

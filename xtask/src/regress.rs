@@ -205,8 +205,9 @@ mod tests {
         std::fs::create_dir_all(&options.out).unwrap();
         let list = list_scenes(&scenes).unwrap();
         let (broken, sphere) = (&list[0], &list[1]);
-        // Auto resolves to the CPU too: two "backends" that must agree exactly.
-        let backends = [Backend::Cpu, Backend::Auto];
+        // Two CPU runs: "backends" that must agree exactly. (`Auto` may resolve to the GPU, whose
+        // f32 image is close to the CPU's but not bit-identical.)
+        let backends = [Backend::Cpu, Backend::Cpu];
 
         let rows = regress_scene(sphere, &options, Thresholds::default(), &backends);
         // Without a reference each backend fails; they still agree with each other.
@@ -231,7 +232,7 @@ mod tests {
         bless::run(&bless).unwrap();
         let rows = regress_scene(sphere, &options, Thresholds::default(), &backends);
         let names: Vec<&str> = rows.iter().map(|r| r.backend.as_str()).collect();
-        assert_eq!(names, ["cpu", "auto", "auto vs cpu"]);
+        assert_eq!(names, ["cpu", "cpu", "cpu vs cpu"]);
         for row in &rows {
             assert!(row.pass, "{row:?}");
             assert_eq!(row.metrics.unwrap().rmse, 0.0);

@@ -32,6 +32,7 @@ mod cast;
 mod csg;
 mod error;
 mod free_form;
+pub mod gpu_layout;
 mod perturbation;
 mod quadric;
 mod ray_quadratic;

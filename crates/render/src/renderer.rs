@@ -1,6 +1,7 @@
 //! The renderer facade: options, backend choice, and the one `render` call.
 
 use fray_core::Frame;
+use fray_gpu::{GpuError, GpuSettings};
 use fray_scene::Scene;
 use fray_trace::{TraceError, TraceSettings};
 
@@ -9,7 +10,9 @@ use fray_trace::{TraceError, TraceSettings};
 pub enum Backend {
     /// The f64 CPU reference (`fray-trace`).
     Cpu,
-    /// The best backend available on this machine.
+    /// The wgpu backend (`fray-gpu`, f32): an error if there is no GPU adapter.
+    Gpu,
+    /// The GPU if an adapter exists, else the CPU (with a warning on stderr).
     #[default]
     Auto,
 }
@@ -18,6 +21,7 @@ impl Backend {
     pub fn name(self) -> &'static str {
         match self {
             Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
             Backend::Auto => "auto",
         }
     }
@@ -25,7 +29,11 @@ impl Backend {
 
 /// The concrete backends that can run on this machine, reference first.
 pub fn available_backends() -> Vec<Backend> {
-    vec![Backend::Cpu]
+    let mut backends = vec![Backend::Cpu];
+    if fray_gpu::probe_adapter().is_ok() {
+        backends.push(Backend::Gpu);
+    }
+    backends
 }
 
 /// Overrides of the scene's own settings; `None` keeps the scene's value.
@@ -48,6 +56,8 @@ pub enum RenderError {
     BadSize(u32, u32),
     #[error("cpu backend: {0}")]
     Cpu(#[from] TraceError),
+    #[error("gpu backend: {0}")]
+    Gpu(#[from] GpuError),
 }
 
 /// Renders scenes with fixed options.
@@ -65,10 +75,16 @@ impl Renderer {
         &self.options
     }
 
-    /// The backend `render` will use for `Auto`.
+    /// The backend `render` will use: `Auto` is the GPU when an adapter exists, else the CPU.
     pub fn resolved_backend(&self) -> Backend {
         match self.options.backend {
-            Backend::Auto => available_backends()[0],
+            Backend::Auto => {
+                if fray_gpu::probe_adapter().is_ok() {
+                    Backend::Gpu
+                } else {
+                    Backend::Cpu
+                }
+            }
             b => b,
         }
     }
@@ -93,8 +109,39 @@ impl Renderer {
         if let Some(s) = self.options.shadows {
             settings.shadows = s;
         }
+        let cpu = |settings: &TraceSettings| fray_trace::render(&scene, settings, progress);
+        if self.options.backend == Backend::Auto
+            && let Err(e) = fray_gpu::probe_adapter()
+        {
+            eprintln!("warning: no GPU adapter ({e}); rendering on the CPU");
+        }
         match self.resolved_backend() {
-            Backend::Cpu | Backend::Auto => Ok(fray_trace::render(&scene, &settings, progress)?),
+            Backend::Cpu | Backend::Auto => Ok(cpu(&settings)?),
+            Backend::Gpu => {
+                let gpu_settings = GpuSettings {
+                    epsilon: settings.epsilon,
+                    shadows: settings.shadows,
+                };
+                match fray_gpu::render(&scene, &gpu_settings) {
+                    Ok(frame) => {
+                        if let Some(report) = progress {
+                            let n = u64::from(scene.width) * u64::from(scene.height);
+                            report(n, n);
+                        }
+                        Ok(frame)
+                    }
+                    // A device lost mid-render (or, for `Auto`, a GPU that would not open):
+                    // fall back to the reference backend.
+                    Err(e)
+                        if matches!(e, GpuError::DeviceLost(_))
+                            || (self.options.backend == Backend::Auto && e.is_unavailable()) =>
+                    {
+                        eprintln!("warning: {e}; rendering on the CPU instead");
+                        Ok(cpu(&settings)?)
+                    }
+                    Err(e) => Err(RenderError::Gpu(e)),
+                }
+            }
         }
     }
 

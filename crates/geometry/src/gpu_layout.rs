@@ -1,0 +1,345 @@
+//! GPU parameter structs of free-form solids: plain `#[repr(C)]` (bytemuck) mirrors of quadrics,
+//! perturbations, leaves, the postfix CSG program and solids, in f32 and **relative to a
+//! reference point** (the camera), plus the WGSL declarations generated from the same tables.
+//!
+//! Positions are made relative in f64 before they are rounded to f32 (a quadric's coefficients
+//! are about its own origin, so only origins and boxes move), which keeps far-from-origin scenes
+//! as accurate on the GPU as scenes at the origin. Every struct is built from 16-byte vectors, so
+//! the Rust layout and the WGSL storage layout coincide; [`WgslStruct::check`] tests each table
+//! against `size_of`/`offset_of`, and fray-gpu's naga test checks the generated WGSL itself.
+
+use crate::{CsgOp, Quadric, Solid};
+use bytemuck::{Pod, Zeroable};
+use fray_core::Aabb;
+use glam::DVec3;
+
+/// Op codes of the flat postfix program, in the low two bits of each word; a leaf's index (into
+/// the whole leaf array) sits in the upper 30 bits.
+pub const OP_LEAF: u32 = 0;
+pub const OP_MAX: u32 = 1;
+pub const OP_MIN: u32 = 2;
+pub const OP_NEG: u32 = 3;
+/// Bits of a program word that hold the op code.
+pub const OP_BITS: u32 = 2;
+
+/// A quadric relative to the reference point: `origin.xyz` (w unused) and the ten coefficients
+/// `c0 = (A11, A22, A33, A12)`, `c1 = (A13, A23, A14, A24)`, `c2 = (A34, A44, –, –)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuQuadric {
+    pub origin: [f32; 4],
+    pub c0: [f32; 4],
+    pub c1: [f32; 4],
+    pub c2: [f32; 4],
+}
+
+/// A perturbation `f · Q³` where `Q > 0`: `params.x` is the form factor `f`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuPerturbation {
+    pub quadric: GpuQuadric,
+    pub params: [f32; 4],
+}
+
+/// A CSG leaf (free form): base quadric, box (relative), and
+/// `info = (clips, first perturbation, end of perturbations, caller's tag e.g. material)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLeaf {
+    pub base: GpuQuadric,
+    pub box_min: [f32; 4],
+    pub box_max: [f32; 4],
+    pub info: [u32; 4],
+}
+
+/// A solid: its box (relative) and `info = (first leaf, leaf count, first program word,
+/// program length)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuSolid {
+    pub box_min: [f32; 4],
+    pub box_max: [f32; 4],
+    pub info: [u32; 4],
+}
+
+/// All solids of a scene flattened into upload-ready arrays.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GpuSolids {
+    pub reference: DVec3,
+    pub solids: Vec<GpuSolid>,
+    pub leaves: Vec<GpuLeaf>,
+    pub perturbations: Vec<GpuPerturbation>,
+    pub program: Vec<u32>,
+    /// Largest leaf count of one solid.
+    pub max_leaves: u32,
+    /// Largest perturbation count of one solid.
+    pub max_perturbations: u32,
+    /// Largest CSG stack depth of one solid.
+    pub max_stack: u32,
+}
+
+fn v4(v: DVec3) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, 0.0]
+}
+
+/// Rounds `b` to f32 outward, relative to `reference`, so the f32 box still holds the f64 one.
+fn box_relative(b: &Aabb, reference: DVec3) -> ([f32; 4], [f32; 4]) {
+    let lo = b.min - reference;
+    let hi = b.max - reference;
+    let down = |x: f64| {
+        let f = x as f32;
+        if f64::from(f) > x { f.next_down() } else { f }
+    };
+    let up = |x: f64| {
+        let f = x as f32;
+        if f64::from(f) < x { f.next_up() } else { f }
+    };
+    (
+        [down(lo.x), down(lo.y), down(lo.z), 0.0],
+        [up(hi.x), up(hi.y), up(hi.z), 0.0],
+    )
+}
+
+impl GpuQuadric {
+    /// `q` with its origin taken relative to `reference` (in f64, then rounded).
+    pub fn new(q: &Quadric, reference: DVec3) -> Self {
+        let c = q.coefficients.map(|c| c as f32);
+        Self {
+            origin: v4(q.origin - reference),
+            c0: [c[0], c[1], c[2], c[3]],
+            c1: [c[4], c[5], c[6], c[7]],
+            c2: [c[8], c[9], 0.0, 0.0],
+        }
+    }
+}
+
+impl GpuSolids {
+    /// An empty set of solids relative to `reference`.
+    pub fn new(reference: DVec3) -> Self {
+        Self {
+            reference,
+            ..Self::default()
+        }
+    }
+
+    /// Appends `solid`; `tag(leaf)` fills each leaf's `info.w` (e.g. its material index).
+    pub fn push(&mut self, solid: &Solid, tag: impl Fn(usize) -> u32) {
+        let first_leaf = self.leaves.len() as u32;
+        let first_word = self.program.len() as u32;
+        let mut perturbations = 0u32;
+        for (i, leaf) in solid.leaves().iter().enumerate() {
+            let start = self.perturbations.len() as u32;
+            for p in leaf.perturbations() {
+                self.perturbations.push(GpuPerturbation {
+                    quadric: GpuQuadric::new(&p.quadric, self.reference),
+                    params: [p.form_factor as f32, 0.0, 0.0, 0.0],
+                });
+            }
+            let end = self.perturbations.len() as u32;
+            perturbations += end - start;
+            let (box_min, box_max) = box_relative(&leaf.bounds(), self.reference);
+            self.leaves.push(GpuLeaf {
+                base: GpuQuadric::new(leaf.base(), self.reference),
+                box_min,
+                box_max,
+                info: [u32::from(leaf.clips()), start, end, tag(i)],
+            });
+        }
+        for op in solid.program() {
+            self.program.push(match *op {
+                CsgOp::Leaf(i) => ((first_leaf + i) << OP_BITS) | OP_LEAF,
+                CsgOp::Max => OP_MAX,
+                CsgOp::Min => OP_MIN,
+                CsgOp::Neg => OP_NEG,
+            });
+        }
+        let (box_min, box_max) = box_relative(&solid.bounds(), self.reference);
+        self.solids.push(GpuSolid {
+            box_min,
+            box_max,
+            info: [
+                first_leaf,
+                solid.leaves().len() as u32,
+                first_word,
+                solid.program().len() as u32,
+            ],
+        });
+        self.max_leaves = self.max_leaves.max(solid.leaves().len() as u32);
+        self.max_perturbations = self.max_perturbations.max(perturbations);
+        self.max_stack = self.max_stack.max(solid.max_stack() as u32);
+    }
+}
+
+/// A WGSL struct declaration mirroring a Rust `#[repr(C)]` struct: name and `(field, WGSL type)`
+/// in order. Types are limited to 16-byte `vec4`s and nested mirrored structs, so offsets agree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WgslStruct {
+    pub name: &'static str,
+    pub fields: &'static [(&'static str, &'static str)],
+}
+
+impl WgslStruct {
+    /// The WGSL declaration.
+    pub fn declaration(&self) -> String {
+        let mut s = format!("struct {} {{\n", self.name);
+        for (field, ty) in self.fields {
+            s.push_str(&format!("    {field}: {ty},\n"));
+        }
+        s.push_str("}\n");
+        s
+    }
+}
+
+/// The WGSL mirrors of this module's structs (in dependency order).
+pub const WGSL_STRUCTS: [WgslStruct; 4] = [
+    WgslStruct {
+        name: "GpuQuadric",
+        fields: &[
+            ("origin", "vec4<f32>"),
+            ("c0", "vec4<f32>"),
+            ("c1", "vec4<f32>"),
+            ("c2", "vec4<f32>"),
+        ],
+    },
+    WgslStruct {
+        name: "GpuPerturbation",
+        fields: &[("quadric", "GpuQuadric"), ("params", "vec4<f32>")],
+    },
+    WgslStruct {
+        name: "GpuLeaf",
+        fields: &[
+            ("base", "GpuQuadric"),
+            ("box_min", "vec4<f32>"),
+            ("box_max", "vec4<f32>"),
+            ("info", "vec4<u32>"),
+        ],
+    },
+    WgslStruct {
+        name: "GpuSolid",
+        fields: &[
+            ("box_min", "vec4<f32>"),
+            ("box_max", "vec4<f32>"),
+            ("info", "vec4<u32>"),
+        ],
+    },
+];
+
+/// The WGSL source of the geometry structs and op-code constants, generated from Rust.
+pub fn wgsl_declarations() -> String {
+    let mut s = String::from("// Generated by fray_geometry::gpu_layout — do not edit.\n");
+    for (name, value) in [
+        ("OP_LEAF", OP_LEAF),
+        ("OP_MAX", OP_MAX),
+        ("OP_MIN", OP_MIN),
+        ("OP_NEG", OP_NEG),
+        ("OP_BITS", OP_BITS),
+    ] {
+        s.push_str(&format!("const {name}: u32 = {value}u;\n"));
+    }
+    for st in WGSL_STRUCTS {
+        s.push_str(&st.declaration());
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{FreeForm, Perturbation, Shape};
+    use std::mem::{offset_of, size_of};
+
+    /// Size of a field type in the table (all 16-byte vectors or mirrored structs).
+    fn wgsl_size(ty: &str) -> usize {
+        match ty {
+            "vec4<f32>" | "vec4<u32>" => 16,
+            "GpuQuadric" => size_of::<GpuQuadric>(),
+            other => panic!("unexpected WGSL type {other}"),
+        }
+    }
+
+    #[test]
+    fn wgsl_tables_match_rust_layouts() {
+        let rust: [(usize, Vec<usize>); 4] = [
+            (
+                size_of::<GpuQuadric>(),
+                vec![
+                    offset_of!(GpuQuadric, origin),
+                    offset_of!(GpuQuadric, c0),
+                    offset_of!(GpuQuadric, c1),
+                    offset_of!(GpuQuadric, c2),
+                ],
+            ),
+            (
+                size_of::<GpuPerturbation>(),
+                vec![
+                    offset_of!(GpuPerturbation, quadric),
+                    offset_of!(GpuPerturbation, params),
+                ],
+            ),
+            (
+                size_of::<GpuLeaf>(),
+                vec![
+                    offset_of!(GpuLeaf, base),
+                    offset_of!(GpuLeaf, box_min),
+                    offset_of!(GpuLeaf, box_max),
+                    offset_of!(GpuLeaf, info),
+                ],
+            ),
+            (
+                size_of::<GpuSolid>(),
+                vec![
+                    offset_of!(GpuSolid, box_min),
+                    offset_of!(GpuSolid, box_max),
+                    offset_of!(GpuSolid, info),
+                ],
+            ),
+        ];
+        for (st, (size, offsets)) in WGSL_STRUCTS.iter().zip(rust) {
+            let mut offset = 0;
+            let mut got = Vec::new();
+            for (_, ty) in st.fields {
+                got.push(offset);
+                offset += wgsl_size(ty);
+            }
+            assert_eq!(got, offsets, "{}", st.name);
+            assert_eq!(offset, size, "{}", st.name);
+        }
+        let text = wgsl_declarations();
+        assert!(text.contains("struct GpuLeaf {") && text.contains("const OP_NEG: u32 = 3u;"));
+    }
+
+    #[test]
+    fn solids_flatten_relative_to_the_reference() {
+        let far = DVec3::new(1e6, -2e6, 3e6);
+        let a = FreeForm::new(
+            Quadric::sphere(far, 1.0),
+            vec![Perturbation::new(0.5, Quadric::sphere(far + DVec3::X, 0.5))],
+            None,
+        )
+        .unwrap();
+        let b = FreeForm::new(Quadric::sphere(far + DVec3::Y, 1.0), vec![], None).unwrap();
+        let solid = Solid::new(Shape::Difference(
+            Box::new(Shape::FreeForm(a)),
+            Box::new(Shape::FreeForm(b)),
+        ))
+        .unwrap();
+        let mut g = GpuSolids::new(far - DVec3::Z * 5.0);
+        g.push(&solid, |i| 10 + i as u32);
+        assert_eq!(g.solids.len(), 1);
+        assert_eq!(g.leaves.len(), 2);
+        assert_eq!(g.perturbations.len(), 1);
+        assert_eq!(g.leaves[0].base.origin, [0.0, 0.0, 5.0, 0.0]);
+        assert_eq!(g.leaves[1].base.origin, [0.0, 1.0, 5.0, 0.0]);
+        assert_eq!(g.leaves[1].info, [0, 1, 1, 11]);
+        assert_eq!(
+            g.program,
+            vec![OP_LEAF, (1 << OP_BITS) | OP_LEAF, OP_NEG, OP_MIN]
+        );
+        assert_eq!(g.solids[0].info, [0, 2, 0, 4]);
+        assert_eq!((g.max_leaves, g.max_perturbations, g.max_stack), (2, 1, 2));
+        // The f32 box holds the f64 one.
+        let b = solid.bounds();
+        assert!(f64::from(g.solids[0].box_min[0]) <= b.min.x - g.reference.x);
+        assert!(f64::from(g.solids[0].box_max[2]) >= b.max.z - g.reference.z);
+    }
+}

@@ -1,0 +1,41 @@
+//! GPU frame time (dispatch + readback, pipeline built once beforehand) of data/scenes/csg.ron
+//! and turboprop.ron at 1024², on whatever adapter wgpu finds; the adapter's name is printed and
+//! put into the benchmark id. Without an adapter the benchmark says so and measures nothing.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use fray_gpu::{GpuRenderer, GpuSettings};
+use std::path::Path;
+use std::time::Duration;
+
+fn frames(c: &mut Criterion) {
+    let gpu = match GpuRenderer::new() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("gpu bench: skipped: no GPU adapter ({e})");
+            return;
+        }
+    };
+    let adapter = gpu.context().adapter_name.clone();
+    eprintln!("gpu bench: adapter {adapter} ({})", gpu.context().backend);
+    let mut group = c.benchmark_group(format!("gpu_frame_1024 [{adapter}]"));
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(10));
+    for name in ["csg", "turboprop"] {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../data/scenes/{name}.ron"));
+        let mut scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        scene.width = 1024;
+        scene.height = 1024;
+        let settings = GpuSettings::for_scene(&scene);
+        let pass = gpu
+            .prepare(&scene, &settings)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        group.bench_function(format!("{name}_shaded"), |b| {
+            b.iter(|| pass.run(gpu.context()).map(|o| o.hits))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, frames);
+criterion_main!(benches);

@@ -1,0 +1,73 @@
+//! Adapter and device setup on any wgpu backend (`WGPU_BACKEND` is honoured).
+
+use crate::GpuError;
+use std::sync::OnceLock;
+
+/// An open device and its queue, with the adapter's name.
+#[derive(Debug)]
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    /// The adapter's name, e.g. `"llvmpipe (LLVM 15.0.6, 256 bits)"`.
+    pub adapter_name: String,
+    /// The wgpu backend in use, e.g. `"Vulkan"`.
+    pub backend: String,
+    pub limits: wgpu::Limits,
+}
+
+fn instance() -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+async fn adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, GpuError> {
+    instance
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))
+}
+
+impl GpuContext {
+    /// Opens the first suitable adapter's device (blocking).
+    pub fn new() -> Result<Self, GpuError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Self, GpuError> {
+        let instance = instance();
+        let adapter = adapter(&instance).await?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("fray"),
+                required_limits: limits.clone(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        Ok(Self {
+            device,
+            queue,
+            adapter_name: info.name,
+            backend: format!("{:?}", info.backend),
+            limits,
+        })
+    }
+}
+
+/// The name of the adapter this machine would use, or why there is none. Probed once per
+/// process (an instance and an adapter request, no device).
+pub fn probe_adapter() -> Result<String, GpuError> {
+    static PROBE: OnceLock<Result<String, GpuError>> = OnceLock::new();
+    PROBE
+        .get_or_init(|| {
+            pollster::block_on(async {
+                let instance = instance();
+                adapter(&instance).await.map(|a| a.get_info().name)
+            })
+        })
+        .clone()
+}

@@ -1,0 +1,37 @@
+//! Why the GPU backend could not render.
+
+/// Errors of the GPU backend. A missing adapter or a lost device is something the facade can
+/// answer by falling back to the CPU; the others are bugs or bad settings.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum GpuError {
+    #[error("no GPU adapter found: {0}")]
+    NoAdapter(String),
+    #[error("could not open the GPU device: {0}")]
+    Device(String),
+    #[error("the GPU device was lost: {0}")]
+    DeviceLost(String),
+    #[error("building the {pass} pipeline failed: {reason}")]
+    Pipeline { pass: &'static str, reason: String },
+    #[error("the {pass} pass failed on the GPU: {reason}")]
+    Dispatch { pass: &'static str, reason: String },
+    #[error("epsilon must be finite and > 0, got {0}")]
+    BadEpsilon(f64),
+    #[error("image size must be at least 1 × 1, got {0} × {1}")]
+    EmptyImage(u32, u32),
+    #[error("the scene needs {what} = {needed}, more than this backend supports ({limit})")]
+    TooLarge {
+        what: &'static str,
+        needed: u64,
+        limit: u64,
+    },
+}
+
+impl GpuError {
+    /// Whether the GPU itself is missing or gone (the facade may fall back to the CPU).
+    pub fn is_unavailable(&self) -> bool {
+        matches!(
+            self,
+            GpuError::NoAdapter(_) | GpuError::Device(_) | GpuError::DeviceLost(_)
+        )
+    }
+}

@@ -1,0 +1,358 @@
+//! The free-form pass: one compute dispatch per band of rows that casts, shades and writes each
+//! pixel (colour + depth, normal), then reads the band back. Owns its pipeline and buffers.
+
+use crate::params::{self, FrameParams};
+use crate::shader::{self, ArraySizes, Specialisation};
+use crate::{GpuContext, GpuError};
+use bytemuck::Pod;
+use fray_geometry::gpu_layout::GpuSolids;
+use fray_scene::Scene;
+use wgpu::util::DeviceExt;
+
+const PASS: &str = "free-form";
+/// Bytes written per pixel: two `vec4<f32>` (colour + depth, normal + hit flag).
+const BYTES_PER_PIXEL: u64 = 32;
+const WORKGROUP: u32 = 8;
+const COUNTERS: usize = 8;
+/// Upper bound of one band's output buffer (smaller bands keep readback memory modest).
+const BAND_BYTES: u64 = 64 << 20;
+
+/// What one run of the pass produced, in f32 as the GPU wrote it.
+#[derive(Clone, Debug, Default)]
+pub struct PassOutput {
+    /// Per pixel (row-major): `[r, g, b, depth]`, depth `< 0` for no hit.
+    pub colour_depth: Vec<[f32; 4]>,
+    /// Per pixel: `[nx, ny, nz, hit]`.
+    pub normal: Vec<[f32; 4]>,
+    pub hits: u64,
+    pub shadow_rays: u64,
+    pub bound_evaluations: u64,
+    pub point_evaluations: u64,
+}
+
+/// The free-form pass for one scene: pipeline specialised for it, scene buffers uploaded.
+#[derive(Debug)]
+pub struct FreeFormPass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: FrameParams,
+    params_buffer: wgpu::Buffer,
+    scene_buffers: [wgpu::Buffer; 6],
+    counters: wgpu::Buffer,
+    specialisation: Specialisation,
+}
+
+fn storage<T: Pod>(ctx: &GpuContext, label: &str, data: &[T], fill: T) -> wgpu::Buffer {
+    let data: Vec<T> = if data.is_empty() {
+        vec![fill]
+    } else {
+        data.to_vec()
+    };
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(&data),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
+fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl FreeFormPass {
+    /// Builds the specialised pipeline and uploads `scene` (positions relative to the eye).
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        epsilon: f64,
+        shadow_offset: f64,
+        specialisation: Specialisation,
+    ) -> Result<Self, GpuError> {
+        let reference = params::reference_point(&scene.camera);
+        let mut solids = GpuSolids::new(reference);
+        let material_count = scene.materials.len() as u32;
+        for object in &scene.objects {
+            solids.push(&object.solid, |leaf| {
+                object
+                    .leaf_materials
+                    .get(leaf)
+                    .copied()
+                    .filter(|&m| m < material_count)
+                    .unwrap_or(material_count)
+            });
+        }
+        let sizes = ArraySizes {
+            max_leaves: solids.max_leaves,
+            max_perturbations: solids.max_perturbations,
+            max_stack: solids.max_stack,
+        };
+        let device = &ctx.device;
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let source = shader::freeform_source(sizes);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("freeform.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        use wgpu::BufferBindingType as B;
+        let read = B::Storage { read_only: true };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("free-form"),
+            entries: &[
+                entry(0, B::Uniform),
+                entry(1, read),
+                entry(2, read),
+                entry(3, read),
+                entry(4, read),
+                entry(5, read),
+                entry(6, read),
+                entry(7, B::Storage { read_only: false }),
+                entry(8, B::Storage { read_only: false }),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("free-form"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let constants = specialisation.constants();
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("free-form"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                zero_initialize_workgroup_memory: false,
+            },
+            cache: None,
+        });
+        let internal = pollster::block_on(internal.pop());
+        let validation = pollster::block_on(validation.pop());
+        if let Some(e) = validation.or(internal) {
+            return Err(GpuError::Pipeline {
+                pass: PASS,
+                reason: e.to_string(),
+            });
+        }
+        let params = params::frame_params(scene, epsilon, shadow_offset);
+        let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame params"),
+            size: std::mem::size_of::<FrameParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let scene_buffers = [
+            storage(ctx, "solids", &solids.solids, Default::default()),
+            storage(ctx, "leaves", &solids.leaves, Default::default()),
+            storage(
+                ctx,
+                "perturbations",
+                &solids.perturbations,
+                Default::default(),
+            ),
+            storage(ctx, "program", &solids.program, 0u32),
+            storage(ctx, "lights", &params::lights(scene), Default::default()),
+            storage(
+                ctx,
+                "materials",
+                &params::materials(scene),
+                Default::default(),
+            ),
+        ];
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("counters"),
+            size: (COUNTERS * 4) as u64,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            pipeline,
+            layout,
+            params,
+            params_buffer,
+            scene_buffers,
+            counters,
+            specialisation,
+        })
+    }
+
+    /// The specialisation this pass was built with.
+    pub fn specialisation(&self) -> Specialisation {
+        self.specialisation
+    }
+
+    /// Rows per dispatch for an image `width` wide on this device.
+    fn band_rows(ctx: &GpuContext, width: u32, height: u32) -> u32 {
+        let limit = ctx
+            .limits
+            .max_storage_buffer_binding_size
+            .min(ctx.limits.max_buffer_size)
+            .min(BAND_BYTES);
+        let per_row = BYTES_PER_PIXEL * u64::from(width.max(1));
+        let rows = (limit / per_row).max(1);
+        let max_groups = u64::from(ctx.limits.max_compute_workgroups_per_dimension);
+        rows.min(max_groups * u64::from(WORKGROUP))
+            .min(u64::from(height.max(1))) as u32
+    }
+
+    /// Renders every pixel and reads the results back.
+    pub fn run(&self, ctx: &GpuContext) -> Result<PassOutput, GpuError> {
+        let (width, height) = (self.params.size[0], self.params.size[1]);
+        if u64::from(width) * BYTES_PER_PIXEL > ctx.limits.max_buffer_size {
+            return Err(GpuError::TooLarge {
+                what: "bytes per image row",
+                needed: u64::from(width) * BYTES_PER_PIXEL,
+                limit: ctx.limits.max_buffer_size,
+            });
+        }
+        let device = &ctx.device;
+        let band = Self::band_rows(ctx, width, height);
+        let band_bytes = u64::from(band) * u64::from(width) * BYTES_PER_PIXEL;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("free-form output"),
+            size: band_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("free-form readback"),
+            size: band_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let counters_readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("counters readback"),
+            size: (COUNTERS * 4) as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.params_buffer.as_entire_binding(),
+        }];
+        for (i, b) in self.scene_buffers.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 1 + i as u32,
+                resource: b.as_entire_binding(),
+            });
+        }
+        entries.push(wgpu::BindGroupEntry {
+            binding: 7,
+            resource: output.as_entire_binding(),
+        });
+        entries.push(wgpu::BindGroupEntry {
+            binding: 8,
+            resource: self.counters.as_entire_binding(),
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("free-form"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        ctx.queue
+            .write_buffer(&self.counters, 0, &[0u8; COUNTERS * 4]);
+
+        let pixels = (u64::from(width) * u64::from(height)) as usize;
+        let mut out = PassOutput {
+            colour_depth: Vec::with_capacity(pixels),
+            normal: Vec::with_capacity(pixels),
+            ..PassOutput::default()
+        };
+        let mut y0 = 0u32;
+        while y0 < height {
+            let rows = band.min(height - y0);
+            let mut params = self.params;
+            params.size[2] = y0;
+            params.mode[2] = rows;
+            ctx.queue
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&params));
+            let bytes = u64::from(rows) * u64::from(width) * BYTES_PER_PIXEL;
+            let mut encoder =
+                device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("free-form"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.dispatch_workgroups(width.div_ceil(WORKGROUP), rows.div_ceil(WORKGROUP), 1);
+            }
+            encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
+            let last = y0 + rows >= height;
+            if last {
+                encoder.copy_buffer_to_buffer(
+                    &self.counters,
+                    0,
+                    &counters_readback,
+                    0,
+                    (COUNTERS * 4) as u64,
+                );
+            }
+            ctx.queue.submit([encoder.finish()]);
+            let data: Vec<[f32; 4]> = read_back(device, &readback, bytes)?;
+            for pair in data.chunks_exact(2) {
+                out.colour_depth.push(pair[0]);
+                out.normal.push(pair[1]);
+            }
+            if last {
+                let c: Vec<u32> = read_back(device, &counters_readback, (COUNTERS * 4) as u64)?;
+                let wide = |lo: usize| u64::from(c[lo]) | (u64::from(c[lo + 1]) << 32);
+                out.hits = u64::from(c[0]);
+                out.shadow_rays = u64::from(c[1]);
+                out.bound_evaluations = wide(2);
+                out.point_evaluations = wide(4);
+            }
+            y0 += rows;
+        }
+        Ok(out)
+    }
+}
+
+/// Maps `buffer[..bytes]`, waits, copies it out and unmaps.
+fn read_back<T: Pod>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    bytes: u64,
+) -> Result<Vec<T>, GpuError> {
+    let slice = buffer.slice(..bytes);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
+    match rx.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => {
+            return Err(GpuError::Dispatch {
+                pass: PASS,
+                reason: e.to_string(),
+            });
+        }
+        Err(_) => return Err(GpuError::DeviceLost("readback never completed".into())),
+    }
+    let data = {
+        let view = slice.get_mapped_range().map_err(|e| GpuError::Dispatch {
+            pass: PASS,
+            reason: e.to_string(),
+        })?;
+        bytemuck::pod_collect_to_vec::<u8, T>(&view)
+    };
+    buffer.unmap();
+    Ok(data)
+}

@@ -1,0 +1,260 @@
+//! GPU vs CPU reference parity on every scene in `data/scenes` and on synthetic scenes.
+//!
+//! Bounds (measured on lavapipe, then set with margin — see `DEPTH_REL` and friends):
+//! - depth, on pixels both hit away from silhouette edges: `|t_gpu − t_cpu| ≤ DEPTH_REL·t + 4·ε_gpu`;
+//! - hit/miss disagreement only on silhouette-edge pixels (a pixel whose 8-neighbourhood in the
+//!   CPU image holds both hits and misses, or different objects);
+//! - colour, away from edges and shadow boundaries: `|Δ| ≤ COLOUR_ABS + COLOUR_REL·|c|` per channel.
+
+mod common;
+
+use fray_core::{Frame, Interval};
+use fray_geometry::{CastStats, RayCaster};
+use fray_gpu::{GpuRenderer, GpuSettings, gpu_epsilon};
+use fray_scene::Scene;
+use fray_trace::TraceSettings;
+
+const WIDTH: u32 = 96;
+const DEPTH_REL: f64 = 2e-5;
+const COLOUR_ABS: f32 = 2e-3;
+const COLOUR_REL: f32 = 2e-3;
+
+/// The CPU's object id per pixel (`u32::MAX` for a miss).
+fn cpu_ids(scene: &Scene, eps: f64) -> Vec<u32> {
+    let mut caster = RayCaster::new();
+    let mut stats = CastStats::default();
+    let mut ids = Vec::new();
+    for y in 0..scene.height {
+        for x in 0..scene.width {
+            let id = scene
+                .camera
+                .pixel_ray(x, y, scene.width, scene.height)
+                .and_then(|r| {
+                    fray_trace::nearest_hit(
+                        scene,
+                        &mut caster,
+                        &r.ray,
+                        Interval::new(r.t_near, f64::INFINITY),
+                        eps,
+                        &mut stats,
+                    )
+                })
+                .map_or(u32::MAX, |h| h.object);
+            ids.push(id);
+        }
+    }
+    ids
+}
+
+/// Pixels whose 3×3 neighbourhood in `labels` is not uniform.
+fn boundary<T: PartialEq + Copy>(labels: &[T], w: u32, h: u32) -> Vec<bool> {
+    let at = |x: i64, y: i64| labels[(y as usize) * (w as usize) + x as usize];
+    let mut out = vec![false; labels.len()];
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            let c = at(x, y);
+            let mut edge = false;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64 && at(nx, ny) != c {
+                        edge = true;
+                    }
+                }
+            }
+            out[(y as usize) * (w as usize) + x as usize] = edge;
+        }
+    }
+    out
+}
+
+#[derive(Debug, Default)]
+struct Report {
+    both_hit: usize,
+    edges: usize,
+    hit_miss_off_edge: usize,
+    hit_miss_on_edge: usize,
+    max_depth_rel: f64,
+    max_depth_excess: f64,
+    max_depth_over_eps: f64,
+    colour_checked: usize,
+    max_colour: f32,
+    colour_bad: usize,
+}
+
+fn compare(name: &str, scene: &Scene, gpu: &GpuRenderer) -> Report {
+    let cpu_settings = TraceSettings::for_scene(scene);
+    let cpu: Frame = fray_trace::render(scene, &cpu_settings, None).unwrap();
+    let settings = GpuSettings::for_scene(scene);
+    let g: Frame = gpu.render(scene, &settings).unwrap();
+    let eps_gpu = gpu_epsilon(scene, settings.epsilon);
+    let (w, h) = (scene.width, scene.height);
+    let ids = cpu_ids(scene, cpu_settings.epsilon);
+    let edges = boundary(&ids, w, h);
+    // Shadow boundaries: where the CPU's shadowed/lit state changes between neighbours.
+    let unshadowed = fray_trace::render(
+        scene,
+        &TraceSettings {
+            shadows: false,
+            ..cpu_settings
+        },
+        None,
+    )
+    .unwrap();
+    let mut shadow = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            shadow.push(
+                (cpu.colour.get(x, y) - unshadowed.colour.get(x, y))
+                    .abs()
+                    .max_element()
+                    > 1e-6,
+            );
+        }
+    }
+    let shadow_edges = boundary(&shadow, w, h);
+    let mut r = Report {
+        max_depth_excess: f64::NEG_INFINITY,
+        ..Report::default()
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let k = (y * w + x) as usize;
+            let (tc, tg) = (cpu.depth.get(x, y), g.depth.get(x, y));
+            r.edges += usize::from(edges[k]);
+            if tc.is_finite() != tg.is_finite() {
+                if edges[k] {
+                    r.hit_miss_on_edge += 1;
+                } else {
+                    r.hit_miss_off_edge += 1;
+                    eprintln!("{name}: hit/miss off edge at ({x}, {y}): cpu {tc} gpu {tg}");
+                }
+                continue;
+            }
+            if edges[k] {
+                continue;
+            }
+            if tc.is_finite() {
+                r.both_hit += 1;
+                let diff = (tg - tc).abs();
+                r.max_depth_rel = r.max_depth_rel.max(diff / tc.max(1e-30));
+                r.max_depth_over_eps = r.max_depth_over_eps.max(diff / eps_gpu);
+                r.max_depth_excess = r
+                    .max_depth_excess
+                    .max(diff - (DEPTH_REL * tc + 4.0 * eps_gpu));
+            }
+            if shadow_edges[k] {
+                continue;
+            }
+            r.colour_checked += 1;
+            let (cc, cg) = (cpu.colour.get(x, y), g.colour.get(x, y));
+            let d = (cg - cc).abs().max_element();
+            r.max_colour = r.max_colour.max(d);
+            if d > COLOUR_ABS + COLOUR_REL * cc.abs().max_element() {
+                r.colour_bad += 1;
+                if r.colour_bad <= 5 {
+                    eprintln!("{name}: colour at ({x}, {y}): cpu {cc} gpu {cg}");
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{name}: {}×{h} eps_gpu {eps_gpu:.3e} {:?} | gpu {:?}",
+        w, r, g.stats.passes
+    );
+    r
+}
+
+fn check(name: &str, scene: &Scene, gpu: &GpuRenderer) {
+    let r = compare(name, scene, gpu);
+    assert!(r.both_hit > 0, "{name}: nothing hit");
+    assert_eq!(
+        r.hit_miss_off_edge, 0,
+        "{name}: hit/miss disagreement off edges"
+    );
+    assert!(
+        r.max_depth_excess <= 0.0,
+        "{name}: depth beyond bound: {r:?}"
+    );
+    assert_eq!(r.colour_bad, 0, "{name}: colour beyond bound: {r:?}");
+}
+
+fn sized(mut scene: Scene) -> Scene {
+    let h = ((u64::from(WIDTH) * u64::from(scene.height)) / u64::from(scene.width)).max(1);
+    scene.width = WIDTH;
+    scene.height = h as u32;
+    scene
+}
+
+#[test]
+fn every_data_scene_matches_the_cpu_reference() {
+    let Some(gpu) = common::gpu_or_skip("every_data_scene_matches_the_cpu_reference") else {
+        return;
+    };
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    paths.sort();
+    assert!(!paths.is_empty());
+    for path in paths {
+        let scene = sized(fray_scene::load(&path).unwrap());
+        check(&path.display().to_string(), &scene, &gpu);
+    }
+}
+
+const SYNTHETIC: [(&str, &str); 3] = [
+    (
+        "far from the origin, perturbed union, point light",
+        r#"Scene(
+            image: (width: 96, height: 72),
+            camera: Pinhole(eye: (100000, 100001, 99994), look_at: (100000, 100000, 100000), fov_y: 40),
+            lights: [Point(position: (100003, 100004, 99996), intensity: (40, 40, 40))],
+            materials: { "m": (diffuse: (0.7, 0.5, 0.3), specular: (0.3, 0.3, 0.3), shininess: 50) },
+            objects: [(material: "m", shape: Union([
+                FreeForm(base: Sphere(center: (100000, 100000, 100000), radius: 1),
+                         perturbations: [(form_factor: 3, quadric: Ellipsoid(center: (100000.7, 100000.6, 99999.5), radii: (0.5, 0.4, 0.5)))]),
+                Ellipsoid(center: (99998.8, 99999.7, 100000.5), radii: (0.6, 0.9, 0.6)),
+            ]))],
+        )"#,
+    ),
+    (
+        "parallel projection, intersection and difference, no shadows",
+        r#"Scene(
+            image: (width: 96, height: 96),
+            camera: Parallel(eye: (3, 2, -5), look_at: (0, 0, 0), height: 4),
+            lights: [Sun(direction: (1, 2, -1), irradiance: (3, 3, 3))],
+            objects: [
+                (shape: Difference(Sphere(center: (0, 0, 0), radius: 1.2),
+                    Intersection([Sphere(center: (0.8, 0.8, -0.8), radius: 0.8),
+                                  Sphere(center: (0.5, 0.5, -0.5), radius: 0.9)]))),
+            ],
+            settings: (shadows: false),
+        )"#,
+    ),
+    (
+        "grazing: a thin ellipsoid seen edge-on, near clip cutting a sphere",
+        r#"Scene(
+            image: (width: 96, height: 64),
+            camera: Pinhole(eye: (0, 0.02, -6), look_at: (0, 0, 0), fov_y: 30, near: 5.5),
+            lights: [Sun(direction: (0, 1, -0.3), irradiance: (3, 3, 3))],
+            objects: [
+                (shape: Ellipsoid(center: (0, 0, 0), radii: (2.5, 0.05, 2.5))),
+                (shape: Sphere(center: (0, 0, -0.8), radius: 0.5)),
+            ],
+        )"#,
+    ),
+];
+
+#[test]
+fn synthetic_scenes_match_the_cpu_reference() {
+    let Some(gpu) = common::gpu_or_skip("synthetic_scenes_match_the_cpu_reference") else {
+        return;
+    };
+    for (name, text) in SYNTHETIC {
+        let scene = fray_scene::parse(text, name).unwrap();
+        check(name, &scene, &gpu);
+    }
+}

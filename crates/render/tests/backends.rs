@@ -1,0 +1,51 @@
+//! Backend choice through the facade: the GPU backend when an adapter exists, a clear error for
+//! an explicit GPU request without one, and `Auto` falling back to the CPU.
+
+use fray_render::{Backend, RenderError, RenderOptions, Renderer, available_backends};
+
+const SPHERE: &str = "Scene(camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), \
+                      lights: [Sun(direction: (0, 1, -1), irradiance: (3, 3, 3))], \
+                      objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])";
+
+fn render(backend: Backend) -> Result<fray_core::Frame, RenderError> {
+    let scene = fray_scene::parse(SPHERE, "sphere.ron").unwrap();
+    Renderer::new(RenderOptions {
+        backend,
+        width: Some(40),
+        ..RenderOptions::default()
+    })
+    .render(&scene)
+}
+
+#[test]
+fn gpu_backend_renders_when_an_adapter_exists_and_errors_clearly_otherwise() {
+    let gpu_present = fray_gpu::probe_adapter().is_ok();
+    assert_eq!(available_backends().contains(&Backend::Gpu), gpu_present);
+    assert_eq!(available_backends()[0], Backend::Cpu);
+    let auto = render(Backend::Auto).unwrap();
+    let cpu = render(Backend::Cpu).unwrap();
+    assert_eq!(cpu.stats.backend, "cpu");
+    match render(Backend::Gpu) {
+        Ok(frame) => {
+            assert!(gpu_present);
+            assert!(
+                frame.stats.backend.starts_with("gpu ("),
+                "{}",
+                frame.stats.backend
+            );
+            assert!(auto.stats.backend.starts_with("gpu"));
+            assert_eq!(frame.stats.hits, cpu.stats.hits);
+            let (cd, gd) = (cpu.depth.get(20, 15), frame.depth.get(20, 15));
+            assert!((cd - gd).abs() < 1e-4 * cd, "{cd} vs {gd}");
+        }
+        Err(e) => {
+            if std::env::var("FRAY_REQUIRE_GPU").is_ok_and(|v| v == "1") {
+                panic!("FRAY_REQUIRE_GPU=1 but the GPU backend failed: {e}");
+            }
+            eprintln!("skipped GPU half: no GPU adapter ({e})");
+            assert!(!gpu_present);
+            assert!(e.to_string().contains("gpu backend: no GPU adapter"), "{e}");
+            assert_eq!(auto.stats.backend, "cpu");
+        }
+    }
+}
