@@ -268,17 +268,24 @@ fn shade_pixel(
     } else {
         normal
     };
+    // Borrowed, not cloned: a clone allocates the material's name for every hit pixel.
     let material = object
         .leaf_materials
         .get(hit.leaf as usize)
-        .and_then(|&m| scene.materials.get(m as usize))
-        .cloned()
-        .unwrap_or_default();
+        .and_then(|&m| scene.materials.get(m as usize));
+    let fallback;
+    let material = match material {
+        Some(m) => m,
+        None => {
+            fallback = fray_scene::Material::default();
+            &fallback
+        }
+    };
     let point = SurfacePoint {
         position,
         normal: shading_normal,
         to_viewer,
     };
-    let radiance: DVec3 = shade.radiance(caster, &point, &material);
+    let radiance: DVec3 = shade.radiance(caster, &point, material);
     (radiance.as_vec3(), hit.t, normal.as_vec3())
 }
