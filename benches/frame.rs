@@ -1,8 +1,8 @@
-//! End-to-end benchmarks through the `fray-render` facade: 1024² frames of the demo scenes
-//! (parse once; time render only). Report medians; compare variants as ratios in one run.
+//! End-to-end benchmarks through the `fray-render` facade: 1024² frames of the demo scenes on the
+//! CPU backend (parse once; time render only). Report medians; compare variants as ratios in one run.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use fray_render::{RenderOptions, Renderer};
+use fray_render::{Backend, RenderOptions, Renderer};
 use std::path::Path;
 
 fn frames(c: &mut Criterion) {
@@ -13,6 +13,8 @@ fn frames(c: &mut Criterion) {
         let scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         for (label, shadows) in [("shaded", true), ("primary_only", false)] {
             let renderer = Renderer::new(RenderOptions {
+                // The CPU backend (GPU frame times: crates/gpu/benches/gpu.rs).
+                backend: Backend::Cpu,
                 width: Some(1024),
                 height: Some(1024),
                 shadows: Some(shadows),

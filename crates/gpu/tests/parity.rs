@@ -87,6 +87,16 @@ fn compare(name: &str, scene: &Scene, gpu: &GpuRenderer) -> Report {
     let cpu: Frame = fray_trace::render(scene, &cpu_settings, None).unwrap();
     let settings = GpuSettings::for_scene(scene);
     let g: Frame = gpu.render(scene, &settings).unwrap();
+    assert!(g.stats.backend.starts_with("gpu ("), "{}", g.stats.backend);
+    assert!(g.stats.passes[0].starts_with("pipelines built: freeform["));
+    assert_eq!(
+        g.stats.primary_rays,
+        u64::from(scene.width) * u64::from(scene.height)
+    );
+    assert_eq!(
+        g.stats.hits,
+        g.depth.pixels().iter().filter(|d| d.is_finite()).count() as u64
+    );
     let eps_gpu = gpu_epsilon(scene, settings.epsilon);
     let (w, h) = (scene.width, scene.height);
     let ids = cpu_ids(scene, cpu_settings.epsilon);

@@ -130,11 +130,12 @@ impl Renderer {
                         }
                         Ok(frame)
                     }
-                    // A device lost mid-render (or, for `Auto`, a GPU that would not open):
-                    // fall back to the reference backend.
+                    // A device lost mid-render, or any GPU failure under `Auto` (a GPU that
+                    // would not open, a scene its pipeline cannot hold): fall back to the
+                    // reference backend. An explicit `Gpu` request reports other errors.
                     Err(e)
                         if matches!(e, GpuError::DeviceLost(_))
-                            || (self.options.backend == Backend::Auto && e.is_unavailable()) =>
+                            || self.options.backend == Backend::Auto =>
                     {
                         eprintln!("warning: {e}; rendering on the CPU instead");
                         Ok(cpu(&settings)?)
