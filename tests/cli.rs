@@ -161,3 +161,40 @@ fn unsupported_output_extension_is_a_clear_error() {
         "{err}"
     );
 }
+
+#[test]
+fn backend_flag_picks_cpu_or_gpu_and_gpu_without_adapter_is_a_clear_error() {
+    let dir = temp_dir("backend");
+    for backend in ["cpu", "gpu", "auto"] {
+        let out = dir.join(format!("csg.{backend}.png"));
+        let o = fray(&[
+            "render",
+            "data/scenes/csg.ron",
+            "--width",
+            "32",
+            "--backend",
+            backend,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        if o.status.success() {
+            let expect = match backend {
+                "cpu" => "(cpu,",
+                "gpu" => "(gpu (",
+                _ => "",
+            };
+            assert!(stdout.contains(expect), "{backend}: {stdout}");
+            assert!(out.is_file());
+        } else {
+            // Only the GPU may be missing, and then the message says so.
+            assert_eq!(backend, "gpu", "{}", stderr(&o));
+            assert!(stderr(&o).contains("no GPU adapter"), "{}", stderr(&o));
+            assert!(
+                std::env::var("FRAY_REQUIRE_GPU").map_or(true, |v| v != "1"),
+                "FRAY_REQUIRE_GPU=1 but: {}",
+                stderr(&o)
+            );
+        }
+    }
+}
