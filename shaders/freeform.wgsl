@@ -16,7 +16,10 @@ override PROJECTOR: u32 = 0u;
 const BIG: f32 = 1.0e30;
 const NO_HIT: f32 = -1.0;
 const PI: f32 = 3.14159265358979;
-const SEG_STACK: u32 = 64u;
+// Pending segments of the halving search: one per level plus one. With ε ≥ 2⁻²⁰ · camera
+// distance a search has ≲ 22 levels; at the cap a segment is tested directly, like one below ε.
+// (32 rather than 64: the smaller zero-initialised array is ≈ 15 % faster on lavapipe.)
+const SEG_STACK: u32 = 32u;
 const ILLINOIS_STEPS: u32 = 100u;
 
 @group(0) @binding(0) var<uniform> frame: FrameParams;
