@@ -60,6 +60,9 @@ struct RenderArgs {
     /// Turn shadow rays off.
     #[arg(long)]
     no_shadows: bool,
+    /// Turn the CPU quadtree culling off (same image, more work; for comparisons).
+    #[arg(long)]
+    no_culling: bool,
     /// Exposure multiplier applied before tone mapping (PNG only).
     #[arg(long, default_value_t = 1.0)]
     exposure: f32,
@@ -169,6 +172,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         epsilon: args.eps,
         threads: args.threads,
         shadows: args.no_shadows.then_some(false),
+        culling: args.no_culling.then_some(false),
     });
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);

@@ -58,15 +58,31 @@ impl GpuContext {
     }
 }
 
-/// The name of the adapter this machine would use, or why there is none. Probed once per
-/// process (an instance and an adapter request, no device).
-pub fn probe_adapter() -> Result<String, GpuError> {
-    static PROBE: OnceLock<Result<String, GpuError>> = OnceLock::new();
+/// What [`probe_adapter`] found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AdapterProbe {
+    /// The adapter's name, e.g. `"llvmpipe (LLVM 15.0.6, 256 bits)"`.
+    pub name: String,
+    /// A software rasteriser running on the CPU (wgpu `DeviceType::Cpu`, e.g. Mesa lavapipe):
+    /// correct, but slower than the CPU backend, so automatic backend choice skips it.
+    pub software: bool,
+}
+
+/// The adapter this machine would use, or why there is none. Probed once per process (an
+/// instance and an adapter request, no device).
+pub fn probe_adapter() -> Result<AdapterProbe, GpuError> {
+    static PROBE: OnceLock<Result<AdapterProbe, GpuError>> = OnceLock::new();
     PROBE
         .get_or_init(|| {
             pollster::block_on(async {
                 let instance = instance();
-                adapter(&instance).await.map(|a| a.get_info().name)
+                adapter(&instance).await.map(|a| {
+                    let info = a.get_info();
+                    AdapterProbe {
+                        name: info.name,
+                        software: info.device_type == wgpu::DeviceType::Cpu,
+                    }
+                })
             })
         })
         .clone()

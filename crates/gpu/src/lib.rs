@@ -23,7 +23,7 @@ pub mod params;
 mod render;
 pub mod shader;
 
-pub use context::{GpuContext, probe_adapter};
+pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use error::GpuError;
 pub use freeform_pass::{FreeFormPass, PassOutput};
 pub use render::{

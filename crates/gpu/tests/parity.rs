@@ -8,6 +8,8 @@
 
 mod common;
 
+use libtest_mimic::{Arguments, Trial};
+
 use fray_core::{Frame, Interval};
 use fray_geometry::{CastStats, RayCaster};
 use fray_gpu::{GpuRenderer, GpuSettings, gpu_epsilon};
@@ -196,11 +198,8 @@ fn sized(mut scene: Scene) -> Scene {
     scene
 }
 
-#[test]
 fn every_data_scene_matches_the_cpu_reference() {
-    let Some(gpu) = common::gpu_or_skip("every_data_scene_matches_the_cpu_reference") else {
-        return;
-    };
+    let gpu = common::gpu("every_data_scene_matches_the_cpu_reference");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -258,13 +257,38 @@ const SYNTHETIC: [(&str, &str); 3] = [
     ),
 ];
 
-#[test]
 fn synthetic_scenes_match_the_cpu_reference() {
-    let Some(gpu) = common::gpu_or_skip("synthetic_scenes_match_the_cpu_reference") else {
-        return;
-    };
+    let gpu = common::gpu("synthetic_scenes_match_the_cpu_reference");
     for (name, text) in SYNTHETIC {
         let scene = fray_scene::parse(text, name).unwrap();
         check(name, &scene, &gpu);
     }
+}
+
+/// A custom harness (libtest-mimic) so that, without an adapter, these tests are reported as
+/// ignored rather than passed.
+fn main() {
+    let args = Arguments::from_args();
+    let ignored = common::gpu_tests_ignored();
+    let tests: [(&str, fn()); 2] = [
+        (
+            "every_data_scene_matches_the_cpu_reference",
+            every_data_scene_matches_the_cpu_reference,
+        ),
+        (
+            "synthetic_scenes_match_the_cpu_reference",
+            synthetic_scenes_match_the_cpu_reference,
+        ),
+    ];
+    let trials = tests
+        .into_iter()
+        .map(|(name, test)| {
+            Trial::test(name, move || {
+                test();
+                Ok(())
+            })
+            .with_ignored_flag(ignored)
+        })
+        .collect();
+    libtest_mimic::run(&args, trials).exit();
 }

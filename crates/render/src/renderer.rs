@@ -12,7 +12,8 @@ pub enum Backend {
     Cpu,
     /// The wgpu backend (`fray-gpu`, f32): an error if there is no GPU adapter.
     Gpu,
-    /// The GPU if an adapter exists, else the CPU (with a warning on stderr).
+    /// The GPU if a hardware adapter exists, else the CPU. A software adapter (Mesa lavapipe)
+    /// is skipped: it is correct but slower than the CPU backend; ask for `Gpu` to use it.
     #[default]
     Auto,
 }
@@ -47,6 +48,8 @@ pub struct RenderOptions {
     /// Worker threads for the CPU backend.
     pub threads: Option<usize>,
     pub shadows: Option<bool>,
+    /// Quadtree culling on the CPU backend (default on; the image is identical either way).
+    pub culling: Option<bool>,
 }
 
 /// Why a render failed.
@@ -75,16 +78,14 @@ impl Renderer {
         &self.options
     }
 
-    /// The backend `render` will use: `Auto` is the GPU when an adapter exists, else the CPU.
+    /// The backend `render` will use: `Auto` is the GPU when a hardware adapter exists, else
+    /// the CPU.
     pub fn resolved_backend(&self) -> Backend {
         match self.options.backend {
-            Backend::Auto => {
-                if fray_gpu::probe_adapter().is_ok() {
-                    Backend::Gpu
-                } else {
-                    Backend::Cpu
-                }
-            }
+            Backend::Auto => match fray_gpu::probe_adapter() {
+                Ok(probe) if !probe.software => Backend::Gpu,
+                _ => Backend::Cpu,
+            },
             b => b,
         }
     }
@@ -110,10 +111,18 @@ impl Renderer {
             settings.shadows = s;
         }
         let cpu = |settings: &TraceSettings| fray_trace::render(&scene, settings, progress);
-        if self.options.backend == Backend::Auto
-            && let Err(e) = fray_gpu::probe_adapter()
-        {
-            eprintln!("warning: no GPU adapter ({e}); rendering on the CPU");
+        if let Some(c) = self.options.culling {
+            settings.culling = c;
+        }
+        if self.options.backend == Backend::Auto {
+            match fray_gpu::probe_adapter() {
+                Err(e) => eprintln!("warning: no GPU adapter ({e}); rendering on the CPU"),
+                Ok(probe) if probe.software => eprintln!(
+                    "note: the only GPU adapter is a software one ({}); rendering on the faster CPU backend (--backend gpu uses it anyway)",
+                    probe.name
+                ),
+                Ok(_) => {}
+            }
         }
         match self.resolved_backend() {
             Backend::Cpu | Backend::Auto => Ok(cpu(&settings)?),
