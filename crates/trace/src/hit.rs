@@ -24,32 +24,8 @@ pub fn nearest_hit(
     eps: f64,
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
-    let mut best: Option<(f64, usize)> = None;
-    let mut hi = range.hi;
-    for (index, object) in scene.objects.iter().enumerate() {
-        let found = caster.cast(
-            &object.solid,
-            ray,
-            Interval { lo: range.lo, hi },
-            eps,
-            stats,
-        );
-        // The range already ends at the best hit; on a tie the earlier object keeps it.
-        if let Some(t) = found
-            && best.is_none_or(|(bt, _)| t < bt)
-        {
-            hi = t;
-            best = Some((t, index));
-        }
-    }
-    let (t, index) = best?;
-    let (normal, leaf) = scene.objects[index].solid.surface_at(ray.at(t), -ray.dir);
-    Some(SceneHit {
-        t,
-        object: index as u32,
-        leaf,
-        normal,
-    })
+    let all = (0..scene.objects.len()).map(|i| (i, None));
+    nearest_over(scene, caster, ray, range, eps, all, stats)
 }
 
 /// [`nearest_hit`] over a subset: only the listed objects (increasing indices), each cast with
@@ -65,21 +41,34 @@ pub fn nearest_hit_among(
     candidates: &[(u32, ActiveSet)],
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
-    let mut best: Option<(f64, usize, &ActiveSet)> = None;
+    let listed = candidates
+        .iter()
+        .map(|(index, active)| (*index as usize, Some(active)));
+    nearest_over(scene, caster, ray, range, eps, listed, stats)
+}
+
+/// The nearest hit over `candidates` (object index, and the active subset or `None` for all of
+/// it). On a tie the earlier object keeps the hit: each later search ends at the best so far.
+fn nearest_over<'a>(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    candidates: impl Iterator<Item = (usize, Option<&'a ActiveSet>)>,
+    stats: &mut CastStats,
+) -> Option<SceneHit> {
+    let mut best: Option<(f64, usize, Option<&ActiveSet>)> = None;
     let mut hi = range.hi;
     for (index, active) in candidates {
-        let index = *index as usize;
         let Some(object) = scene.objects.get(index) else {
             continue;
         };
-        let found = caster.cast_with(
-            &object.solid,
-            ray,
-            Interval { lo: range.lo, hi },
-            eps,
-            active,
-            stats,
-        );
+        let segment = Interval { lo: range.lo, hi };
+        let found = match active {
+            Some(active) => caster.cast_with(&object.solid, ray, segment, eps, active, stats),
+            None => caster.cast(&object.solid, ray, segment, eps, stats),
+        };
         if let Some(t) = found
             && best.is_none_or(|(bt, _, _)| t < bt)
         {
@@ -88,9 +77,11 @@ pub fn nearest_hit_among(
         }
     }
     let (t, index, active) = best?;
-    let (normal, leaf) = scene.objects[index]
-        .solid
-        .surface_at_with(ray.at(t), -ray.dir, active);
+    let solid = &scene.objects[index].solid;
+    let (normal, leaf) = match active {
+        Some(active) => solid.surface_at_with(ray.at(t), -ray.dir, active),
+        None => solid.surface_at(ray.at(t), -ray.dir),
+    };
     Some(SceneHit {
         t,
         object: index as u32,
