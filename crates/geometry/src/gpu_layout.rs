@@ -78,8 +78,9 @@ pub struct GpuSolids {
     pub max_stack: u32,
 }
 
-fn v4(v: DVec3) -> [f32; 4] {
-    [v.x as f32, v.y as f32, v.z as f32, 0.0]
+/// `(v, w)` rounded to f32: the packing of every `vec4<f32>` field the GPU structs share.
+pub fn vec4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
 }
 
 /// Rounds `b` to f32 outward, relative to `reference`, so the f32 box still holds the f64 one.
@@ -105,7 +106,7 @@ impl GpuQuadric {
     pub fn new(q: &Quadric, reference: DVec3) -> Self {
         let c = q.coefficients.map(|c| c as f32);
         Self {
-            origin: v4(q.origin - reference),
+            origin: vec4(q.origin - reference, 0.0),
             c0: [c[0], c[1], c[2], c[3]],
             c1: [c[4], c[5], c[6], c[7]],
             c2: [c[8], c[9], 0.0, 0.0],
@@ -187,6 +188,18 @@ impl WgslStruct {
         }
         s.push_str("}\n");
         s
+    }
+
+    /// The byte offset of each field and the struct's size as WGSL lays it out, given the size
+    /// of each field type (all types here are 16-byte aligned, so fields pack back to back).
+    pub fn layout(&self, type_size: impl Fn(&str) -> usize) -> (Vec<usize>, usize) {
+        let mut offset = 0;
+        let mut offsets = Vec::with_capacity(self.fields.len());
+        for (_, ty) in self.fields {
+            offsets.push(offset);
+            offset += type_size(ty);
+        }
+        (offsets, offset)
     }
 }
 
@@ -295,14 +308,7 @@ mod tests {
             ),
         ];
         for (st, (size, offsets)) in WGSL_STRUCTS.iter().zip(rust) {
-            let mut offset = 0;
-            let mut got = Vec::new();
-            for (_, ty) in st.fields {
-                got.push(offset);
-                offset += wgsl_size(ty);
-            }
-            assert_eq!(got, offsets, "{}", st.name);
-            assert_eq!(offset, size, "{}", st.name);
+            assert_eq!(st.layout(wgsl_size), (offsets, size), "{}", st.name);
         }
         let text = wgsl_declarations();
         assert!(text.contains("struct GpuLeaf {") && text.contains("const OP_NEG: u32 = 3u;"));

@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use fray_core::Projector;
-use fray_geometry::gpu_layout::WgslStruct;
+use fray_geometry::gpu_layout::{WgslStruct, vec4};
 use fray_scene::{Light, Material, Scene};
 use glam::DVec3;
 
@@ -102,10 +102,6 @@ pub fn wgsl_constants() -> Vec<(&'static str, u32)> {
     ]
 }
 
-fn v4(v: DVec3, w: f64) -> [f32; 4] {
-    [v.x as f32, v.y as f32, v.z as f32, w as f32]
-}
-
 /// The point every GPU position is taken relative to: the projector's eye.
 pub fn reference_point(camera: &Projector) -> DVec3 {
     match camera {
@@ -136,15 +132,15 @@ pub fn frame_params(scene: &Scene, epsilon: f64, shadow_offset: f64) -> FramePar
             0,
         ],
         shade: [shadow_offset as f32, 0.0, 0.0, 0.0],
-        background: v4(scene.background.as_dvec3(), 0.0),
-        ambient: v4(scene.ambient.as_dvec3(), 0.0),
+        background: vec4(scene.background.as_dvec3(), 0.0),
+        ambient: vec4(scene.ambient.as_dvec3(), 0.0),
         ..FrameParams::default()
     };
     let (basis, k, near) = match &scene.camera {
         Projector::Pinhole(p) => (p.basis, p.tan_half_fov_y, p.near),
         Projector::Parallel(p) => (p.basis, 0.5 * p.height, p.near),
         Projector::Sphere(s) => {
-            f.centre = v4(s.centre - reference, s.radius);
+            f.centre = vec4(s.centre - reference, s.radius);
             f.sphere = [
                 s.fov_x as f32,
                 s.fov_y as f32,
@@ -154,9 +150,9 @@ pub fn frame_params(scene: &Scene, epsilon: f64, shadow_offset: f64) -> FramePar
             (s.basis, 0.0, 0.0)
         }
     };
-    f.forward = v4(basis.forward, k);
-    f.right = v4(basis.right, near);
-    f.up = v4(basis.up, epsilon);
+    f.forward = vec4(basis.forward, k);
+    f.right = vec4(basis.right, near);
+    f.up = vec4(basis.up, epsilon);
     f
 }
 
@@ -172,16 +168,16 @@ pub fn lights(scene: &Scene) -> Vec<GpuLight> {
                 direction,
                 irradiance,
             } => GpuLight {
-                vector: v4(direction, 0.0),
-                colour: v4(irradiance.as_dvec3(), 0.0),
+                vector: vec4(direction, 0.0),
+                colour: vec4(irradiance.as_dvec3(), 0.0),
                 kind: [LIGHT_SUN, 0, 0, 0],
             },
             Light::Point {
                 position,
                 intensity,
             } => GpuLight {
-                vector: v4(position - reference, 0.0),
-                colour: v4(intensity.as_dvec3(), 0.0),
+                vector: vec4(position - reference, 0.0),
+                colour: vec4(intensity.as_dvec3(), 0.0),
                 kind: [LIGHT_POINT, 0, 0, 0],
             },
         })
@@ -200,9 +196,9 @@ pub fn materials(scene: &Scene) -> Vec<GpuMaterial> {
         .iter()
         .chain(std::iter::once(&Material::default()))
         .map(|m| GpuMaterial {
-            ambient: v4(m.ambient.as_dvec3(), 0.0),
-            diffuse: v4(m.diffuse.as_dvec3(), 0.0),
-            specular: v4(m.specular.as_dvec3(), m.shininess),
+            ambient: vec4(m.ambient.as_dvec3(), 0.0),
+            diffuse: vec4(m.diffuse.as_dvec3(), 0.0),
+            specular: vec4(m.specular.as_dvec3(), m.shininess),
         })
         .collect()
 }
@@ -247,10 +243,9 @@ mod tests {
                 ],
             ),
         ];
+        // Every field of these structs is a 16-byte vec4.
         for (st, (size, offsets)) in WGSL_STRUCTS.iter().zip(rust) {
-            let expected: Vec<usize> = (0..st.fields.len()).map(|i| 16 * i).collect();
-            assert_eq!(offsets, expected, "{}", st.name);
-            assert_eq!(size, 16 * st.fields.len(), "{}", st.name);
+            assert_eq!(st.layout(|_| 16), (offsets, size), "{}", st.name);
         }
     }
 }
