@@ -1,5 +1,6 @@
 //! `fray-scene`: the scene description — RON scene files, materials, lights, objects — its
-//! validation with errors that name file, line and field, and the feature set.
+//! validation with errors that name file, line and field, the feature set, and the scene's cell
+//! test for the `fray-quadtree` scheduler ([`work_list`]: the work items both backends render).
 //!
 //! [`load`] reads a file and [`parse`] a string; both check every value and resolve the
 //! [`description`] (what the file says, angles in degrees) into a [`Scene`] (what it means,
@@ -37,9 +38,11 @@ mod locate;
 mod path;
 mod resolve;
 mod scene;
+mod work;
 
 pub use error::SceneError;
 pub use features::FeatureSet;
 pub use load::{load, parse, parse_description};
 pub use resolve::MAX_IMAGE_SIDE;
 pub use scene::{Light, Material, Object, Scene, Settings};
+pub use work::work_list;

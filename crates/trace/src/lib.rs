@@ -25,13 +25,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-mod cull;
 mod hit;
 mod render;
 mod settings;
 mod shade;
 
-pub use cull::work_list;
+/// The work list (moved to `fray-scene`, which both backends share), re-exported.
+pub use fray_scene::work_list;
 pub use hit::{SceneHit, nearest_hit, nearest_hit_among, occluded};
 pub use render::{Progress, render};
 pub use settings::{TraceError, TraceSettings};

@@ -1,13 +1,12 @@
 //! The CPU frame loop: tiles in parallel (rayon), one primary ray per pixel centre, shading, and
 //! the frame's statistics. The result does not depend on the thread count.
 
-use crate::cull::work_list;
 use crate::hit::{nearest_hit, nearest_hit_among};
 use crate::shade::{ShadeContext, SurfacePoint};
 use crate::{TraceError, TraceSettings};
 use fray_core::{Frame, Image, Interval, RenderStats, Rgb};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
-use fray_scene::Scene;
+use fray_scene::{Scene, work_list};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};

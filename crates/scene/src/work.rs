@@ -1,5 +1,7 @@
-//! The CPU tracer's cell test for the quadtree scheduler: which objects, leaves and perturbations
-//! of the scene a cell's ray bundle may meet (box versus bundle), and the work list it yields.
+//! The scene's cell test for the quadtree scheduler: which objects, leaves and perturbations of
+//! the scene a cell's ray bundle may meet (box versus bundle), and the work list it yields — the
+//! one list both backends render from (fray-trace casts each tile's pixels with the items'
+//! [`ActiveSet`]s; fray-gpu uploads the same arrays and dispatches a workgroup per item).
 //!
 //! Every test is conservative against the per-ray tests of the ray caster (a box the bundle
 //! misses is missed by every ray of the cell, with a margin), so casting a tile's pixels with its
@@ -8,7 +10,7 @@
 use fray_core::Aabb;
 use fray_geometry::ActiveSet;
 use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, WorkList, build};
-use fray_scene::Scene;
+use crate::Scene;
 
 /// The boxes the cell test needs, gathered once per frame.
 struct ObjectBoxes {
@@ -40,7 +42,7 @@ fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
         .collect()
 }
 
-/// The quadtree work list the CPU backend renders from when culling: tiles of at most
+/// The quadtree work list the backends render from when culling: tiles of at most
 /// `cell_size` pixels with their candidate objects, active leaves and perturbations.
 pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     let boxes = object_boxes(scene);
