@@ -114,6 +114,29 @@ impl Aabb {
         Some(Interval { lo, hi })
     }
 
+    /// [`Aabb::clip_ray`] with the ray's componentwise inverse direction `inv_dir = 1 / ray.dir`
+    /// precomputed (once per ray, for many boxes): the same result, bit for bit, without the
+    /// divisions and the per-axis branches. A ray parallel to a slab (infinite `inv_dir`) takes
+    /// the general path.
+    #[inline]
+    pub fn clip_ray_with_inverse(
+        &self,
+        ray: &Ray,
+        inv_dir: DVec3,
+        range: Interval,
+    ) -> Option<Interval> {
+        if !inv_dir.is_finite() {
+            return self.clip_ray(ray, range);
+        }
+        let t0 = (self.min - ray.origin) * inv_dir;
+        let t1 = (self.max - ray.origin) * inv_dir;
+        let near = t0.min(t1);
+        let far = t0.max(t1);
+        let lo = range.lo.max(near.max_element());
+        let hi = range.hi.min(far.min_element());
+        (lo <= hi).then_some(Interval { lo, hi })
+    }
+
     /// The outward unit normal of the face nearest to `p` (for hits on a clipping box).
     pub fn face_normal(&self, p: DVec3) -> DVec3 {
         let mut best = (f64::INFINITY, DVec3::X);
@@ -154,6 +177,39 @@ mod tests {
         // Box behind the origin.
         let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::Z).unwrap();
         assert!(b.clip_ray(&r, Interval::new(0.0, f64::INFINITY)).is_none());
+    }
+
+    proptest::proptest! {
+        /// The precomputed-inverse slab test answers exactly what the general one does: random
+        /// boxes (some empty), rays with components snapped to 0 (parallel slabs) and origins
+        /// snapped onto slab planes.
+        #[test]
+        fn clip_with_inverse_is_bit_identical(
+            min in proptest::array::uniform3(-4i32..4),
+            ext in proptest::array::uniform3(-1i32..4),
+            o in proptest::array::uniform3(-8i32..8),
+            d in proptest::array::uniform3(-3i32..4),
+            frac in proptest::array::uniform3(0.0f64..1.0),
+            lo in -2.0f64..3.0,
+        ) {
+            let min = DVec3::new(min[0] as f64, min[1] as f64, min[2] as f64);
+            let b = Aabb::new(min, min + DVec3::new(ext[0] as f64, ext[1] as f64, ext[2] as f64));
+            // Integer origins land on slab planes often; fractions move some off them.
+            let origin = DVec3::new(
+                o[0] as f64 + if frac[0] < 0.5 { 0.0 } else { frac[0] },
+                o[1] as f64,
+                o[2] as f64 + frac[2] * 0.25,
+            );
+            let dir = DVec3::new(d[0] as f64 + frac[1] * 0.1, d[1] as f64, d[2] as f64);
+            if let Some(ray) = Ray::new(origin, dir) {
+                let range = Interval::new(lo, f64::INFINITY);
+                let inv = DVec3::ONE / ray.dir;
+                proptest::prop_assert_eq!(
+                    b.clip_ray_with_inverse(&ray, inv, range),
+                    b.clip_ray(&ray, range)
+                );
+            }
+        }
     }
 
     #[test]

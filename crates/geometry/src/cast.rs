@@ -12,6 +12,7 @@
 
 use crate::{ActiveSet, CsgOp, RayQuadratic, Solid};
 use fray_core::{Interval, Ray};
+use glam::DVec3;
 
 /// Work counters of the ray caster.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -56,13 +57,46 @@ const ABSENT: Bound = Bound {
     slope: Interval::point(0.0),
 };
 
+/// The exact value and derivative ranges of a quadratic over `t`: the hot path of every bound.
+/// The vertex lies strictly inside exactly when the derivative changes sign over `t`, which the
+/// derivative range (needed anyway) tells without a division; plain comparisons stand in for
+/// `f64::min`/`max` because nothing here is NaN.
+#[inline]
+fn quadratic_bound(q: &RayQuadratic, t: Interval) -> Bound {
+    let (f0, f1) = (q.eval(t.lo), q.eval(t.hi));
+    let (d0, d1) = (q.derivative(t.lo), q.derivative(t.hi));
+    let (mut lo, mut hi) = if f0 <= f1 { (f0, f1) } else { (f1, f0) };
+    if (d0 < 0.0 && d1 > 0.0) || (d0 > 0.0 && d1 < 0.0) {
+        let fv = q.eval(-q.b / (2.0 * q.a));
+        if fv < lo {
+            lo = fv;
+        }
+        if fv > hi {
+            hi = fv;
+        }
+    }
+    let slope = if d0 <= d1 {
+        Interval { lo: d0, hi: d1 }
+    } else {
+        Interval { lo: d1, hi: d0 }
+    };
+    Bound {
+        value: Interval { lo, hi },
+        slope,
+    }
+}
+
+/// Programs of fewer than twice this many ops (so at most this many leaves deep) evaluate on a
+/// stack array instead of the heap.
+const INLINE_STACK: usize = 4;
+
 /// Reusable per-thread scratch space for casting rays; holds no scene data between calls.
 #[derive(Debug, Default)]
 pub struct RayCaster {
     leaves: Vec<LeafOnRay>,
     perturbations: Vec<(f64, RayQuadratic)>,
     bounds: Vec<Bound>,
-    values: Vec<f64>,
+    values: Vec<(f64, u32)>,
     segments: Vec<(f64, f64)>,
 }
 
@@ -80,11 +114,7 @@ impl RayCaster {
         eps: f64,
         stats: &mut CastStats,
     ) -> Option<f64> {
-        let range = solid.bounds().clip_ray(ray, range)?;
-        if !self.prepare(solid, ray, range, None) {
-            return None;
-        }
-        self.search(solid.program(), range, eps, stats)
+        self.cast_program(solid, ray, range, eps, None, stats)
     }
 
     /// [`RayCaster::cast`] restricted to the leaves and perturbations of `active` (and its pruned
@@ -99,19 +129,67 @@ impl RayCaster {
         active: &ActiveSet,
         stats: &mut CastStats,
     ) -> Option<f64> {
-        let range = solid.bounds().clip_ray(ray, range)?;
-        if !self.prepare(solid, ray, range, Some(active)) {
+        self.cast_program(solid, ray, range, eps, Some(active), stats)
+    }
+
+    fn cast_program(
+        &mut self,
+        solid: &Solid,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        active: Option<&ActiveSet>,
+        stats: &mut CastStats,
+    ) -> Option<f64> {
+        let inv_dir = DVec3::ONE / ray.dir;
+        let range = solid.bounds().clip_ray_with_inverse(ray, inv_dir, range)?;
+        let program = active.map_or(solid.program(), ActiveSet::program);
+        // The common case — one leaf and no perturbation — needs no scratch space and no program:
+        // the same search over the same leaf, monomorphised (bit-identical to the general path).
+        if let [CsgOp::Leaf(i)] = *program
+            && let Some(leaf) = solid.leaves().get(i as usize)
+            && active.is_none_or(|a| a.leaf_perturbations(i as usize).is_empty())
+            && (active.is_some() || leaf.perturbations().is_empty())
+        {
+            let present = if solid.leaf_covers_solid(i as usize) {
+                range
+            } else {
+                leaf.bounds().clip_ray_with_inverse(ray, inv_dir, range)?
+            };
+            let f = PlainLeaf {
+                leaf: LeafOnRay {
+                    present: Some(present),
+                    clips: leaf.clips(),
+                    base: leaf.base().on_ray(ray),
+                    perturbations: (0, 0),
+                },
+                stats,
+            };
+            return search(f, &mut self.segments, range, eps);
+        }
+        if !self.prepare(solid, ray, inv_dir, range, active) {
             return None;
         }
-        self.search(active.program(), range, eps, stats)
+        let f = ProgramOnRay {
+            leaves: &self.leaves,
+            perturbations: &self.perturbations,
+            program,
+            bounds: &mut self.bounds,
+            values: &mut self.values,
+            stats,
+            decided: [(f64::NAN, u32::MAX); 2],
+        };
+        search(f, &mut self.segments, range, eps)
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
     /// box and prepares every leaf (the first step of [`RayCaster::cast`]). Returns the clipped
     /// range, or `None` if the ray cannot reach the solid there. For benchmarks and diagnostics.
     pub fn prepare_ray(&mut self, solid: &Solid, ray: &Ray, range: Interval) -> Option<Interval> {
-        let range = solid.bounds().clip_ray(ray, range)?;
-        self.prepare(solid, ray, range, None).then_some(range)
+        let inv_dir = DVec3::ONE / ray.dir;
+        let range = solid.bounds().clip_ray_with_inverse(ray, inv_dir, range)?;
+        self.prepare(solid, ray, inv_dir, range, None)
+            .then_some(range)
     }
 
     /// The conservative range of the solid's value and of its derivative along the ray over the
@@ -122,7 +200,17 @@ impl RayCaster {
         if self.leaves.len() != solid.leaves().len() {
             return (Interval::EVERYTHING, Interval::EVERYTHING);
         }
-        let b = self.bound(solid.program(), seg, &mut CastStats::default());
+        let mut stats = CastStats::default();
+        let mut f = ProgramOnRay {
+            leaves: &self.leaves,
+            perturbations: &self.perturbations,
+            program: solid.program(),
+            bounds: &mut self.bounds,
+            values: &mut self.values,
+            stats: &mut stats,
+            decided: [(f64::NAN, u32::MAX); 2],
+        };
+        let b = f.bound(seg);
         (b.value, b.slope)
     }
 
@@ -132,6 +220,7 @@ impl RayCaster {
         &mut self,
         solid: &Solid,
         ray: &Ray,
+        inv_dir: DVec3,
         range: Interval,
         active: Option<&ActiveSet>,
     ) -> bool {
@@ -141,7 +230,8 @@ impl RayCaster {
         for (i, leaf) in solid.leaves().iter().enumerate() {
             let present = match active {
                 Some(a) if !a.leaf_is_active(i) => None,
-                _ => leaf.bounds().clip_ray(ray, range),
+                _ if solid.leaf_covers_solid(i) => Some(range),
+                _ => leaf.bounds().clip_ray_with_inverse(ray, inv_dir, range),
             };
             let start = self.perturbations.len() as u32;
             if let Some(present) = present {
@@ -184,73 +274,103 @@ impl RayCaster {
         }
         any
     }
+}
 
-    fn leaf_bound(&self, leaf: &LeafOnRay, seg: Interval) -> Bound {
-        let Some(present) = leaf.present else {
-            return ABSENT;
-        };
-        if seg.hi < present.lo || seg.lo > present.hi {
-            return ABSENT;
-        }
-        let mut inner = seg;
-        if leaf.clips {
-            inner = Interval {
-                lo: seg.lo.max(present.lo),
-                hi: seg.hi.min(present.hi),
-            };
-        }
-        let mut value = leaf.base.range(inner);
-        let mut slope = leaf.base.derivative_range(inner);
-        for &(f, q) in
-            &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize]
-        {
-            let qr = q.range(inner).positive_part();
-            value = value + qr.cube().scale(f);
-            slope = slope + (qr.square() * q.derivative_range(inner)).scale(3.0 * f);
-        }
-        if inner != seg {
-            // Part of the segment is outside the clipping box, where the value is −∞.
-            value = Interval {
-                lo: f64::NEG_INFINITY,
-                hi: value.hi,
-            };
-            slope = Interval::EVERYTHING;
-        }
-        Bound { value, slope }
+/// `F′` along the current ray, as the search sees it: bounds over segments, values at points.
+trait RayFunction {
+    fn bound(&mut self, seg: Interval) -> Bound;
+    fn value(&mut self, t: f64) -> f64;
+    /// Where `F′` is one plain quadratic over `[a, b]`, its closed-form first root there: a
+    /// prediction for [`finish`] to certify.
+    fn predict(&self, a: f64, b: f64) -> Option<f64>;
+}
+
+/// A single leaf with no perturbation on this ray.
+struct PlainLeaf<'a> {
+    leaf: LeafOnRay,
+    stats: &'a mut CastStats,
+}
+
+impl RayFunction for PlainLeaf<'_> {
+    #[inline]
+    fn bound(&mut self, seg: Interval) -> Bound {
+        self.stats.bound_evaluations += 1;
+        leaf_bound(&self.leaf, &[], seg)
     }
 
-    fn leaf_value(&self, leaf: &LeafOnRay, t: f64) -> f64 {
-        let Some(present) = leaf.present else {
-            return f64::NEG_INFINITY;
-        };
-        if t < present.lo || t > present.hi {
-            return f64::NEG_INFINITY;
-        }
-        let mut v = leaf.base.eval(t);
-        for &(f, q) in
-            &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize]
-        {
-            let qt = q.eval(t);
-            if qt > 0.0 {
-                v += f * qt * qt * qt;
-            }
-        }
-        v
+    #[inline]
+    fn value(&mut self, t: f64) -> f64 {
+        self.stats.point_evaluations += 1;
+        leaf_value(&self.leaf, &[], t)
     }
 
-    fn bound(&mut self, program: &[CsgOp], seg: Interval, stats: &mut CastStats) -> Bound {
-        stats.bound_evaluations += 1;
-        if let [CsgOp::Leaf(i)] = program {
-            return self.leaf_bound(&self.leaves[*i as usize], seg);
+    #[inline]
+    fn predict(&self, a: f64, b: f64) -> Option<f64> {
+        predict_plain(&self.leaf, a, b)
+    }
+}
+
+/// Marks a deciding leaf index whose value reached the result negated.
+const NEGATED: u32 = 1 << 31;
+
+/// A CSG program over prepared leaves.
+struct ProgramOnRay<'a> {
+    leaves: &'a [LeafOnRay],
+    perturbations: &'a [(f64, RayQuadratic)],
+    program: &'a [CsgOp],
+    bounds: &'a mut Vec<Bound>,
+    values: &'a mut Vec<(f64, u32)>,
+    stats: &'a mut CastStats,
+    /// The last two points evaluated and the leaf whose value decided each (with [`NEGATED`]
+    /// set if the program negated it on the way).
+    decided: [(f64, u32); 2],
+}
+
+impl ProgramOnRay<'_> {
+    #[inline]
+    fn leaf(&self, i: u32) -> &LeafOnRay {
+        &self.leaves[i as usize]
+    }
+
+    #[inline]
+    fn leaf_perturbations(&self, leaf: &LeafOnRay) -> &[(f64, RayQuadratic)] {
+        &self.perturbations[leaf.perturbations.0 as usize..leaf.perturbations.1 as usize]
+    }
+}
+
+impl RayFunction for ProgramOnRay<'_> {
+    fn bound(&mut self, seg: Interval) -> Bound {
+        self.stats.bound_evaluations += 1;
+        if let [CsgOp::Leaf(i)] = *self.program {
+            let leaf = self.leaf(i);
+            return leaf_bound(leaf, self.leaf_perturbations(leaf), seg);
         }
-        let mut stack = std::mem::take(&mut self.bounds);
-        stack.clear();
-        for op in program {
+        // The stack never holds more than the program's leaves: short programs use an array.
+        let mut inline = [ABSENT; INLINE_STACK];
+        let heap = &mut *self.bounds;
+        let stack: &mut [Bound] = if self.program.len() < 2 * INLINE_STACK {
+            &mut inline
+        } else {
+            heap.clear();
+            heap.resize(self.program.len(), ABSENT);
+            heap
+        };
+        let mut len = 0usize;
+        for op in self.program {
             match *op {
-                CsgOp::Leaf(i) => stack.push(self.leaf_bound(&self.leaves[i as usize], seg)),
+                CsgOp::Leaf(i) => {
+                    let leaf = &self.leaves[i as usize];
+                    let perturbations = &self.perturbations
+                        [leaf.perturbations.0 as usize..leaf.perturbations.1 as usize];
+                    stack[len] = leaf_bound(leaf, perturbations, seg);
+                    len += 1;
+                }
                 CsgOp::Max | CsgOp::Min => {
-                    let b = stack.pop().unwrap_or(ABSENT);
-                    let a = stack.pop().unwrap_or(ABSENT);
+                    if len < 2 {
+                        continue; // never compiled; keep the operand
+                    }
+                    let (a, b) = (stack[len - 2], stack[len - 1]);
+                    len -= 1;
                     let is_max = *op == CsgOp::Max;
                     // If one operand dominates over the whole segment, the result *is* that
                     // operand; otherwise its slope lies between the two operands' slopes.
@@ -264,7 +384,7 @@ impl RayCaster {
                     } else {
                         b.value.hi <= a.value.lo
                     };
-                    stack.push(if a_wins {
+                    stack[len - 1] = if a_wins {
                         a
                     } else if b_wins {
                         b
@@ -277,166 +397,326 @@ impl RayCaster {
                             },
                             slope: a.slope.hull(b.slope),
                         }
-                    });
+                    };
                 }
                 CsgOp::Neg => {
-                    if let Some(top) = stack.last_mut() {
+                    if len > 0 {
+                        let top = &mut stack[len - 1];
                         top.value = -top.value;
                         top.slope = -top.slope;
                     }
                 }
             }
         }
-        let result = stack.pop().unwrap_or(ABSENT);
-        self.bounds = stack;
-        result
+        if len > 0 { stack[len - 1] } else { ABSENT }
     }
 
-    fn value(&mut self, program: &[CsgOp], t: f64, stats: &mut CastStats) -> f64 {
-        stats.point_evaluations += 1;
-        if let [CsgOp::Leaf(i)] = program {
-            return self.leaf_value(&self.leaves[*i as usize], t);
+    fn value(&mut self, t: f64) -> f64 {
+        self.stats.point_evaluations += 1;
+        if let [CsgOp::Leaf(i)] = *self.program {
+            let leaf = self.leaf(i);
+            return leaf_value(leaf, self.leaf_perturbations(leaf), t);
         }
-        let mut stack = std::mem::take(&mut self.values);
-        stack.clear();
-        for op in program {
+        // Values with the leaf that decides each (max/min pick an operand, negation keeps it).
+        let mut inline = [(f64::NEG_INFINITY, u32::MAX); INLINE_STACK];
+        let heap = &mut *self.values;
+        let stack: &mut [(f64, u32)] = if self.program.len() < 2 * INLINE_STACK {
+            &mut inline
+        } else {
+            heap.clear();
+            heap.resize(self.program.len(), (f64::NEG_INFINITY, u32::MAX));
+            heap
+        };
+        let mut len = 0usize;
+        for op in self.program {
             match *op {
-                CsgOp::Leaf(i) => stack.push(self.leaf_value(&self.leaves[i as usize], t)),
+                CsgOp::Leaf(i) => {
+                    let leaf = &self.leaves[i as usize];
+                    let perturbations = &self.perturbations
+                        [leaf.perturbations.0 as usize..leaf.perturbations.1 as usize];
+                    stack[len] = (leaf_value(leaf, perturbations, t), i);
+                    len += 1;
+                }
                 CsgOp::Max | CsgOp::Min => {
-                    let b = stack.pop().unwrap_or(f64::NEG_INFINITY);
-                    let a = stack.pop().unwrap_or(f64::NEG_INFINITY);
-                    stack.push(if *op == CsgOp::Max {
-                        a.max(b)
+                    if len < 2 {
+                        continue;
+                    }
+                    let (a, b) = (stack[len - 2], stack[len - 1]);
+                    len -= 1;
+                    let take_a = if *op == CsgOp::Max {
+                        a.0 >= b.0
                     } else {
-                        a.min(b)
-                    });
+                        a.0 <= b.0
+                    };
+                    stack[len - 1] = if take_a { a } else { b };
                 }
                 CsgOp::Neg => {
-                    if let Some(v) = stack.last_mut() {
-                        *v = -*v;
+                    if len > 0 {
+                        let top = &mut stack[len - 1];
+                        *top = (-top.0, top.1 ^ NEGATED);
                     }
                 }
             }
         }
-        let result = stack.pop().unwrap_or(f64::NEG_INFINITY);
-        self.values = stack;
-        result
+        let (v, leaf) = if len > 0 {
+            stack[len - 1]
+        } else {
+            (f64::NEG_INFINITY, u32::MAX)
+        };
+        self.decided = [self.decided[1], (t, leaf)];
+        v
     }
 
-    fn search(
-        &mut self,
-        program: &[CsgOp],
-        range: Interval,
-        eps: f64,
-        stats: &mut CastStats,
-    ) -> Option<f64> {
-        if self.value(program, range.lo, stats) >= 0.0 {
-            return Some(range.lo);
+    fn predict(&self, a: f64, b: f64) -> Option<f64> {
+        // One leaf, or the leaf that decided F′(b) last time it was evaluated: near the root
+        // the CSG value is that leaf's (or its negation), so its root is the prediction.
+        let decided = match *self.program {
+            [CsgOp::Leaf(i)] => i,
+            _ => self.decided.iter().find(|d| d.0 == b)?.1,
+        };
+        let leaf = self.leaves.get((decided & !NEGATED) as usize)?;
+        if leaf.perturbations.0 != leaf.perturbations.1 {
+            return None;
         }
-        let mut segments = std::mem::take(&mut self.segments);
-        segments.clear();
-        segments.push((range.lo, range.hi));
-        let mut hit = None;
-        while let Some((a, b)) = segments.pop() {
-            let bound = self.bound(program, Interval { lo: a, hi: b }, stats);
-            if bound.value.hi < 0.0 {
-                continue; // proven empty
-            }
-            if bound.value.lo >= 0.0 {
-                hit = Some(a); // everything before `a` was proven or tested negative
-                break;
-            }
-            if bound.slope.lo > 0.0 {
-                // Increasing: a root exists iff F′(b) ≥ 0, and it is unique.
-                let fb = self.value(program, b, stats);
-                if fb < 0.0 {
-                    continue;
-                }
-                let fa = self.value(program, a, stats);
-                if fa >= 0.0 {
-                    hit = Some(a);
-                } else {
-                    hit = Some(self.illinois(program, (a, fa), (b, fb), eps, stats));
-                }
-                break;
-            }
-            if bound.slope.hi < 0.0 {
-                // Decreasing: the maximum is at `a`.
-                if self.value(program, a, stats) >= 0.0 {
-                    hit = Some(a);
-                    break;
-                }
-                continue;
-            }
-            let m = a + 0.5 * (b - a);
-            if b - a <= eps || m <= a || m >= b {
-                // Shorter than ε (or than the float spacing): test it directly.
-                if self.value(program, m, stats) >= 0.0 {
-                    hit = Some(m);
-                    break;
-                }
-                if self.value(program, b, stats) >= 0.0 {
-                    hit = Some(b);
-                    break;
-                }
-                continue;
-            }
-            segments.push((m, b));
-            segments.push((a, m));
+        if decided & NEGATED == 0 {
+            predict_plain(leaf, a, b)
+        } else {
+            let q = leaf.base;
+            let negated = LeafOnRay {
+                base: RayQuadratic {
+                    a: -q.a,
+                    b: -q.b,
+                    c: -q.c,
+                },
+                ..*leaf
+            };
+            predict_plain(&negated, a, b)
         }
-        self.segments = segments;
-        hit
     }
+}
 
-    /// Illinois regula falsi on a bracket with `f(a) < 0 ≤ f(b)` and a single root; returns a
-    /// point `t ≥ root` with `t − root ≤ eps` and `f(t) ≥ 0`.
-    fn illinois(
-        &mut self,
-        program: &[CsgOp],
-        (mut a, mut fa): (f64, f64),
-        (mut b, mut fb): (f64, f64),
-        eps: f64,
-        stats: &mut CastStats,
-    ) -> f64 {
-        let mut last_side = 0i8;
-        let mut width_before = b - a;
-        for iteration in 0..200 {
-            if b - a <= eps || fb == 0.0 {
+/// The closed-form root of a plain leaf's quadratic in `(a, b)`, when the leaf is that
+/// quadratic all over `[a, b]`.
+#[inline]
+fn predict_plain(leaf: &LeafOnRay, a: f64, b: f64) -> Option<f64> {
+    let present = leaf.present?;
+    if !(present.lo <= a && b <= present.hi) {
+        return None;
+    }
+    leaf.base
+        .first_nonnegative(Interval { lo: a, hi: b })
+        .filter(|&r| r > a && r < b)
+}
+
+#[inline]
+fn leaf_bound(leaf: &LeafOnRay, perturbations: &[(f64, RayQuadratic)], seg: Interval) -> Bound {
+    let Some(present) = leaf.present else {
+        return ABSENT;
+    };
+    if seg.hi < present.lo || seg.lo > present.hi {
+        return ABSENT;
+    }
+    let mut inner = seg;
+    if leaf.clips {
+        if present.lo > inner.lo {
+            inner.lo = present.lo;
+        }
+        if present.hi < inner.hi {
+            inner.hi = present.hi;
+        }
+    }
+    let Bound {
+        mut value,
+        mut slope,
+    } = quadratic_bound(&leaf.base, inner);
+    for &(f, q) in perturbations {
+        let qr = q.range(inner).positive_part();
+        value = value + qr.cube().scale(f);
+        slope = slope + (qr.square() * q.derivative_range(inner)).scale(3.0 * f);
+    }
+    if inner != seg {
+        // Part of the segment is outside the clipping box, where the value is −∞.
+        value = Interval {
+            lo: f64::NEG_INFINITY,
+            hi: value.hi,
+        };
+        slope = Interval::EVERYTHING;
+    }
+    Bound { value, slope }
+}
+
+#[inline]
+fn leaf_value(leaf: &LeafOnRay, perturbations: &[(f64, RayQuadratic)], t: f64) -> f64 {
+    let Some(present) = leaf.present else {
+        return f64::NEG_INFINITY;
+    };
+    if t < present.lo || t > present.hi {
+        return f64::NEG_INFINITY;
+    }
+    let mut v = leaf.base.eval(t);
+    for &(f, q) in perturbations {
+        let qt = q.eval(t);
+        if qt > 0.0 {
+            v += f * qt * qt * qt;
+        }
+    }
+    v
+}
+
+/// The halving search (module docs) over `range`; `segments` is scratch space.
+fn search<F: RayFunction>(
+    mut f: F,
+    segments: &mut Vec<(f64, f64)>,
+    range: Interval,
+    eps: f64,
+) -> Option<f64> {
+    segments.clear();
+    segments.push((range.lo, range.hi));
+    // The last point evaluated: a halved segment's right half starts where the left half's
+    // test ended, so its start value is often known already.
+    let mut known = (f64::NAN, f64::NAN);
+    let mut first = true;
+    let mut hit = None;
+    while let Some((a, b)) = segments.pop() {
+        let bound = f.bound(Interval { lo: a, hi: b });
+        if bound.value.hi < 0.0 {
+            continue; // proven empty (most misses end here, after one bound)
+        }
+        if first {
+            // The range may start inside the solid (the picture surface cuts it): then the
+            // answer is its start, exactly.
+            first = false;
+            let fa = f.value(a);
+            if fa >= 0.0 {
+                hit = Some(a);
                 break;
             }
-            let mut c = b - fb * (b - a) / (fb - fa);
-            // Every fourth step, insist on halving progress; always stay strictly inside.
-            if iteration % 4 == 3 {
-                if b - a > 0.5 * width_before {
-                    c = a + 0.5 * (b - a);
-                }
-                width_before = b - a;
+            known = (a, fa);
+        }
+        if bound.value.lo >= 0.0 {
+            hit = Some(a); // everything before `a` was proven or tested negative
+            break;
+        }
+        if bound.slope.lo > 0.0 {
+            // Increasing: a root exists iff F′(b) ≥ 0, and it is unique.
+            let fb = f.value(b);
+            if fb < 0.0 {
+                known = (b, fb);
+                continue;
             }
-            if !(c > a && c < b) {
-                c = a + 0.5 * (b - a);
-                if !(c > a && c < b) {
-                    break; // no float between a and b
-                }
-            }
-            let fc = self.value(program, c, stats);
-            if fc >= 0.0 {
-                b = c;
-                fb = fc;
-                if last_side == 1 {
-                    fa *= 0.5;
-                }
-                last_side = 1;
+            let fa = value_at(&mut f, a, known);
+            if fa >= 0.0 {
+                hit = Some(a);
             } else {
-                a = c;
-                fa = fc;
-                if last_side == -1 {
-                    fb *= 0.5;
-                }
-                last_side = -1;
+                hit = Some(finish(&mut f, (a, fa), (b, fb), eps));
+            }
+            break;
+        }
+        if bound.slope.hi < 0.0 {
+            // Decreasing: the maximum is at `a`.
+            if value_at(&mut f, a, known) >= 0.0 {
+                hit = Some(a);
+                break;
+            }
+            continue;
+        }
+        let m = a + 0.5 * (b - a);
+        if b - a <= eps || m <= a || m >= b {
+            // Shorter than ε (or than the float spacing): test it directly.
+            if f.value(m) >= 0.0 {
+                hit = Some(m);
+                break;
+            }
+            let fb = f.value(b);
+            if fb >= 0.0 {
+                hit = Some(b);
+                break;
+            }
+            known = (b, fb);
+            continue;
+        }
+        segments.push((m, b));
+        segments.push((a, m));
+    }
+    hit
+}
+
+/// `F′(t)`, reusing `known = (t, F′(t))` when it is that point.
+#[inline]
+fn value_at<F: RayFunction>(f: &mut F, t: f64, known: (f64, f64)) -> f64 {
+    if known.0 == t { known.1 } else { f.value(t) }
+}
+
+/// The root of a monotone bracket `f(a) < 0 ≤ f(b)`, to within `eps` (the contract of
+/// [`illinois`]). When the program is one leaf that is a plain quadric over the
+/// bracket, its closed-form root is the prediction, and two point evaluations certify it:
+/// `f(r) ≥ 0` and `f(r − ε) < 0` put the root in `(r − ε, r]`. A prediction that rounding
+/// put on the wrong side only narrows the bracket for the Illinois iteration.
+fn finish<F: RayFunction>(f: &mut F, (a, fa): (f64, f64), (b, fb): (f64, f64), eps: f64) -> f64 {
+    if let Some(r) = f.predict(a, b) {
+        let fr = f.value(r);
+        if fr < 0.0 {
+            return illinois(f, (r, fr), (b, fb), eps);
+        }
+        let before = r - eps;
+        if before <= a {
+            return r;
+        }
+        let f_before = f.value(before);
+        if f_before < 0.0 {
+            return r;
+        }
+        return illinois(f, (a, fa), (before, f_before), eps);
+    }
+    illinois(f, (a, fa), (b, fb), eps)
+}
+
+/// Illinois regula falsi on a bracket with `f(a) < 0 ≤ f(b)` and a single root; returns a
+/// point `t ≥ root` with `t − root ≤ eps` and `f(t) ≥ 0`.
+fn illinois<F: RayFunction>(
+    f: &mut F,
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+    eps: f64,
+) -> f64 {
+    let mut last_side = 0i8;
+    let mut width_before = b - a;
+    for iteration in 0..200 {
+        if b - a <= eps || fb == 0.0 {
+            break;
+        }
+        let mut c = b - fb * (b - a) / (fb - fa);
+        // Every fourth step, insist on halving progress; always stay strictly inside.
+        if iteration % 4 == 3 {
+            if b - a > 0.5 * width_before {
+                c = a + 0.5 * (b - a);
+            }
+            width_before = b - a;
+        }
+        if !(c > a && c < b) {
+            c = a + 0.5 * (b - a);
+            if !(c > a && c < b) {
+                break; // no float between a and b
             }
         }
-        b
+        let fc = f.value(c);
+        if fc >= 0.0 {
+            b = c;
+            fb = fc;
+            if last_side == 1 {
+                fa *= 0.5;
+            }
+            last_side = 1;
+        } else {
+            a = c;
+            fa = fc;
+            if last_side == -1 {
+                fb *= 0.5;
+            }
+            last_side = -1;
+        }
     }
+    b
 }
 
 impl Solid {

@@ -39,6 +39,9 @@ pub struct Solid {
     program: Vec<CsgOp>,
     bounds: Aabb,
     max_stack: usize,
+    /// Per leaf: its box contains the solid's box, so a ray's range clipped to the solid is
+    /// already clipped to the leaf (the caster skips that slab test).
+    leaf_covers_solid: Vec<bool>,
 }
 
 impl Solid {
@@ -57,22 +60,27 @@ impl Solid {
             }
             max_stack = max_stack.max(depth);
         }
+        let leaf_covers_solid = covers(&leaves, &bounds);
         Ok(Self {
             leaves,
             program,
             bounds,
             max_stack,
+            leaf_covers_solid,
         })
     }
 
     /// A solid of one free-form object.
     pub fn from_free_form(f: FreeForm) -> Self {
         let bounds = f.bounds();
+        let leaves = vec![f];
+        let leaf_covers_solid = covers(&leaves, &bounds);
         Self {
-            leaves: vec![f],
+            leaves,
             program: vec![CsgOp::Leaf(0)],
             bounds,
             max_stack: 1,
+            leaf_covers_solid,
         }
     }
 
@@ -87,6 +95,13 @@ impl Solid {
     /// The finite box that holds the solid (may be empty, e.g. for disjoint intersections).
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+
+    /// Whether leaf `i`'s box contains the solid's box (so clipping a ray to the solid's box
+    /// clips it to the leaf's as well).
+    #[inline]
+    pub fn leaf_covers_solid(&self, i: usize) -> bool {
+        self.leaf_covers_solid.get(i).copied().unwrap_or(false)
     }
 
     /// The deepest the evaluation stack gets.
@@ -128,6 +143,11 @@ impl Solid {
     /// gradient of the operand that is active in every `max`/`min`. Falls back to `fallback`
     /// where the gradient vanishes (a cone's apex).
     pub fn surface_at(&self, p: DVec3, fallback: DVec3) -> (DVec3, u32) {
+        if let [CsgOp::Leaf(i)] = self.program[..]
+            && let Some(leaf) = self.leaves.get(i as usize)
+        {
+            return Self::outward(leaf.eval_with_gradient(p).1, i, fallback);
+        }
         self.surface_by(fallback, |_, leaf| leaf.eval_with_gradient(p))
     }
 
@@ -140,6 +160,18 @@ impl Solid {
         fallback: DVec3,
         active: &crate::ActiveSet,
     ) -> (DVec3, u32) {
+        // One leaf: no program to run, and without a clipping box its value decides nothing.
+        if let [CsgOp::Leaf(i)] = self.program[..]
+            && let Some(leaf) = self.leaves.get(i as usize)
+        {
+            let subset = active.leaf_perturbations(i as usize);
+            let g = if leaf.clips() {
+                leaf.eval_with_gradient_subset(p, subset).1
+            } else {
+                leaf.gradient_subset(p, subset)
+            };
+            return Self::outward(g, i, fallback);
+        }
         self.surface_by(fallback, |i, leaf| {
             leaf.eval_with_gradient_subset(p, active.leaf_perturbations(i))
         })
@@ -151,7 +183,7 @@ impl Solid {
         eval: impl Fn(usize, &FreeForm) -> (f64, DVec3),
     ) -> (DVec3, u32) {
         // A fixed stack for the usual shallow programs: no allocation per surface point.
-        const INLINE: usize = 32;
+        const INLINE: usize = 8;
         if self.max_stack <= INLINE {
             let mut stack = [(0.0, DVec3::ZERO, 0u32); INLINE];
             let mut len = 0usize;
@@ -226,6 +258,18 @@ impl Solid {
         };
         (n, leaf)
     }
+}
+
+/// Per leaf, whether its box contains `bounds` (never for an empty `bounds`: its slab test is not
+/// a clip).
+fn covers(leaves: &[FreeForm], bounds: &Aabb) -> Vec<bool> {
+    leaves
+        .iter()
+        .map(|l| {
+            let b = l.bounds();
+            !bounds.is_empty() && b.min.cmple(bounds.min).all() && b.max.cmpge(bounds.max).all()
+        })
+        .collect()
 }
 
 fn compile(

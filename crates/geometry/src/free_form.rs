@@ -145,11 +145,21 @@ impl FreeForm {
                 return (d, -n);
             }
         }
-        let mut g = terms().fold(self.base.gradient(p), |g, q| g + q.gradient(p));
-        if dropped {
+        (f, self.gradient_subset(p, subset))
+    }
+
+    /// `∇F′(p)` (without the box) summing only the perturbations `subset`: the gradient that
+    /// [`FreeForm::eval_with_gradient_subset`] returns off the box faces, bit for bit.
+    #[inline]
+    pub fn gradient_subset(&self, p: DVec3, subset: &[u32]) -> DVec3 {
+        let mut g = subset
+            .iter()
+            .filter_map(|&k| self.perturbations.get(k as usize))
+            .fold(self.base.gradient(p), |g, q| g + q.gradient(p));
+        if subset.len() < self.perturbations.len() {
             g += DVec3::ZERO;
         }
-        (f, g)
+        g
     }
 
     /// The closed-form first entry for an object with no perturbations (the accuracy

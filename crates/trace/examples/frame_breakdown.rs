@@ -1,0 +1,56 @@
+//! Diagnostic: where a CPU frame's time goes (quadtree build, tracing) and how many candidates
+//! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE`.
+use fray_trace::{TraceSettings, render, work_list};
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let path = args.get(1).cloned().unwrap_or("data/scenes/csg.ron".into());
+    let threads: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2);
+    let reps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(7);
+    let mut scene = match fray_scene::load(std::path::Path::new(&path)) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(1);
+        }
+    };
+    scene.width = 1024;
+    scene.height = 1024;
+    let t = Instant::now();
+    let list = work_list(&scene, 16).expect("work list");
+    let build = t.elapsed();
+    let (mut pixels, mut pairs, mut leaves) = (0u64, 0u64, 0u64);
+    for it in &list.items {
+        let n = u64::from((it.x1 - it.x0) * (it.y1 - it.y0));
+        pixels += n;
+        for c in list.candidates_of(it) {
+            pairs += n;
+            leaves += n * u64::from(c.leaf_count);
+        }
+    }
+    println!(
+        "quadtree {:.2} ms, {} items, {} px in items, {:.2} candidates and {:.2} leaves per covered px",
+        build.as_secs_f64() * 1e3,
+        list.items.len(),
+        pixels,
+        pairs as f64 / pixels as f64,
+        leaves as f64 / pixels as f64
+    );
+    let settings = TraceSettings {
+        threads: Some(threads),
+        shadows: false,
+        ..TraceSettings::for_scene(&scene)
+    };
+    let mut times = Vec::new();
+    for _ in 0..reps {
+        let f = render(&scene, &settings, None).expect("render");
+        times.push(f.stats.elapsed.as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "render median {:.1} ms (min {:.1})",
+        times[times.len() / 2],
+        times[0]
+    );
+}
