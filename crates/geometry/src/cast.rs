@@ -52,6 +52,17 @@ struct Bound {
     slope: Interval,
 }
 
+/// The slope of a segment whose sign changes at most once, from − to + (clipped leaves).
+const SIGN_INCREASING: Interval = Interval {
+    lo: f64::MIN_POSITIVE,
+    hi: f64::INFINITY,
+};
+/// The slope of a segment whose sign changes at most once, from + to −.
+const SIGN_DECREASING: Interval = Interval {
+    lo: f64::NEG_INFINITY,
+    hi: -f64::MIN_POSITIVE,
+};
+
 const ABSENT: Bound = Bound {
     value: Interval::NEG_INFINITY,
     slope: Interval::point(0.0),
@@ -194,7 +205,9 @@ impl RayCaster {
 
     /// The conservative range of the solid's value and of its derivative along the ray over the
     /// parameter segment `seg` of the ray last given to [`RayCaster::prepare_ray`] (with the same
-    /// `solid`): the test that [`RayCaster::cast`] applies to each segment it halves. Without a
+    /// `solid`): the test that [`RayCaster::cast`] applies to each segment it halves. For a CSG
+    /// solid the second range is a derivative range of a function with the *same sign* as the
+    /// solid's along the segment (all the search needs; see `sign_slope`). Without a
     /// matching `prepare_ray` it answers the uninformative `(ℝ, ℝ)`.
     pub fn segment_bound(&mut self, solid: &Solid, seg: Interval) -> (Interval, Interval) {
         if self.leaves.len() != solid.leaves().len() {
@@ -306,7 +319,7 @@ impl RayFunction for PlainLeaf<'_> {
 
     #[inline]
     fn predict(&self, a: f64, b: f64) -> Option<f64> {
-        predict_plain(&self.leaf, a, b)
+        predict_leaf(&self.leaf, true, a, b)
     }
 }
 
@@ -388,14 +401,15 @@ impl RayFunction for ProgramOnRay<'_> {
                         a
                     } else if b_wins {
                         b
+                    } else if is_max {
+                        Bound {
+                            value: a.value.max(b.value),
+                            slope: sign_slope(a, b, b.value.hi < 0.0, a.value.hi < 0.0),
+                        }
                     } else {
                         Bound {
-                            value: if is_max {
-                                a.value.max(b.value)
-                            } else {
-                                a.value.min(b.value)
-                            },
-                            slope: a.slope.hull(b.slope),
+                            value: a.value.min(b.value),
+                            slope: sign_slope(a, b, b.value.lo >= 0.0, a.value.lo >= 0.0),
                         }
                     };
                 }
@@ -475,11 +489,11 @@ impl RayFunction for ProgramOnRay<'_> {
             _ => self.decided.iter().find(|d| d.0 == b)?.1,
         };
         let leaf = self.leaves.get((decided & !NEGATED) as usize)?;
-        if leaf.perturbations.0 != leaf.perturbations.1 {
-            return None;
-        }
+        let plain = leaf.perturbations.0 == leaf.perturbations.1;
         if decided & NEGATED == 0 {
-            predict_plain(leaf, a, b)
+            predict_leaf(leaf, plain, a, b)
+        } else if !plain {
+            None
         } else {
             let q = leaf.base;
             let negated = LeafOnRay {
@@ -490,21 +504,61 @@ impl RayFunction for ProgramOnRay<'_> {
                 },
                 ..*leaf
             };
-            predict_plain(&negated, a, b)
+            // Only the quadratic's root: a negated leaf is +∞ outside its box.
+            predict_leaf(
+                &LeafOnRay {
+                    clips: false,
+                    ..negated
+                },
+                true,
+                a,
+                b,
+            )
         }
     }
 }
 
-/// The closed-form root of a plain leaf's quadratic in `(a, b)`, when the leaf is that
-/// quadratic all over `[a, b]`.
+/// The slope range of `max(a, b)` or `min(a, b)` when neither operand dominates in value.
+///
+/// The search needs the slope only for its *sign pattern*: a slope range above 0 must mean
+/// that the sign of `F′` changes at most once on the segment, from − to + (below 0: from + to
+/// −). Where `b`'s sign is fixed so that it cannot decide (`b < 0` under `max`, `b ≥ 0` under
+/// `min`: `b_idle`), the result has exactly `a`'s sign and `a`'s slope stands in; likewise for
+/// `a`. Otherwise the hull of both: the union (`max`) or intersection (`min`) of two up-sets is
+/// an up-set. This keeps CSG segments "monotone" where a hole or a clip plane stays off to one
+/// side, so they finish by root solving instead of halving.
 #[inline]
-fn predict_plain(leaf: &LeafOnRay, a: f64, b: f64) -> Option<f64> {
+fn sign_slope(a: Bound, b: Bound, b_idle: bool, a_idle: bool) -> Interval {
+    if b_idle {
+        a.slope
+    } else if a_idle {
+        b.slope
+    } else {
+        a.slope.hull(b.slope)
+    }
+}
+
+/// A prediction of the root in `(a, b)` when the leaf decides `F′` there: the clipping-box face
+/// where the ray enters the box with the leaf already `≥ 0` (`F′` jumps from `−∞`), or else, for
+/// a plain leaf (`plain`: no perturbation), the closed-form root of its quadratic past the face.
+#[inline]
+fn predict_leaf(leaf: &LeafOnRay, plain: bool, a: f64, b: f64) -> Option<f64> {
     let present = leaf.present?;
-    if !(present.lo <= a && b <= present.hi) {
+    let mut lo = a;
+    if present.lo > a {
+        if present.lo >= b {
+            return None;
+        }
+        if leaf.clips && (!plain || leaf.base.eval(present.lo) >= 0.0) {
+            return Some(present.lo);
+        }
+        lo = present.lo;
+    }
+    if !plain || b > present.hi {
         return None;
     }
     leaf.base
-        .first_nonnegative(Interval { lo: a, hi: b })
+        .first_nonnegative(Interval { lo, hi: b })
         .filter(|&r| r > a && r < b)
 }
 
@@ -535,12 +589,22 @@ fn leaf_bound(leaf: &LeafOnRay, perturbations: &[(f64, RayQuadratic)], seg: Inte
         slope = slope + (qr.square() * q.derivative_range(inner)).scale(3.0 * f);
     }
     if inner != seg {
-        // Part of the segment is outside the clipping box, where the value is −∞.
+        // Part of the segment is outside the clipping box, where the value is −∞: negative, a
+        // sign pattern the search can still use (see `sign_slope`). Entering the box with the
+        // leaf increasing, or ≥ 0, inside, the sign changes at most once, from − to +; leaving
+        // it decreasing or ≥ 0, at most once from + to −.
+        let before = seg.lo < inner.lo;
+        let after = seg.hi > inner.hi;
+        let nonnegative = value.lo >= 0.0;
+        slope = match (before, after) {
+            (true, false) if slope.lo > 0.0 || nonnegative => SIGN_INCREASING,
+            (false, true) if slope.hi < 0.0 || nonnegative => SIGN_DECREASING,
+            _ => Interval::EVERYTHING,
+        };
         value = Interval {
             lo: f64::NEG_INFINITY,
             hi: value.hi,
         };
-        slope = Interval::EVERYTHING;
     }
     Bound { value, slope }
 }

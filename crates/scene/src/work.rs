@@ -7,10 +7,10 @@
 //! misses is missed by every ray of the cell, with a margin), so casting a tile's pixels with its
 //! [`ActiveSet`]s gives exactly the image of casting with everything.
 
+use crate::Scene;
 use fray_core::Aabb;
 use fray_geometry::ActiveSet;
 use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, WorkList, build};
-use crate::Scene;
 
 /// The boxes the cell test needs, gathered once per frame.
 struct ObjectBoxes {

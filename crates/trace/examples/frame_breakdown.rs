@@ -37,6 +37,9 @@ fn main() {
         pairs as f64 / pixels as f64,
         leaves as f64 / pixels as f64
     );
+    if std::env::var_os("PER_OBJECT").is_some() {
+        per_object(&scene);
+    }
     let settings = TraceSettings {
         threads: Some(threads),
         shadows: false,
@@ -53,4 +56,41 @@ fn main() {
         times[times.len() / 2],
         times[0]
     );
+}
+
+/// Per object: casts, hits, and evaluations per cast, over every pixel's ray (no culling).
+#[allow(dead_code)]
+pub fn per_object(scene: &fray_scene::Scene) {
+    use fray_core::Interval;
+    use fray_geometry::{CastStats, RayCaster};
+    let mut caster = RayCaster::new();
+    for (k, o) in scene.objects.iter().enumerate() {
+        let (mut casts, mut hits, mut st) = (0u64, 0u64, CastStats::default());
+        for py in 0..scene.height {
+            for px in 0..scene.width {
+                let Some(cr) = scene.camera.pixel_ray(px, py, scene.width, scene.height) else {
+                    continue;
+                };
+                let range = Interval::new(cr.t_near, f64::INFINITY);
+                if o.solid.bounds().clip_ray(&cr.ray, range).is_none() {
+                    continue;
+                }
+                casts += 1;
+                let before = st;
+                if caster
+                    .cast(&o.solid, &cr.ray, range, scene.epsilon(), &mut st)
+                    .is_some()
+                {
+                    hits += 1;
+                }
+                let _ = before;
+            }
+        }
+        println!(
+            "{k} {:>18}: {casts:>7} casts {hits:>7} hits, {:.2} bound + {:.2} point per cast",
+            o.name,
+            st.bound_evaluations as f64 / casts.max(1) as f64,
+            st.point_evaluations as f64 / casts.max(1) as f64
+        );
+    }
 }

@@ -124,9 +124,8 @@ pub fn render(
         // Culled tiles are done too (background).
         report(total, total);
     }
-    let mut colour = Image::filled(width, height, scene.background);
-    let mut depth = Image::filled(width, height, f64::INFINITY);
-    let mut normals = Image::filled(width, height, Vec3::ZERO);
+    let (colour, depth, normals) =
+        pool.install(|| assemble(width, height, scene.background, &results));
     let mut stats = RenderStats {
         backend: "cpu".into(),
         threads: pool.current_num_threads(),
@@ -140,14 +139,6 @@ pub fn render(
         stats.work_items = list.stats.items;
     }
     for t in &results {
-        for j in 0..t.h {
-            for i in 0..t.w {
-                let k = (j * t.w + i) as usize;
-                colour.set(t.x0 + i, t.y0 + j, t.colour[k]);
-                depth.set(t.x0 + i, t.y0 + j, t.depth[k]);
-                normals.set(t.x0 + i, t.y0 + j, t.normals[k]);
-            }
-        }
         stats.hits += t.hits;
         stats.shadow_rays += t.shadow_rays;
         stats.bound_evaluations += t.cast.bound_evaluations;
@@ -170,6 +161,59 @@ pub fn render(
         normals,
         stats,
     })
+}
+
+/// The frame's images from the tiles' pixels: background where no tile is. Row by row in
+/// parallel (a serial copy of a 1024² frame's 32 MB costs as much as a tenth of its tracing).
+fn assemble(
+    width: u32,
+    height: u32,
+    background: Rgb,
+    tiles: &[TileResult],
+) -> (Image<Rgb>, Image<f64>, Image<Vec3>) {
+    let (w, n) = (width as usize, width as usize * height as usize);
+    // Which tiles cover each row.
+    let mut rows: Vec<Vec<u32>> = vec![Vec::new(); height as usize];
+    for (k, t) in tiles.iter().enumerate() {
+        for y in t.y0..t.y0 + t.h {
+            if let Some(row) = rows.get_mut(y as usize) {
+                row.push(k as u32);
+            }
+        }
+    }
+    let mut colour: Vec<Rgb> = (0..n).into_par_iter().map(|_| background).collect();
+    let mut depth: Vec<f64> = (0..n).into_par_iter().map(|_| f64::INFINITY).collect();
+    let mut normals: Vec<Vec3> = (0..n).into_par_iter().map(|_| Vec3::ZERO).collect();
+    colour
+        .par_chunks_mut(w)
+        .zip(depth.par_chunks_mut(w))
+        .zip(normals.par_chunks_mut(w))
+        .zip(rows.par_iter())
+        .enumerate()
+        .for_each(|(y, (((c, d), nrm), covering))| {
+            for &k in covering {
+                let t = &tiles[k as usize];
+                let (x0, x1) = (t.x0 as usize, (t.x0 + t.w) as usize);
+                let from = (y - t.y0 as usize) * t.w as usize;
+                let to = from + t.w as usize;
+                c[x0..x1].copy_from_slice(&t.colour[from..to]);
+                d[x0..x1].copy_from_slice(&t.depth[from..to]);
+                nrm[x0..x1].copy_from_slice(&t.normals[from..to]);
+            }
+        });
+    // The lengths are width × height by construction, so the fallback is never taken.
+    match (
+        Image::from_pixels(width, height, colour),
+        Image::from_pixels(width, height, depth),
+        Image::from_pixels(width, height, normals),
+    ) {
+        (Some(c), Some(d), Some(nrm)) => (c, d, nrm),
+        _ => (
+            Image::filled(width, height, background),
+            Image::filled(width, height, f64::INFINITY),
+            Image::filled(width, height, Vec3::ZERO),
+        ),
+    }
 }
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` and its work item, if culled.
