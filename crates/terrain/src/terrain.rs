@@ -1,0 +1,881 @@
+//! The terrain: a height map placed in the world with its max pyramid, and its ray casting by
+//! halving the ray segment in height-map space (DESIGN.md §4).
+//!
+//! The solid is `{ bottom ≤ r ≤ S(u, v) }` over the solid cells, `S` the interpolated surface
+//! and `bottom = min(0, lowest surface bound)`: the base plane `r = 0` (or the lowest point if
+//! the map goes below it) closes it, so a ray that enters through a threshold outline, the map
+//! border or from below hits a vertical wall or the base, and a ray that starts inside the solid
+//! hits at its start (like free forms: `F ≥ 0` is inside).
+//!
+//! The search: the ray, clipped to the terrain's box, is mapped to `(u, v, r)` and split in
+//! halves, nearer half first. For each segment the level is chosen from its footprint `Lp`
+//! (the larger of its `u` and `v` extents as a fraction of the pyramid's side `2ⁿ` cells): the
+//! level `k` with `2^-(k+1) < Lp ≤ 2^-k`, so the footprint spans at most 2 × 2 cells of that
+//! level (3 × 3 when it ends exactly on cell lines); a segment whose lowest `r` is above the
+//! maximum over those cells is dropped. At the stop level `n − lod_bias` the surface is
+//! intersected: with bias 0, each finest cell exactly (bilinear: a quadratic; bicubic:
+//! halving with the B-spline's slope bounds, monotone pieces finished by Illinois); with a bias
+//! `b > 0`, the tops of the level-`(n − b)` max columns (early and blocky — the LOD knob).
+//! Footprints and heights are widened by a bound on the rounding of `o + t·d`, so rounding
+//! never drops a segment that holds a hit.
+
+use crate::clip::{Clip, clip_box, clip_within};
+use crate::interpolation::{BicubicCell, BilinearCell, Interpolation};
+use crate::{Heightmap, MapRay, Placement, Pyramid, TerrainError};
+use fray_core::{Aabb, Interval, Ray};
+use glam::{DVec2, DVec3};
+
+/// How a terrain is searched and drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TerrainOptions {
+    pub interpolation: Interpolation,
+    /// Levels above the finest at which the search stops and hits the max columns' tops:
+    /// 0 = exact surface; larger = faster and coarser (clamped to the pyramid's depth).
+    pub lod_bias: u32,
+    /// Also build the min pyramid: shadow rays ([`Terrain::occluded`]) stop as soon as a
+    /// segment end is proven under the ground at a coarse level.
+    pub min_pyramid: bool,
+}
+
+/// What a ray hit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HitKind {
+    /// The interpolated surface (or, with a LOD bias, the top of a max column).
+    Surface,
+    /// A vertical wall (threshold outline, map border) or the base, entered from outside.
+    Wall,
+    /// The ray starts inside the solid (the hit is at its start).
+    Start,
+}
+
+/// The nearest hit on a terrain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TerrainHit {
+    /// World distance along the ray.
+    pub t: f64,
+    /// Outward world unit normal (analytic, from the interpolant, for surface hits; `−dir` for
+    /// [`HitKind::Start`]).
+    pub normal: DVec3,
+    /// The cell `(column, row)` hit (at the stop level's resolution for LOD hits).
+    pub cell: [u32; 2],
+    pub kind: HitKind,
+}
+
+/// Work counters of terrain casts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TerrainStats {
+    /// Segments popped by the halving search.
+    pub segments: u64,
+    /// Finest cells (or stop-level columns) intersected.
+    pub cells: u64,
+}
+
+impl std::ops::AddAssign for TerrainStats {
+    fn add_assign(&mut self, o: Self) {
+        self.segments += o.segments;
+        self.cells += o.cells;
+    }
+}
+
+/// A height map placed in the world, with its pyramid(s): ready to ray-cast.
+#[derive(Clone, Debug)]
+pub struct Terrain {
+    map: Heightmap,
+    placement: Placement,
+    options: TerrainOptions,
+    max: Pyramid,
+    min: Option<Pyramid>,
+    bottom: f64,
+    top: f64,
+}
+
+const STACK: usize = 96;
+
+impl Terrain {
+    /// Builds the pyramid(s) of `map` for `options.interpolation`. Fails when no cell is solid.
+    pub fn new(
+        map: Heightmap,
+        placement: Placement,
+        options: TerrainOptions,
+    ) -> Result<Self, TerrainError> {
+        let (cw, ch) = map.cells();
+        let mut hi = vec![f32::NEG_INFINITY; cw * ch];
+        let mut lo = vec![f32::NEG_INFINITY; cw * ch];
+        let mut lowest = f32::INFINITY;
+        for j in 0..ch {
+            for i in 0..cw {
+                if !map.cell_is_solid(i, j) {
+                    continue;
+                }
+                let (a, b) = match options.interpolation {
+                    Interpolation::Bilinear => {
+                        let c = [
+                            map.at(i, j),
+                            map.at(i + 1, j),
+                            map.at(i, j + 1),
+                            map.at(i + 1, j + 1),
+                        ];
+                        (
+                            c.iter().copied().fold(f32::INFINITY, f32::min),
+                            c.iter().copied().fold(f32::NEG_INFINITY, f32::max),
+                        )
+                    }
+                    Interpolation::Bicubic => {
+                        let p = BicubicCell::control_points(&map, i, j);
+                        let flat = p.iter().flatten().copied();
+                        (
+                            flat.clone().fold(f32::INFINITY, f32::min),
+                            flat.fold(f32::NEG_INFINITY, f32::max),
+                        )
+                    }
+                };
+                lo[j * cw + i] = a;
+                hi[j * cw + i] = b;
+                lowest = lowest.min(a);
+            }
+        }
+        let max = Pyramid::max_of(cw, ch, &hi);
+        if max.global() == f32::NEG_INFINITY {
+            return Err(TerrainError::NoSurface {
+                threshold: f64::from(map.threshold()),
+            });
+        }
+        let min = options.min_pyramid.then(|| Pyramid::min_of(cw, ch, &lo));
+        Ok(Self {
+            bottom: f64::from(lowest).min(0.0),
+            top: f64::from(max.global()),
+            map,
+            placement,
+            options,
+            max,
+            min,
+        })
+    }
+
+    pub fn map(&self) -> &Heightmap {
+        &self.map
+    }
+
+    pub fn placement(&self) -> &Placement {
+        &self.placement
+    }
+
+    pub fn options(&self) -> &TerrainOptions {
+        &self.options
+    }
+
+    pub fn max_pyramid(&self) -> &Pyramid {
+        &self.max
+    }
+
+    pub fn min_pyramid(&self) -> Option<&Pyramid> {
+        self.min.as_ref()
+    }
+
+    /// The raw-height range `[bottom, top]` of the solid.
+    pub fn height_range(&self) -> (f64, f64) {
+        (self.bottom, self.top)
+    }
+
+    /// The box of the solid in map space `(u, v, r)`.
+    pub fn map_box(&self) -> (DVec3, DVec3) {
+        let (cw, ch) = self.map.cells();
+        (
+            DVec3::new(0.0, 0.0, self.bottom),
+            DVec3::new(cw as f64, ch as f64, self.top),
+        )
+    }
+
+    /// The world box around the solid (its eight map-box corners, placed).
+    pub fn bounds(&self) -> Aabb {
+        let (lo, hi) = self.map_box();
+        let mut b = Aabb::EMPTY;
+        for k in 0..8 {
+            let c = DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = self.placement.to_world(c);
+            b = b.union(&Aabb::new(p, p));
+        }
+        b
+    }
+
+    /// The world box of the level-`level` max column `(a, b)`: the cell's map rectangle (clipped
+    /// to the map) from the bottom to the column's maximum; `None` for an empty column.
+    pub fn column_bounds(&self, level: u32, a: usize, b: usize) -> Option<Aabb> {
+        let m = self.max.at(level, a, b);
+        if m == f32::NEG_INFINITY {
+            return None;
+        }
+        let (cw, ch) = self.map.cells();
+        let size = (1usize << (self.max.levels() - level)) as f64;
+        let lo = DVec3::new(a as f64 * size, b as f64 * size, self.bottom);
+        let hi = DVec3::new(
+            ((a + 1) as f64 * size).min(cw as f64),
+            ((b + 1) as f64 * size).min(ch as f64),
+            f64::from(m),
+        );
+        let mut bx = Aabb::EMPTY;
+        for k in 0..8 {
+            let c = DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = self.placement.to_world(c);
+            bx = bx.union(&Aabb::new(p, p));
+        }
+        Some(bx)
+    }
+
+    /// The nearest hit in `range` (world distances along `ray`); `eps` is the root tolerance of
+    /// the bicubic search (world units; the bilinear hit is exact to rounding).
+    pub fn cast(&self, ray: &Ray, range: Interval, eps: f64) -> Option<TerrainHit> {
+        self.cast_with_stats(ray, range, eps, &mut TerrainStats::default())
+    }
+
+    /// [`Terrain::cast`], counting work into `stats`.
+    pub fn cast_with_stats(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        stats: &mut TerrainStats,
+    ) -> Option<TerrainHit> {
+        let m = self.placement.map_ray(ray);
+        let (lo, hi) = self.map_box();
+        let clip = clip_box(&m, lo, hi, range.lo, range.hi)?;
+        let err = rounding(&m, &clip);
+        let n = self.max.levels();
+        let stop = n.saturating_sub(self.options.lod_bias);
+        let mut stack = [(0.0f64, 0.0f64); STACK];
+        stack[0] = (clip.t0, clip.t1);
+        let mut len = 1;
+        while len > 0 {
+            len -= 1;
+            let (ta, tb) = stack[len];
+            stats.segments += 1;
+            let (pa, pb) = (m.at(ta), m.at(tb));
+            let fp = Footprint::of(pa, pb, err);
+            let tm = 0.5 * (ta + tb);
+            let splittable = ta < tm && tm < tb && len + 2 <= STACK;
+            let mut level = level_for(fp.extent(), n).min(stop);
+            if !splittable {
+                level = stop;
+            }
+            let cells = fp.cells(level, n);
+            let Some((a0, a1, b0, b1)) = cells else {
+                continue;
+            };
+            let mut top = f32::NEG_INFINITY;
+            for b in b0..=b1 {
+                for a in a0..=a1 {
+                    top = top.max(self.max.at(level, a, b));
+                }
+            }
+            if fp.r_min > f64::from(top) {
+                continue;
+            }
+            if level == stop {
+                let hit = if stop == n {
+                    self.finest_hit(
+                        &m,
+                        ray,
+                        &clip,
+                        (ta, tb),
+                        (a0, a1, b0, b1),
+                        fp.r_min,
+                        eps,
+                        stats,
+                    )
+                } else {
+                    self.column_hit(&m, ray, &clip, (ta, tb), level, (a0, a1, b0, b1), stats)
+                };
+                if hit.is_some() {
+                    return hit;
+                }
+                continue;
+            }
+            stack[len] = (tm, tb);
+            stack[len + 1] = (ta, tm);
+            len += 2;
+        }
+        None
+    }
+
+    /// Whether anything of the terrain lies on `ray` within `range` (shadow rays). With the min
+    /// pyramid, stops as soon as a segment end is proven inside the solid.
+    pub fn occluded(&self, ray: &Ray, range: Interval, eps: f64) -> bool {
+        let Some(min) = &self.min else {
+            return self.cast(ray, range, eps).is_some();
+        };
+        let m = self.placement.map_ray(ray);
+        let (lo, hi) = self.map_box();
+        let Some(clip) = clip_box(&m, lo, hi, range.lo, range.hi) else {
+            return false;
+        };
+        let err = rounding(&m, &clip);
+        let n = self.max.levels();
+        let stop = n.saturating_sub(self.options.lod_bias);
+        let mut stack = [(0.0f64, 0.0f64); STACK];
+        stack[0] = (clip.t0, clip.t1);
+        let mut len = 1;
+        let mut stats = TerrainStats::default();
+        while len > 0 {
+            len -= 1;
+            let (ta, tb) = stack[len];
+            let (pa, pb) = (m.at(ta), m.at(tb));
+            let fp = Footprint::of(pa, pb, err);
+            let tm = 0.5 * (ta + tb);
+            let splittable = ta < tm && tm < tb && len + 2 <= STACK;
+            let mut level = level_for(fp.extent(), n).min(stop);
+            if !splittable {
+                level = stop;
+            }
+            let Some((a0, a1, b0, b1)) = fp.cells(level, n) else {
+                continue;
+            };
+            let mut top = f32::NEG_INFINITY;
+            for b in b0..=b1 {
+                for a in a0..=a1 {
+                    top = top.max(self.max.at(level, a, b));
+                }
+            }
+            if fp.r_min > f64::from(top) {
+                continue;
+            }
+            // A segment end strictly under the minimum of the level cell it lies in is inside
+            // the solid: something on the ray is hit.
+            for p in [pa, pb] {
+                if let Some((a, b)) = point_cell(p, err, level, n)
+                    && p.z + err.z < f64::from(min.at(level, a, b))
+                {
+                    return true;
+                }
+            }
+            if level == stop {
+                let cells = (a0, a1, b0, b1);
+                let hit = if stop == n {
+                    self.finest_hit(&m, ray, &clip, (ta, tb), cells, fp.r_min, eps, &mut stats)
+                } else {
+                    self.column_hit(&m, ray, &clip, (ta, tb), level, cells, &mut stats)
+                };
+                if hit.is_some() {
+                    return true;
+                }
+                continue;
+            }
+            stack[len] = (tm, tb);
+            stack[len + 1] = (ta, tm);
+            len += 2;
+        }
+        false
+    }
+
+    /// The nearest hit over the finest cells `a0..=a1 × b0..=b1` within `[ta, tb]`.
+    #[allow(clippy::too_many_arguments)]
+    fn finest_hit(
+        &self,
+        m: &MapRay,
+        ray: &Ray,
+        clip: &Clip,
+        seg: (f64, f64),
+        (a0, a1, b0, b1): (usize, usize, usize, usize),
+        r_min: f64,
+        eps: f64,
+        stats: &mut TerrainStats,
+    ) -> Option<TerrainHit> {
+        let n = self.max.levels();
+        let mut best: Option<TerrainHit> = None;
+        for b in b0..=b1 {
+            for a in a0..=a1 {
+                if r_min > f64::from(self.max.at(n, a, b)) {
+                    continue; // also skips padded and cut-out cells (−∞)
+                }
+                stats.cells += 1;
+                let seg = (seg.0, best.map_or(seg.1, |h| h.t));
+                if let Some(h) = self.cell_hit(m, ray, clip, a, b, seg, eps) {
+                    best = Some(h);
+                }
+            }
+        }
+        best
+    }
+
+    /// The first hit on solid cell `(i, j)` within `seg`, parametrised from the cell's own entry
+    /// into the whole clipped range `clip`, so the same cell gives the same numbers whatever the
+    /// segment (the brute-force reference uses this function too).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn cell_hit(
+        &self,
+        m: &MapRay,
+        ray: &Ray,
+        clip: &Clip,
+        i: usize,
+        j: usize,
+        seg: (f64, f64),
+        eps: f64,
+    ) -> Option<TerrainHit> {
+        let cmin = DVec3::new(i as f64, j as f64, self.bottom);
+        let cmax = DVec3::new(i as f64 + 1.0, j as f64 + 1.0, self.top);
+        let c = clip_within(m, cmin, cmax, clip)?;
+        let (lo, hi) = (c.t0.max(seg.0), c.t1.min(seg.1));
+        if lo > hi {
+            return None;
+        }
+        let start = m.at(c.t0);
+        let (s0, w0, r0) = (start.x - i as f64, start.y - j as f64, start.z);
+        let (ds, dw, dr) = (m.dir.x, m.dir.y, m.dir.z);
+        let (tau_lo, tau_hi) = (lo - c.t0, hi - c.t0);
+        let (tau, slope) = match self.options.interpolation {
+            Interpolation::Bilinear => {
+                let p = BilinearCell::new(&self.map, i, j);
+                let qa = -p.k * ds * dw;
+                let qb = dr - (p.a * ds + p.b * dw + p.k * (s0 * dw + w0 * ds));
+                let qc = r0 - p.eval(s0, w0);
+                let f_lo = (qa * tau_lo + qb) * tau_lo + qc;
+                if f_lo <= 0.0 {
+                    return Some(self.entry_hit(m, ray, &c, lo, i, j, |s, w| p.slope(s, w)));
+                }
+                let tau = first_root(qa, qb, qc, tau_lo, tau_hi)?;
+                let (s, w) = (
+                    (s0 + tau * ds).clamp(0.0, 1.0),
+                    (w0 + tau * dw).clamp(0.0, 1.0),
+                );
+                (tau, p.slope(s, w))
+            }
+            Interpolation::Bicubic => {
+                let p = BicubicCell::new(&self.map, i, j);
+                let f = |tau: f64| {
+                    let (s, w) = (s0 + tau * ds, w0 + tau * dw);
+                    let (v, g) = p.eval_with_slope(s, w);
+                    (r0 + tau * dr - v, dr - (g.x * ds + g.y * dw), g)
+                };
+                let f_lo = f(tau_lo).0;
+                if f_lo <= 0.0 {
+                    return Some(
+                        self.entry_hit(m, ray, &c, lo, i, j, |s, w| p.eval_with_slope(s, w).1),
+                    );
+                }
+                let k1 = dr.abs() + p.d1.x * ds.abs() + p.d1.y * dw.abs();
+                let k2 = p.d2[0] * ds * ds + 2.0 * p.d2[1] * (ds * dw).abs() + p.d2[2] * dw * dw;
+                let tau = bicubic_root(&f, k1, k2, tau_lo, tau_hi, f_lo, eps)?;
+                (tau, f(tau).2)
+            }
+        };
+        Some(TerrainHit {
+            t: c.t0 + tau,
+            normal: self.placement.surface_normal(slope),
+            cell: [i as u32, j as u32],
+            kind: HitKind::Surface,
+        })
+    }
+
+    /// A hit where the ray is already inside the cell's solid at `t` (the start of the part of
+    /// the cell examined): a wall or the base when the ray entered the cell there from outside
+    /// the solid, the ray's start when it starts inside, else (rounding at a shared edge with
+    /// a solid neighbour, or a segment start) the surface.
+    #[allow(clippy::too_many_arguments)]
+    fn entry_hit(
+        &self,
+        m: &MapRay,
+        ray: &Ray,
+        c: &Clip,
+        t: f64,
+        i: usize,
+        j: usize,
+        slope: impl Fn(f64, f64) -> DVec2,
+    ) -> TerrainHit {
+        let cell = [i as u32, j as u32];
+        let surface = |this: &Self| {
+            let p = m.at(t);
+            let (s, w) = (
+                (p.x - i as f64).clamp(0.0, 1.0),
+                (p.y - j as f64).clamp(0.0, 1.0),
+            );
+            TerrainHit {
+                t,
+                normal: this.placement.surface_normal(slope(s, w)),
+                cell,
+                kind: HitKind::Surface,
+            }
+        };
+        if t != c.t0 {
+            return surface(self);
+        }
+        match c.entry {
+            None => TerrainHit {
+                t,
+                normal: -ray.dir,
+                cell,
+                kind: HitKind::Start,
+            },
+            Some((2, sign)) if sign > 0.0 => surface(self),
+            Some((axis, sign)) => {
+                if axis < 2 && self.neighbour_is_solid(i, j, axis, sign) {
+                    return surface(self);
+                }
+                TerrainHit {
+                    t,
+                    normal: self.placement.axis_normal(axis, sign),
+                    cell,
+                    kind: HitKind::Wall,
+                }
+            }
+        }
+    }
+
+    fn neighbour_is_solid(&self, i: usize, j: usize, axis: usize, sign: f64) -> bool {
+        let (cw, ch) = self.map.cells();
+        let (di, dj) = match (axis, sign > 0.0) {
+            (0, true) => (1, 0),
+            (0, false) => (-1, 0),
+            (_, true) => (0, 1),
+            (_, false) => (0, -1),
+        };
+        let (x, y) = (i as isize + di, j as isize + dj);
+        x >= 0
+            && y >= 0
+            && (x as usize) < cw
+            && (y as usize) < ch
+            && self.map.cell_is_solid(x as usize, y as usize)
+    }
+
+    /// LOD hit: the entry into the nearest max column `[cell] × [bottom, max]` at `level`.
+    #[allow(clippy::too_many_arguments)]
+    fn column_hit(
+        &self,
+        m: &MapRay,
+        ray: &Ray,
+        clip: &Clip,
+        (ta, tb): (f64, f64),
+        level: u32,
+        (a0, a1, b0, b1): (usize, usize, usize, usize),
+        stats: &mut TerrainStats,
+    ) -> Option<TerrainHit> {
+        let (cw, ch) = self.map.cells();
+        let size = (1usize << (self.max.levels() - level)) as f64;
+        let mut best: Option<TerrainHit> = None;
+        for b in b0..=b1 {
+            for a in a0..=a1 {
+                let top = self.max.at(level, a, b);
+                if top == f32::NEG_INFINITY {
+                    continue;
+                }
+                stats.cells += 1;
+                let lo = DVec3::new(a as f64 * size, b as f64 * size, self.bottom);
+                let hi = DVec3::new(
+                    ((a + 1) as f64 * size).min(cw as f64),
+                    ((b + 1) as f64 * size).min(ch as f64),
+                    f64::from(top),
+                );
+                let Some(c) = clip_within(m, lo, hi, clip) else {
+                    continue;
+                };
+                let t = c.t0.max(ta);
+                if t > c.t1.min(tb) || best.is_some_and(|h| h.t <= t) {
+                    continue;
+                }
+                let (normal, kind) = match (t == c.t0, c.entry) {
+                    (true, None) => (-ray.dir, HitKind::Start),
+                    (true, Some((axis, sign))) if axis < 2 || sign < 0.0 => {
+                        (self.placement.axis_normal(axis, sign), HitKind::Wall)
+                    }
+                    _ => (self.placement.axis_normal(2, 1.0), HitKind::Surface),
+                };
+                best = Some(TerrainHit {
+                    t,
+                    normal,
+                    cell: [a as u32, b as u32],
+                    kind,
+                });
+            }
+        }
+        best
+    }
+
+    /// The exact first hit by brute force: every solid cell, no pyramid (for tests and error
+    /// measurements; cost grows with the map).
+    pub fn cast_brute_force(&self, ray: &Ray, range: Interval, eps: f64) -> Option<TerrainHit> {
+        let m = self.placement.map_ray(ray);
+        let (lo, hi) = self.map_box();
+        let clip = clip_box(&m, lo, hi, range.lo, range.hi)?;
+        let (cw, ch) = self.map.cells();
+        let mut best: Option<TerrainHit> = None;
+        for j in 0..ch {
+            for i in 0..cw {
+                if !self.map.cell_is_solid(i, j) {
+                    continue;
+                }
+                let seg = (clip.t0, best.map_or(clip.t1, |h| h.t));
+                if let Some(h) = self.cell_hit(&m, ray, &clip, i, j, seg, eps)
+                    && best.is_none_or(|b| h.t < b.t)
+                {
+                    best = Some(h);
+                }
+            }
+        }
+        best
+    }
+
+    /// The interpolated surface height (raw units) at map point `(u, v)`; `None` off the map or
+    /// on a cut-out cell.
+    pub fn surface(&self, u: f64, v: f64) -> Option<f64> {
+        let (cw, ch) = self.map.cells();
+        if !(u >= 0.0 && v >= 0.0 && u <= cw as f64 && v <= ch as f64) {
+            return None;
+        }
+        let (i, j) = (
+            (u.floor() as usize).min(cw - 1),
+            (v.floor() as usize).min(ch - 1),
+        );
+        if !self.map.cell_is_solid(i, j) {
+            return None;
+        }
+        let (s, w) = (u - i as f64, v - j as f64);
+        Some(match self.options.interpolation {
+            Interpolation::Bilinear => BilinearCell::new(&self.map, i, j).eval(s, w),
+            Interpolation::Bicubic => BicubicCell::new(&self.map, i, j).eval_with_slope(s, w).0,
+        })
+    }
+
+    /// A plain fixed-step ray march (the baseline the pyramid is measured against): samples
+    /// every `step` world units from the box entry and returns the first sample under the
+    /// surface, refined by one secant step between it and the sample before.
+    pub fn march(&self, ray: &Ray, range: Interval, step: f64) -> Option<f64> {
+        let m = self.placement.map_ray(ray);
+        let (lo, hi) = self.map_box();
+        let clip = clip_box(&m, lo, hi, range.lo, range.hi)?;
+        if step.is_nan() || step <= 0.0 {
+            return None;
+        }
+        let below = |t: f64| {
+            let p = m.at(t);
+            self.surface(p.x, p.y).map(|s| p.z - s)
+        };
+        let mut prev: Option<(f64, f64)> = None;
+        let mut k = 0u64;
+        loop {
+            let t = (clip.t0 + k as f64 * step).min(clip.t1);
+            if let Some(f) = below(t) {
+                if f <= 0.0 {
+                    return Some(match prev {
+                        Some((tp, fp)) if fp > 0.0 => tp + (t - tp) * fp / (fp - f),
+                        _ => t,
+                    });
+                }
+                prev = Some((t, f));
+            } else {
+                prev = None;
+            }
+            if t >= clip.t1 {
+                return None;
+            }
+            k += 1;
+        }
+    }
+}
+
+/// A bound on the absolute rounding error of `o + t·d` per map axis over the clipped range.
+fn rounding(m: &MapRay, clip: &Clip) -> DVec3 {
+    let t = clip.t0.abs().max(clip.t1.abs());
+    (m.origin.abs() + m.dir.abs() * t) * (4.0 * f64::EPSILON) + DVec3::splat(f64::MIN_POSITIVE)
+}
+
+/// A segment's map-space footprint, widened by the rounding bound.
+struct Footprint {
+    u: (f64, f64),
+    v: (f64, f64),
+    r_min: f64,
+}
+
+impl Footprint {
+    #[inline]
+    fn of(pa: DVec3, pb: DVec3, err: DVec3) -> Self {
+        Self {
+            u: (pa.x.min(pb.x) - err.x, pa.x.max(pb.x) + err.x),
+            v: (pa.y.min(pb.y) - err.y, pa.y.max(pb.y) + err.y),
+            r_min: pa.z.min(pb.z) - err.z,
+        }
+    }
+
+    #[inline]
+    fn extent(&self) -> f64 {
+        (self.u.1 - self.u.0).max(self.v.1 - self.v.0)
+    }
+
+    /// The level-`level` cells whose closed squares meet the footprint, clamped to the grid;
+    /// `None` if it lies off the grid.
+    #[inline]
+    fn cells(&self, level: u32, n: u32) -> Option<(usize, usize, usize, usize)> {
+        let scale = 1.0 / (1u64 << (n - level)) as f64;
+        let last = ((1u64 << level) - 1) as f64;
+        let range = |(lo, hi): (f64, f64)| {
+            let a = ((lo * scale).ceil() - 1.0).max(0.0);
+            let b = (hi * scale).floor().min(last);
+            (a <= b).then_some((a as usize, b as usize))
+        };
+        let (a0, a1) = range(self.u)?;
+        let (b0, b1) = range(self.v)?;
+        Some((a0, a1, b0, b1))
+    }
+}
+
+/// The level-`level` cell holding map point `p` when that is unambiguous under rounding.
+fn point_cell(p: DVec3, err: DVec3, level: u32, n: u32) -> Option<(usize, usize)> {
+    let fp = Footprint::of(p, p, err);
+    match fp.cells(level, n)? {
+        (a0, a1, b0, b1) if a0 == a1 && b0 == b1 => Some((a0, b0)),
+        _ => None,
+    }
+}
+
+/// The pyramid level for a footprint of `extent` finest cells: `k` with
+/// `2^(n−k−1) < extent ≤ 2^(n−k)` (that is `2^-(k+1) < Lp ≤ 2^-k` for `Lp = extent / 2ⁿ`),
+/// clamped to `0..=n`.
+#[inline]
+fn level_for(extent: f64, n: u32) -> u32 {
+    if extent.is_nan() || extent <= 1.0 {
+        return n;
+    }
+    // ceil(log2(extent)) from the exponent bits: exact for powers of two.
+    let bits = extent.to_bits();
+    let exp = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let mantissa = bits & ((1u64 << 52) - 1);
+    let ceil_log2 = if mantissa == 0 { exp } else { exp + 1 };
+    (n as i64 - ceil_log2).clamp(0, n as i64) as u32
+}
+
+/// The smallest root of `a τ² + b τ + c` in `[lo, hi]` (the quadratic is `> 0` at `lo`).
+#[inline]
+fn first_root(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Option<f64> {
+    let in_range = |t: f64| (t >= lo && t <= hi).then_some(t);
+    if a == 0.0 {
+        return if b < 0.0 { in_range(-c / b) } else { None };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let (mut r1, mut r2) = (q / a, if q != 0.0 { c / q } else { q / a });
+    if r1 > r2 {
+        std::mem::swap(&mut r1, &mut r2);
+    }
+    in_range(r1).or_else(|| in_range(r2))
+}
+
+/// The first root of `f` (value, derivative, slope) in `[lo, hi]` with `f(lo) = f_lo > 0`:
+/// halving nearer-first; a piece is dropped when `f(mid) − k1·half > 0` (slope bound) or when
+/// it is monotone with both ends positive; a piece with `f(a) > 0 ≥ f(b)` that is monotone
+/// (`|f'(mid)| > k2·half`) holds exactly one root, found by Illinois to `eps`.
+fn bicubic_root(
+    f: &impl Fn(f64) -> (f64, f64, DVec2),
+    k1: f64,
+    k2: f64,
+    lo: f64,
+    hi: f64,
+    f_lo: f64,
+    eps: f64,
+) -> Option<f64> {
+    let eps = eps.max(1e-15 * (lo.abs() + hi.abs()));
+    let mut stack = [(0.0f64, 0.0f64, 0.0f64, 0.0f64); 64];
+    stack[0] = (lo, hi, f_lo, f(hi).0);
+    let mut len = 1;
+    while len > 0 {
+        len -= 1;
+        let (a, b, fa, fb) = stack[len];
+        let mid = 0.5 * (a + b);
+        let half = 0.5 * (b - a);
+        let (fm, dm, _) = f(mid);
+        let monotone = dm.abs() > k2 * half;
+        if fb <= 0.0 {
+            if monotone || b - a <= eps {
+                return Some(illinois(f, a, b, fa, fb, eps));
+            }
+        } else if fm - k1 * half > 0.0 || monotone || b - a <= eps {
+            continue;
+        }
+        if fm <= 0.0 && b - a <= eps {
+            return Some(mid);
+        }
+        if len + 2 > stack.len() {
+            // Out of depth (never at sane tolerances): settle for the bracket if there is one.
+            if fm <= 0.0 {
+                return Some(illinois(f, a, mid, fa, fm, eps));
+            }
+            continue;
+        }
+        stack[len] = (mid, b, fm, fb);
+        stack[len + 1] = (a, mid, fa, fm);
+        len += 2;
+    }
+    None
+}
+
+/// Illinois (modified regula falsi) on a bracket `f(a) > 0 ≥ f(b)`, to `|b − a| ≤ eps`.
+fn illinois(
+    f: &impl Fn(f64) -> (f64, f64, DVec2),
+    mut a: f64,
+    mut b: f64,
+    mut fa: f64,
+    mut fb: f64,
+    eps: f64,
+) -> f64 {
+    let mut side = 0i8;
+    for _ in 0..100 {
+        if b - a <= eps || fb == 0.0 {
+            break;
+        }
+        let mut t = (a * fb - b * fa) / (fb - fa);
+        if !(t > a && t < b) {
+            t = 0.5 * (a + b);
+        }
+        let ft = f(t).0;
+        if ft > 0.0 {
+            a = t;
+            fa = ft;
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        } else {
+            b = t;
+            fb = ft;
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn level_follows_the_footprint_inequality() {
+        // n = 10: extent in finest cells; 2^(n−k−1) < extent ≤ 2^(n−k).
+        assert_eq!(level_for(0.0, 10), 10);
+        assert_eq!(level_for(1.0, 10), 10);
+        assert_eq!(level_for(1.5, 10), 9);
+        assert_eq!(level_for(2.0, 10), 9);
+        assert_eq!(level_for(2.0001, 10), 8);
+        assert_eq!(level_for(1024.0, 10), 0);
+        assert_eq!(level_for(5000.0, 10), 0);
+    }
+
+    #[test]
+    fn first_root_is_stable_for_tiny_leading_terms() {
+        // (τ − 1)(1e-12 τ − 1) > 0 at 0 → first root 1.
+        let (a, b, c) = (1e-12, -(1.0 + 1e-12), 1.0);
+        let r = first_root(a, b, c, 0.0, 10.0).unwrap();
+        assert!((r - 1.0).abs() < 1e-15);
+        assert_eq!(first_root(0.0, -2.0, 1.0, 0.0, 1.0), Some(0.5));
+        assert_eq!(first_root(1.0, 0.0, 1.0, 0.0, 1.0), None);
+    }
+}
