@@ -18,5 +18,27 @@ fn aircraft_frame(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, aircraft_frame);
+/// Issue 3's speed target: primary visibility + normals of the 1024² CSG scene (8 quadrics, one
+/// perturbation), CPU with culling, 2 threads, no shading. Full shading alongside for the ratio.
+fn csg_visibility(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes/csg.ron");
+    let mut scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    scene.width = 1024;
+    scene.height = 1024;
+    let mut group = c.benchmark_group("trace");
+    group.sample_size(20);
+    for (label, shading) in [("visibility", false), ("shaded", true)] {
+        let settings = TraceSettings {
+            threads: Some(2),
+            shading,
+            ..TraceSettings::for_scene(&scene)
+        };
+        group.bench_function(format!("csg_1024x1024_2threads_{label}"), |b| {
+            b.iter(|| render(&scene, &settings, None).map(|f| f.stats.hits))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, aircraft_frame, csg_visibility);
 criterion_main!(benches);

@@ -154,6 +154,12 @@ pub fn render(
     if !(settings.shadows && scene.features.shadows) {
         stats.passes.retain(|p| p != "shadows");
     }
+    if !settings.shading {
+        // Visibility only: no light was evaluated.
+        stats
+            .passes
+            .retain(|p| !matches!(p.as_str(), "shadows" | "sun" | "point-lights"));
+    }
     stats.elapsed = start.elapsed();
     Ok(Frame {
         colour,
@@ -245,7 +251,7 @@ fn render_tile(
     };
     let mut shade = ShadeContext {
         scene,
-        shadows: settings.shadows && scene.features.shadows,
+        shadows: settings.shading && settings.shadows && scene.features.shadows,
         epsilon: settings.epsilon,
         shadow_rays: 0,
         cast: CastStats::default(),
@@ -306,6 +312,10 @@ fn shade_pixel(
     } else {
         hit.normal
     };
+    if !settings.shading {
+        let n = normal.as_vec3();
+        return (Vec3::splat(0.5) + 0.5 * n, hit.t, n);
+    }
     let shading_normal = if normal.dot(to_viewer) < 0.0 {
         -normal
     } else {

@@ -15,6 +15,10 @@ pub struct TraceSettings {
     /// and perturbations that provably cannot matter are skipped. Lossless: the image is the same
     /// with it off.
     pub culling: bool,
+    /// Shade hit points (lights, shadows). Off, the frame holds visibility only — depth and
+    /// normals, with the colour showing the normal as `0.5 + 0.5 n` — which is what "primary
+    /// visibility + normals" timings measure.
+    pub shading: bool,
 }
 
 impl TraceSettings {
@@ -26,6 +30,7 @@ impl TraceSettings {
             shadows: scene.settings.shadows,
             tile_size: 16,
             culling: true,
+            shading: true,
         }
     }
 }

@@ -241,3 +241,43 @@ fn far_from_origin_scene_keeps_accuracy() {
         }
     }
 }
+
+/// Visibility only (`shading: false`): the same depth and normals as a shaded frame, bit for bit,
+/// no shadow ray, the colour `0.5 + 0.5 n` on hits and the background elsewhere, and no light in
+/// the passes that ran.
+#[test]
+fn visibility_only_keeps_depth_and_normals_and_skips_lights() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes/csg.ron");
+    let mut s = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    s.width = 96;
+    s.height = 72;
+    let shaded = render(&s, &settings(&s), None).unwrap();
+    let visibility = TraceSettings {
+        shading: false,
+        ..settings(&s)
+    };
+    let frame = render(&s, &visibility, None).unwrap();
+    assert_eq!(frame.depth, shaded.depth);
+    assert_eq!(frame.normals, shaded.normals);
+    assert!(shaded.stats.shadow_rays > 0);
+    assert_eq!(frame.stats.shadow_rays, 0);
+    for y in 0..s.height {
+        for x in 0..s.width {
+            let c = *frame.colour.get(x, y);
+            if frame.depth.get(x, y).is_finite() {
+                let n = *frame.normals.get(x, y);
+                assert_eq!(c, glam::Vec3::splat(0.5) + 0.5 * n);
+            } else {
+                assert_eq!(c, s.background);
+            }
+        }
+    }
+    assert!(shaded.stats.passes.iter().any(|p| p == "sun"));
+    assert!(
+        !frame
+            .stats
+            .passes
+            .iter()
+            .any(|p| p == "sun" || p == "shadows")
+    );
+}
