@@ -3,9 +3,17 @@
 //! Along a ray every quadric is a quadratic in `t` and every perturbation a clamped cube of one,
 //! so the value *and* the derivative of each leaf have cheap, exact-per-term ranges over a segment.
 //! The search splits the segment in halves, nearer half first, and drops a half whose value range
-//! proves `F′ < 0`. When the derivative range of a segment excludes zero, `F′` is monotone there:
-//! one or two point evaluations decide it, and a root is finished by the Illinois variant of
-//! regula falsi instead of further halving (≈ 2× fewer evaluations at the same ε).
+//! proves `F′ < 0`. When the derivative range of a segment excludes zero, `F′` is monotone there
+//! (for CSG and clipping boxes: its *sign* changes at most once, which is all the search needs;
+//! see `sign_slope`): one or two point evaluations decide it, and the root is finished without
+//! further halving. The leaf that decides `F′` at the bracket's end predicts the root — its
+//! quadratic's closed-form root, or the clipping-box face the ray enters through — and two point
+//! evaluations certify the prediction (`F′(r) ≥ 0 > F′(r − ε)`); otherwise, or for perturbed
+//! leaves, the Illinois variant of regula falsi finishes the bracket.
+//!
+//! One generic search runs over a `RayFunction`: a CSG program over prepared leaves, or —
+//! the common case after culling — a single leaf without perturbations, monomorphised so that it
+//! needs no scratch space and no program interpretation (and gives the same answer bit for bit).
 //!
 //! Contract: the returned `t` is the first point of the range (up to `ε`) where `F′ ≥ 0`; it is
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
