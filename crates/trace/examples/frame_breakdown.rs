@@ -1,5 +1,6 @@
 //! Diagnostic: where a CPU frame's time goes (quadtree build, tracing) and how many candidates
-//! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE`.
+//! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE
+//! [THREADS] [REPETITIONS]`; `TILE=n` sets the cell size, `PER_OBJECT=1` adds per-object counts.
 use fray_trace::{TraceSettings, render, work_list};
 use std::time::Instant;
 
@@ -40,7 +41,12 @@ fn main() {
     if std::env::var_os("PER_OBJECT").is_some() {
         per_object(&scene);
     }
+    let tile: u32 = std::env::var("TILE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(16);
     let settings = TraceSettings {
+        tile_size: tile,
         threads: Some(threads),
         shadows: false,
         ..TraceSettings::for_scene(&scene)
