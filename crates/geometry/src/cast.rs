@@ -366,6 +366,34 @@ impl RayFunction for ProgramOnRay<'_> {
             let leaf = self.leaf(i);
             return leaf_bound(leaf, self.leaf_perturbations(leaf), seg);
         }
+        // The two-leaf programs of a union, intersection or difference, without a stack.
+        let leaf_bound_at = |i: u32| {
+            let leaf = &self.leaves[i as usize];
+            leaf_bound(leaf, self.leaf_perturbations(leaf), seg)
+        };
+        match *self.program {
+            [
+                CsgOp::Leaf(i),
+                CsgOp::Leaf(j),
+                op @ (CsgOp::Max | CsgOp::Min),
+            ] => {
+                return combine_bounds(op == CsgOp::Max, leaf_bound_at(i), leaf_bound_at(j));
+            }
+            [
+                CsgOp::Leaf(i),
+                CsgOp::Leaf(j),
+                CsgOp::Neg,
+                op @ (CsgOp::Max | CsgOp::Min),
+            ] => {
+                let b = leaf_bound_at(j);
+                let b = Bound {
+                    value: -b.value,
+                    slope: -b.slope,
+                };
+                return combine_bounds(op == CsgOp::Max, leaf_bound_at(i), b);
+            }
+            _ => {}
+        }
         // The stack never holds more than the program's leaves: short programs use an array.
         let mut inline = [ABSENT; INLINE_STACK];
         let heap = &mut *self.bounds;
@@ -392,34 +420,7 @@ impl RayFunction for ProgramOnRay<'_> {
                     }
                     let (a, b) = (stack[len - 2], stack[len - 1]);
                     len -= 1;
-                    let is_max = *op == CsgOp::Max;
-                    // If one operand dominates over the whole segment, the result *is* that
-                    // operand; otherwise its slope lies between the two operands' slopes.
-                    let a_wins = if is_max {
-                        a.value.lo >= b.value.hi
-                    } else {
-                        a.value.hi <= b.value.lo
-                    };
-                    let b_wins = if is_max {
-                        b.value.lo >= a.value.hi
-                    } else {
-                        b.value.hi <= a.value.lo
-                    };
-                    stack[len - 1] = if a_wins {
-                        a
-                    } else if b_wins {
-                        b
-                    } else if is_max {
-                        Bound {
-                            value: a.value.max(b.value),
-                            slope: sign_slope(a, b, b.value.hi < 0.0, a.value.hi < 0.0),
-                        }
-                    } else {
-                        Bound {
-                            value: a.value.min(b.value),
-                            slope: sign_slope(a, b, b.value.lo >= 0.0, a.value.lo >= 0.0),
-                        }
-                    };
+                    stack[len - 1] = combine_bounds(*op == CsgOp::Max, a, b);
                 }
                 CsgOp::Neg => {
                     if len > 0 {
@@ -440,6 +441,35 @@ impl RayFunction for ProgramOnRay<'_> {
             return leaf_value(leaf, self.leaf_perturbations(leaf), t);
         }
         // Values with the leaf that decides each (max/min pick an operand, negation keeps it).
+        let value_at = |i: u32| {
+            let leaf = &self.leaves[i as usize];
+            (leaf_value(leaf, self.leaf_perturbations(leaf), t), i)
+        };
+        let two_leaves = match *self.program {
+            [
+                CsgOp::Leaf(i),
+                CsgOp::Leaf(j),
+                op @ (CsgOp::Max | CsgOp::Min),
+            ] => Some(combine_values(op == CsgOp::Max, value_at(i), value_at(j))),
+            [
+                CsgOp::Leaf(i),
+                CsgOp::Leaf(j),
+                CsgOp::Neg,
+                op @ (CsgOp::Max | CsgOp::Min),
+            ] => {
+                let (v, leaf) = value_at(j);
+                Some(combine_values(
+                    op == CsgOp::Max,
+                    value_at(i),
+                    (-v, leaf ^ NEGATED),
+                ))
+            }
+            _ => None,
+        };
+        if let Some((v, leaf)) = two_leaves {
+            self.decided = [self.decided[1], (t, leaf)];
+            return v;
+        }
         let mut inline = [(f64::NEG_INFINITY, u32::MAX); INLINE_STACK];
         let heap = &mut *self.values;
         let stack: &mut [(f64, u32)] = if self.program.len() < 2 * INLINE_STACK {
@@ -465,12 +495,7 @@ impl RayFunction for ProgramOnRay<'_> {
                     }
                     let (a, b) = (stack[len - 2], stack[len - 1]);
                     len -= 1;
-                    let take_a = if *op == CsgOp::Max {
-                        a.0 >= b.0
-                    } else {
-                        a.0 <= b.0
-                    };
-                    stack[len - 1] = if take_a { a } else { b };
+                    stack[len - 1] = combine_values(*op == CsgOp::Max, a, b);
                 }
                 CsgOp::Neg => {
                     if len > 0 {
@@ -524,6 +549,45 @@ impl RayFunction for ProgramOnRay<'_> {
             )
         }
     }
+}
+
+/// `max(a, b)` (`is_max`) or `min(a, b)` of two bounds. If one operand dominates over the whole
+/// segment, the result *is* that operand; otherwise the value is the exact max/min range and
+/// the slope comes from [`sign_slope`].
+#[inline]
+fn combine_bounds(is_max: bool, a: Bound, b: Bound) -> Bound {
+    let a_wins = if is_max {
+        a.value.lo >= b.value.hi
+    } else {
+        a.value.hi <= b.value.lo
+    };
+    let b_wins = if is_max {
+        b.value.lo >= a.value.hi
+    } else {
+        b.value.hi <= a.value.lo
+    };
+    if a_wins {
+        a
+    } else if b_wins {
+        b
+    } else if is_max {
+        Bound {
+            value: a.value.max(b.value),
+            slope: sign_slope(a, b, b.value.hi < 0.0, a.value.hi < 0.0),
+        }
+    } else {
+        Bound {
+            value: a.value.min(b.value),
+            slope: sign_slope(a, b, b.value.lo >= 0.0, a.value.lo >= 0.0),
+        }
+    }
+}
+
+/// `max` or `min` of two (value, deciding leaf) pairs; `a` wins ties.
+#[inline]
+fn combine_values(is_max: bool, a: (f64, u32), b: (f64, u32)) -> (f64, u32) {
+    let take_a = if is_max { a.0 >= b.0 } else { a.0 <= b.0 };
+    if take_a { a } else { b }
 }
 
 /// The slope range of `max(a, b)` or `min(a, b)` when neither operand dominates in value.
