@@ -261,6 +261,41 @@ pub enum Shape {
         shape: Box<Shape>,
         transform: Transform,
     },
+    /// A height-map terrain (only as an object's whole shape, never inside CSG).
+    Terrain(Terrain),
+}
+
+/// A height-map terrain: the file, its placement and how it is searched.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Terrain {
+    /// The height map (`.png` 8/16-bit greyscale, `.exr`, `.npy`), relative to the scene file.
+    pub path: String,
+    /// World distance between samples along `x` (columns) and `z` (rows), `> 0`.
+    pub spacing: [f64; 2],
+    /// World units per raw height unit, `> 0`.
+    pub vertical_scale: f64,
+    /// World position of sample `(0, 0)` at raw height 0 (the base plane).
+    pub origin: Vec3,
+    /// Degrees about x, y, z (in that order) about `origin`.
+    pub rotate: Vec3,
+    pub interpolation: TerrainInterpolation,
+    /// Pyramid levels above the finest where the search stops (0 = exact surface).
+    pub lod_bias: u32,
+    /// Raw samples below this are no surface (cut out); default: keep everything.
+    pub threshold: Option<f64>,
+}
+
+/// How a terrain's surface is interpolated between samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum TerrainInterpolation {
+    #[default]
+    Bilinear,
+    /// Uniform cubic B-spline over the 4 × 4 neighbouring samples.
+    Bicubic,
+}
+
+fn unit_spacing() -> [f64; 2] {
+    [1.0, 1.0]
 }
 
 /// A free-form object: a base quadric deformed by perturbations.
@@ -386,6 +421,23 @@ macro_rules! quadrics {
                 #[serde(default)]
                 transform: Transform,
             },
+            Terrain {
+                path: String,
+                #[serde(default = "unit_spacing")]
+                spacing: [f64; 2],
+                #[serde(default = "one")]
+                vertical_scale: f64,
+                #[serde(default = "zeros")]
+                origin: Vec3,
+                #[serde(default = "zeros")]
+                rotate: Vec3,
+                #[serde(default)]
+                interpolation: TerrainInterpolation,
+                #[serde(default)]
+                lod_bias: u32,
+                #[serde(default)]
+                threshold: Option<f64>,
+            },
             $( $name { $( $(#[$fm])* $field: $ty ),* } ),*
         }
 
@@ -399,6 +451,9 @@ macro_rules! quadrics {
                     ShapeRepr::Intersection(v) => Shape::Intersection(v),
                     ShapeRepr::Difference(a, b) => Shape::Difference(a, b),
                     ShapeRepr::Transformed { shape, transform } => Shape::Transformed { shape, transform },
+                    ShapeRepr::Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod_bias, threshold } => {
+                        Shape::Terrain(Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod_bias, threshold })
+                    }
                     $( ShapeRepr::$name { $( $field ),* } => Shape::Quadric(Quadric::$name { $( $field ),* }) ),*
                 }
             }

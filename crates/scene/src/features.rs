@@ -9,6 +9,8 @@ pub struct FeatureSet {
     pub perturbations: bool,
     /// At least one CSG operation (union, intersection, difference).
     pub csg: bool,
+    /// At least one height-map terrain.
+    pub terrain: bool,
     /// Lights exist and shadows are on: shadow rays are cast.
     pub shadows: bool,
     /// At least one directional light.
@@ -24,6 +26,7 @@ impl FeatureSet {
             (self.free_forms, "free-form"),
             (self.perturbations, "perturbations"),
             (self.csg, "csg"),
+            (self.terrain, "terrain"),
             (self.shadows, "shadows"),
             (self.sun, "sun"),
             (self.point_lights, "point-lights"),

@@ -38,11 +38,12 @@ mod locate;
 mod path;
 mod resolve;
 mod scene;
+mod terrain;
 mod work;
 
 pub use error::SceneError;
 pub use features::FeatureSet;
 pub use load::{load, parse, parse_description};
 pub use resolve::MAX_IMAGE_SIDE;
-pub use scene::{Light, Material, Object, Scene, Settings};
+pub use scene::{Light, Material, Object, Scene, Settings, TerrainObject};
 pub use work::work_list;

@@ -18,10 +18,13 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     parse(&source, &path.display().to_string())
 }
 
-/// Parses, validates and resolves scene text; `file` is the name errors report.
+/// Parses, validates and resolves scene text; `file` is the name errors report, and asset paths
+/// are relative to its folder.
 pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
     let d = parse_description(source, file)?;
-    resolve(&d).map_err(|e| {
+    // Assets (height maps) are found relative to the scene file.
+    let base = Path::new(file).parent().unwrap_or(Path::new(""));
+    resolve(&d, base).map_err(|e| {
         let LineColumn { line, column } = locate(source, &e.path);
         SceneError::Invalid {
             file: file.to_owned(),

@@ -4,11 +4,12 @@
 
 use crate::description::{self, Vec3};
 use crate::path::FieldPath;
-use crate::{FeatureSet, Light, Material, Object, Scene, Settings};
+use crate::{FeatureSet, Light, Material, Object, Scene, Settings, TerrainObject};
 use fray_core::{Aabb, Parallel, Pinhole, Projector, ProjectorError, Rgb, SphereSurface};
 use fray_geometry::{FreeForm, GeometryError, Perturbation, Quadric, Shape, Sheets, Solid};
 use glam::{DAffine3, DMat3, DVec3};
 use std::collections::BTreeMap;
+use std::path::Path;
 
 /// The largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
@@ -20,9 +21,9 @@ pub(crate) struct Invalid {
     pub(crate) message: String,
 }
 
-type Result<T> = std::result::Result<T, Invalid>;
+pub(crate) type Result<T> = std::result::Result<T, Invalid>;
 
-fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result<T> {
+pub(crate) fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result<T> {
     Err(Invalid {
         path: path.clone(),
         message: message.into(),
@@ -30,7 +31,7 @@ fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result<T> {
 }
 
 /// Checks and resolves a whole description.
-pub(crate) fn resolve(d: &description::Scene) -> Result<Scene> {
+pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
     let root = FieldPath::root();
     let mut features = FeatureSet::default();
 
@@ -69,8 +70,29 @@ pub(crate) fn resolve(d: &description::Scene) -> Result<Scene> {
 
     let objects_path = root.field("objects");
     let mut objects = Vec::with_capacity(d.objects.len());
+    let mut terrains = Vec::new();
     for (i, o) in d.objects.iter().enumerate() {
         let path = objects_path.index(i);
+        let name = || o.name.clone().unwrap_or_else(|| format!("object{i}"));
+        if let description::Shape::Terrain(t) = &o.shape {
+            let material = match &o.material {
+                Some(m) => ShapeContext {
+                    materials: &material_index,
+                    leaf_materials: Vec::new(),
+                    features: &mut features,
+                }
+                .material(&path.field("material"), m)?,
+                None => 0,
+            };
+            let terrain = crate::terrain::terrain(&path.field("shape"), t, base)?;
+            features.terrain = true;
+            terrains.push(TerrainObject {
+                name: name(),
+                terrain: std::sync::Arc::new(terrain),
+                material,
+            });
+            continue;
+        }
         let mut ctx = ShapeContext {
             materials: &material_index,
             leaf_materials: Vec::new(),
@@ -90,7 +112,7 @@ pub(crate) fn resolve(d: &description::Scene) -> Result<Scene> {
         let solid = Solid::new(shape).or_else(|e| invalid(&path.field("shape"), e.to_string()))?;
         features.free_forms = true;
         objects.push(Object {
-            name: o.name.clone().unwrap_or_else(|| format!("object{i}")),
+            name: name(),
             solid,
             leaf_materials,
         });
@@ -116,6 +138,7 @@ pub(crate) fn resolve(d: &description::Scene) -> Result<Scene> {
         lights,
         materials,
         objects,
+        terrains,
         settings,
         features,
     })
@@ -136,7 +159,7 @@ fn show(v: Vec3) -> String {
     format!("({}, {}, {})", v[0], v[1], v[2])
 }
 
-fn finite(path: &FieldPath, x: f64) -> Result<f64> {
+pub(crate) fn finite(path: &FieldPath, x: f64) -> Result<f64> {
     if x.is_finite() {
         Ok(x)
     } else {
@@ -144,7 +167,7 @@ fn finite(path: &FieldPath, x: f64) -> Result<f64> {
     }
 }
 
-fn point(path: &FieldPath, v: Vec3) -> Result<DVec3> {
+pub(crate) fn point(path: &FieldPath, v: Vec3) -> Result<DVec3> {
     if v.iter().all(|c| c.is_finite()) {
         Ok(DVec3::from_array(v))
     } else {
@@ -162,7 +185,7 @@ fn direction(path: &FieldPath, v: Vec3) -> Result<DVec3> {
     }
 }
 
-fn positive(path: &FieldPath, x: f64) -> Result<f64> {
+pub(crate) fn positive(path: &FieldPath, x: f64) -> Result<f64> {
     if !x.is_finite() {
         invalid(path, format!("must be a finite number > 0, got {x}"))
     } else if x > 0.0 {
@@ -463,6 +486,11 @@ impl ShapeContext<'_> {
                 let inner = outer * transform(&path.field("transform"), t)?;
                 self.shape(&path.field("shape"), shape, inner, material)
             }
+            S::Terrain(_) => invalid(
+                path,
+                "a Terrain can only be an object's whole shape, not part of a CSG tree or a \
+                 Transformed shape (place it with its `origin` and `rotate`)",
+            ),
         }
     }
 

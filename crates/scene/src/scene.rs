@@ -3,7 +3,9 @@
 use crate::FeatureSet;
 use fray_core::{Projector, Rgb};
 use fray_geometry::Solid;
+use fray_terrain::Terrain;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// A validated scene. Every field holds checked values; backends never re-validate.
 #[derive(Clone, Debug)]
@@ -19,6 +21,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub materials: Vec<Material>,
     pub objects: Vec<Object>,
+    /// Height-map terrains, built once (pyramids included) and shared by the backends.
+    pub terrains: Vec<TerrainObject>,
     pub settings: Settings,
     /// What this scene uses; backends build only what is listed.
     pub features: FeatureSet,
@@ -89,12 +93,25 @@ pub struct Object {
     pub leaf_materials: Vec<u32>,
 }
 
+/// A height-map terrain object: one material for all of it.
+#[derive(Clone, Debug)]
+pub struct TerrainObject {
+    pub name: String,
+    pub terrain: Arc<Terrain>,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+}
+
 impl Scene {
-    /// The box around all objects (empty if there are none).
+    /// The box around all objects and terrains (empty if there are none).
     pub fn bounds(&self) -> fray_core::Aabb {
-        self.objects
+        let objects = self
+            .objects
             .iter()
-            .fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()))
+            .fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()));
+        self.terrains
+            .iter()
+            .fold(objects, |b, t| b.union(&t.terrain.bounds()))
     }
 
     /// The tolerance to use: the setting, or `1e-10 ×` the scene's diagonal (1e-10 if empty).

@@ -234,6 +234,7 @@ fn every_variant_parses_and_resolves() {
             free_forms: true,
             perturbations: true,
             csg: true,
+            terrain: false,
             shadows: true,
             sun: true,
             point_lights: true
@@ -647,6 +648,7 @@ fn the_documented_example_resolves() {
             free_forms: true,
             perturbations: true,
             csg: true,
+            terrain: false,
             shadows: true,
             sun: true,
             point_lights: true

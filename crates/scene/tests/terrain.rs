@@ -1,0 +1,107 @@
+//! Terrain objects in scene files: the DEM scenes resolve with the terrain built once (shared by
+//! `Arc`), the feature set lists `terrain`, and every bad value or asset is a located error
+//! naming the field (and, for a bad file, its path and the reason).
+
+use std::path::Path;
+
+fn scenes() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes")
+}
+
+#[test]
+fn the_dem_scenes_resolve_with_their_terrain() {
+    for name in ["terrain_low.ron", "terrain_high.ron"] {
+        let s = fray_scene::load(&scenes().join(name)).unwrap();
+        assert_eq!(s.terrains.len(), 1, "{name}");
+        assert!(s.features.terrain && s.features.names().contains(&"terrain"));
+        let t = &s.terrains[0];
+        assert_eq!(
+            (t.terrain.map().width(), t.terrain.map().height()),
+            (403, 344)
+        );
+        assert_eq!(s.materials[t.material as usize].name, "land");
+        // The scene box holds the terrain: 402 × 74 m by 343 × 93 m.
+        let b = s.bounds();
+        assert!(
+            b.max.x >= 402.0 * 74.0 - 1e-6 && b.max.z >= 343.0 * 93.0 - 1e-6,
+            "{b:?}"
+        );
+    }
+    let low = fray_scene::load(&scenes().join("terrain_low.ron")).unwrap();
+    assert!(low.features.free_forms && low.objects.len() == 1);
+}
+
+fn error(src: &str) -> String {
+    // Relative paths resolve against the (virtual) scene file's folder.
+    let file = scenes().join("inline.ron");
+    fray_scene::parse(src, &file.display().to_string())
+        .unwrap_err()
+        .to_string()
+}
+
+#[test]
+fn bad_terrain_values_and_assets_are_located_errors() {
+    let e = error(
+        "(objects: [\n (shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\", spacing: (0, 1))),\n])",
+    );
+    assert!(
+        e.contains(":2:") && e.contains("objects[0].shape.spacing[0]: must be > 0, got 0"),
+        "{e}"
+    );
+    let e = error(
+        "(objects: [\n (shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\", vertical_scale: -2)),\n])",
+    );
+    assert!(
+        e.contains("objects[0].shape.vertical_scale: must be > 0"),
+        "{e}"
+    );
+    let e = error("(objects: [\n (shape: Terrain(path: \"nowhere.png\")),\n])");
+    assert!(
+        e.contains(":2:")
+            && e.contains("objects[0].shape.path:")
+            && e.contains("nowhere.png")
+            && e.contains("cannot read"),
+        "{e}"
+    );
+    let e = error("(objects: [\n (shape: Terrain(path: \"csg.ron\")),\n])");
+    assert!(
+        e.contains("objects[0].shape.path:") && e.contains("unsupported height-map format"),
+        "{e}"
+    );
+    let e = error("(objects: [\n (shape: Terrain(path: \"../terrain/README.md.png\")),\n])");
+    assert!(e.contains("objects[0].shape.path:"), "{e}");
+    let e = error(
+        "(objects: [\n (shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\", threshold: 5000)),\n])",
+    );
+    assert!(
+        e.contains("objects[0].shape.threshold:") && e.contains("no cell"),
+        "{e}"
+    );
+    let e = error(
+        "(objects: [\n (shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\", lod_bias: 99)),\n])",
+    );
+    assert!(
+        e.contains("objects[0].shape.lod_bias: must be in 0..=16, got 99"),
+        "{e}"
+    );
+    let e =
+        error("(objects: [\n (shape: Union([Sphere(radius: 1), Terrain(path: \"x.png\")])),\n])");
+    assert!(
+        e.contains("objects[0].shape[1]: a Terrain can only be an object's whole shape"),
+        "{e}"
+    );
+    let e = error(
+        "(objects: [\n (shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\", interpolation: Cubic)),\n])",
+    );
+    assert!(
+        e.contains("objects[0].shape.interpolation: unknown variant `Cubic`"),
+        "{e}"
+    );
+    let e = error(
+        "(objects: [\n (material: \"rock\", shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\")),\n])",
+    );
+    assert!(
+        e.contains("objects[0].material: unknown material `rock`"),
+        "{e}"
+    );
+}
