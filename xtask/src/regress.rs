@@ -4,7 +4,7 @@
 use crate::compare::{compare, diff_image};
 use crate::render::{Rendered, backend_name, load, render, save_rgb8};
 use crate::report::{self, Row, console_line};
-use crate::thresholds::{ThresholdTable, Thresholds};
+use crate::thresholds::{SceneThresholds, ThresholdTable};
 use crate::workspace::{SceneFile, list_scenes};
 use fray_core::Image;
 use fray_render::available_backends;
@@ -102,7 +102,7 @@ fn judge(
 fn regress_scene(
     scene: &SceneFile,
     options: &RegressOptions,
-    thresholds: Thresholds,
+    thresholds: SceneThresholds,
     backends: &[fray_render::Backend],
 ) -> Vec<Row> {
     let stem = scene.stem.as_str();
@@ -126,7 +126,7 @@ fn regress_scene(
     for &backend in backends {
         let name = backend_name(backend);
         let mut row = Row::failure(stem, &name, String::new());
-        row.thresholds = thresholds;
+        row.thresholds = thresholds.for_row(&name);
         row.message = None;
         let rendered = match render(&loaded, backend, options.width) {
             Ok(r) => r,
@@ -161,7 +161,7 @@ fn regress_scene(
                 let pair = format!("{name} vs {first_name}");
                 let mut row = Row::failure(stem, &pair, String::new());
                 row.message = None;
-                row.thresholds = thresholds;
+                row.thresholds = thresholds.for_row(&pair);
                 row.reference = Some(format!("{stem}.{first_name}.png"));
                 row.actual = Some(format!("{stem}.{name}.png"));
                 let diff_name = format!("{stem}.{name}-vs-{first_name}.diff.png");
@@ -209,7 +209,7 @@ mod tests {
         // f32 image is close to the CPU's but not bit-identical.)
         let backends = [Backend::Cpu, Backend::Cpu];
 
-        let rows = regress_scene(sphere, &options, Thresholds::default(), &backends);
+        let rows = regress_scene(sphere, &options, SceneThresholds::default(), &backends);
         // Without a reference each backend fails; they still agree with each other.
         assert_eq!(
             rows.iter().map(|r| r.pass).collect::<Vec<_>>(),
@@ -230,7 +230,7 @@ mod tests {
             stems: vec!["sphere".into()],
         };
         bless::run(&bless).unwrap();
-        let rows = regress_scene(sphere, &options, Thresholds::default(), &backends);
+        let rows = regress_scene(sphere, &options, SceneThresholds::default(), &backends);
         let names: Vec<&str> = rows.iter().map(|r| r.backend.as_str()).collect();
         assert_eq!(names, ["cpu", "cpu", "cpu vs cpu"]);
         for row in &rows {
@@ -241,7 +241,7 @@ mod tests {
         assert!(options.out.join("sphere.cpu.png").is_file());
         assert!(options.out.join("sphere.reference.png").is_file());
 
-        let rows = regress_scene(broken, &options, Thresholds::default(), &backends);
+        let rows = regress_scene(broken, &options, SceneThresholds::default(), &backends);
         assert_eq!(rows.len(), 1);
         assert!(!rows[0].pass);
         assert!(rows[0].message.as_deref().unwrap().contains("broken.ron"));

@@ -1,4 +1,13 @@
-//! Per-scene pass/fail thresholds for `regress`, read from `data/reference/thresholds.ron`.
+//! Pass/fail thresholds for `regress`, per scene *and* per comparison (the CPU against the
+//! references, the GPU against the references, the GPU against the CPU), read from
+//! `data/reference/thresholds.ron`:
+//!
+//! ```ron
+//! { "csg": (gpu: (rmse: 2.0, bad_fraction: 0.002), gpu_vs_cpu: (rmse: 2.0, bad_fraction: 0.002)) }
+//! ```
+//!
+//! Every comparison a scene leaves out, and every scene without an entry, gets
+//! [`Thresholds::default`]; so the CPU rows stay tight unless the file loosens them explicitly.
 
 use crate::compare::Metrics;
 use serde::Deserialize;
@@ -34,14 +43,66 @@ impl Thresholds {
     }
 }
 
-/// Thresholds by scene stem; scenes without an entry get [`Thresholds::default`].
+/// One scene's thresholds per comparison (regress row); `None` is the default.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneThresholds {
+    /// The CPU backend against the reference images (row `cpu`).
+    #[serde(default)]
+    pub cpu: Option<Thresholds>,
+    /// The GPU backend against the reference images (row `gpu`).
+    #[serde(default)]
+    pub gpu: Option<Thresholds>,
+    /// The GPU backend against the CPU backend (row `gpu vs cpu`).
+    #[serde(default)]
+    pub gpu_vs_cpu: Option<Thresholds>,
+}
+
+impl SceneThresholds {
+    /// The thresholds of the regress row named `row` (`cpu`, `gpu`, `gpu vs cpu`; any other row,
+    /// e.g. a backend compared with itself, gets the defaults).
+    pub fn for_row(&self, row: &str) -> Thresholds {
+        match row {
+            "cpu" => self.cpu,
+            "gpu" => self.gpu,
+            "gpu vs cpu" => self.gpu_vs_cpu,
+            _ => None,
+        }
+        .unwrap_or_default()
+    }
+}
+
+/// Thresholds by scene stem; scenes without an entry get [`Thresholds::default`] everywhere.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct ThresholdTable(BTreeMap<String, Thresholds>);
+pub struct ThresholdTable(BTreeMap<String, SceneThresholds>);
 
 impl ThresholdTable {
-    /// Parses the RON map `{ "stem": (rmse: 1.5, bad_fraction: 0.01), ... }`.
+    /// Parses the RON map `{ "stem": (gpu: (rmse: 1.5, bad_fraction: 0.01)), ... }` (see the
+    /// module docs); limits must be finite and non-negative.
     pub fn parse(text: &str) -> Result<Self, String> {
-        ron::from_str(text).map(Self).map_err(|e| e.to_string())
+        // `gpu: (rmse: …)` rather than `gpu: Some((rmse: …))`.
+        let table: BTreeMap<String, SceneThresholds> = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+            .from_str(text)
+            .map_err(|e| e.to_string())?;
+        for (stem, scene) in &table {
+            for (row, t) in [
+                ("cpu", scene.cpu),
+                ("gpu", scene.gpu),
+                ("gpu_vs_cpu", scene.gpu_vs_cpu),
+            ] {
+                if let Some(t) = t {
+                    for (field, v) in [("rmse", t.rmse), ("bad_fraction", t.bad_fraction)] {
+                        if !(v.is_finite() && v >= 0.0) {
+                            return Err(format!(
+                                "\"{stem}\".{row}.{field}: must be finite and >= 0, got {v}"
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(Self(table))
     }
 
     /// Reads `<dir>/thresholds.ron`; a missing file means defaults for every scene.
@@ -54,8 +115,8 @@ impl ThresholdTable {
         }
     }
 
-    /// The thresholds for scene `stem`.
-    pub fn get(&self, stem: &str) -> Thresholds {
+    /// The thresholds of scene `stem`, per comparison.
+    pub fn get(&self, stem: &str) -> SceneThresholds {
         self.0.get(stem).copied().unwrap_or_default()
     }
 }
@@ -65,30 +126,48 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parses_entries_and_defaults_the_rest() {
+    fn parses_entries_per_backend_and_defaults_the_rest() {
         let t = ThresholdTable::parse(
-            r#"{ "clouds": (rmse: 2.5, bad_fraction: 0.01), "fog": (rmse: 1.5, bad_fraction: 0.0) }"#,
+            r#"{ "clouds": (gpu: (rmse: 2.5, bad_fraction: 0.01), gpu_vs_cpu: (rmse: 3.0, bad_fraction: 0.02)),
+                 "fog": (cpu: (rmse: 0.5, bad_fraction: 0.0)), "empty": () }"#,
         )
         .unwrap();
+        let clouds = t.get("clouds");
         assert_eq!(
-            t.get("clouds"),
+            clouds.for_row("gpu"),
             Thresholds {
                 rmse: 2.5,
                 bad_fraction: 0.01
             }
         );
-        assert_eq!(t.get("fog").bad_fraction, 0.0);
-        assert_eq!(t.get("sphere"), Thresholds::default());
+        assert_eq!(clouds.for_row("gpu vs cpu").rmse, 3.0);
+        // The CPU row is not loosened by the GPU's entries.
+        assert_eq!(clouds.for_row("cpu"), Thresholds::default());
+        assert_eq!(clouds.for_row("cpu vs cpu"), Thresholds::default());
+        assert_eq!(t.get("fog").for_row("cpu").bad_fraction, 0.0);
+        assert_eq!(t.get("fog").for_row("gpu"), Thresholds::default());
+        assert_eq!(t.get("empty"), SceneThresholds::default());
+        assert_eq!(t.get("sphere").for_row("gpu"), Thresholds::default());
         assert_eq!(Thresholds::default().rmse, 1.0);
         assert_eq!(Thresholds::default().bad_fraction, 0.002);
     }
 
     #[test]
-    fn rejects_malformed_files() {
-        assert!(ThresholdTable::parse(r#"{ "x": (rmse: 1.0) }"#).is_err());
+    fn rejects_malformed_files_with_clear_errors() {
+        assert!(ThresholdTable::parse(r#"{ "x": (gpu: (rmse: 1.0)) }"#).is_err());
         assert!(
-            ThresholdTable::parse(r#"{ "x": (rmse: 1.0, bad_fraction: 0.1, max: 3) }"#).is_err()
+            ThresholdTable::parse(r#"{ "x": (gpu: (rmse: 1.0, bad_fraction: 0.1, max: 3)) }"#)
+                .is_err()
         );
+        // The old per-scene form and unknown backends are refused, naming the field.
+        let e = ThresholdTable::parse(r#"{ "x": (rmse: 1.0, bad_fraction: 0.1) }"#).unwrap_err();
+        assert!(e.contains("rmse"), "{e}");
+        let e = ThresholdTable::parse(r#"{ "x": (gpus: (rmse: 1.0, bad_fraction: 0.1)) }"#)
+            .unwrap_err();
+        assert!(e.contains("gpus") && e.contains("gpu_vs_cpu"), "{e}");
+        let e = ThresholdTable::parse(r#"{ "x": (gpu: (rmse: -1.0, bad_fraction: 0.1)) }"#)
+            .unwrap_err();
+        assert_eq!(e, "\"x\".gpu.rmse: must be finite and >= 0, got -1");
         assert!(ThresholdTable::parse("nonsense").is_err());
     }
 
