@@ -1,6 +1,11 @@
-// freeform.wgsl — per-pixel ray casting of free-form solids (quadrics + perturbations + CSG) by
-// binary search along each ray, with shading and shadow rays: the GPU twin of fray-geometry's
-// RayCaster and fray-trace's shading. f32, every position relative to the camera (eye).
+// freeform.wgsl — ray casting of free-form solids (quadrics + perturbations + CSG) by binary
+// search along each ray, with shading and shadow rays: the GPU twin of fray-geometry's RayCaster
+// and fray-trace's shading. f32, every position relative to the camera (eye).
+//
+// One workgroup per quadtree work item (fray-gpu `work`): its invocations cover the item's tile,
+// and each primary ray is cast only against the item's candidate objects, with their active
+// leaves and perturbations and their pruned CSG programs (fray-geometry `ActiveSet`). Pixels no
+// item covers are culled: nothing runs for them. Shadow rays and normals use whole solids.
 //
 // The structs, op codes and array sizes come from a Rust-generated prelude (fray-gpu
 // `shader::prelude`), never written here. Specialisation by `override` constants: features the
@@ -31,6 +36,23 @@ const ILLINOIS_STEPS: u32 = 100u;
 @group(0) @binding(6) var<storage, read> materials: array<GpuMaterial>;
 @group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
 @group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, 8>;
+// The work list: this dispatch's items, and the frame's candidates, active leaves (solid-local),
+// active perturbations (object-wide) and per-candidate (first word, length) in `program`.
+@group(0) @binding(9) var<storage, read> items: array<WorkItem>;
+@group(0) @binding(10) var<storage, read> candidates: array<Candidate>;
+@group(0) @binding(11) var<storage, read> active_leaves: array<u32>;
+@group(0) @binding(12) var<storage, read> active_perturbations: array<u32>;
+@group(0) @binding(13) var<storage, read> candidate_programs: array<vec2<u32>>;
+
+// Which parts of a solid a cast uses: a work-list candidate's, or all of them (`all`).
+struct Parts {
+    leaf_start: u32,
+    leaf_count: u32,
+    pert_start: u32,
+    pert_count: u32,
+    program: vec2<u32>,
+    all: bool,
+}
 
 // One leaf restricted to the current ray (in the solid's shifted parameter s = t − t0).
 struct LeafRay {
@@ -47,6 +69,9 @@ var<private> leaf_ray: array<LeafRay, MAX_LEAVES>;
 // (a, b, c, form factor) of each perturbation kept for the current ray.
 var<private> pert_ray: array<vec4<f32>, MAX_PERTURBATIONS>;
 var<private> bound_evals: u32;
+// The program of the solid being cast (first word, length) and its first leaf.
+var<private> cast_program: vec2<u32>;
+var<private> cast_first_leaf: u32;
 var<private> point_evals: u32;
 
 // ---- quadrics ----------------------------------------------------------------------------
@@ -208,14 +233,40 @@ fn camera_ray(px: u32, py: u32) -> CameraRay {
 
 // ---- one solid along one ray ---------------------------------------------------------------
 
-// Restricts every leaf of solid `si` to the ray o + s d, s ∈ [0, hi]; false if no leaf is reached.
-fn prepare(si: u32, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
+// Keeps perturbation `k` (global index) for the ray if it has a factor and its support meets the
+// ray over [lo, hi]; returns the new count of kept perturbations.
+fn keep_perturbation(k: u32, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, np: u32) -> u32 {
+    let p = perturbations[k];
+    let q = q_on_ray(p.quadric, o, d);
+    if p.params.x != 0.0 && qr_range(q, lo, hi).y > 0.0 {
+        pert_ray[np] = vec4<f32>(q, p.params.x);
+        return np + 1u;
+    }
+    return np;
+}
+
+// Restricts the leaves of solid `si` in `parts` to the ray o + s d, s ∈ [0, hi] (leaves left
+// out are absent, perturbations left out are skipped); false if no leaf is reached.
+fn prepare(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
     let info = solids[si].info;
+    // Object-wide perturbation k is global perturbation `first_pert + k`.
+    let first_pert = leaves[info.x].info.y;
     var any = false;
     var np = 0u;
+    var next_leaf = 0u;
+    var next_pert = 0u;
     for (var i = 0u; i < info.y; i++) {
         let leaf = leaves[info.x + i];
-        let present = clip_box(leaf.box_min.xyz, leaf.box_max.xyz, o, d, 0.0, hi);
+        var in_parts = parts.all;
+        if !parts.all && next_leaf < parts.leaf_count
+            && active_leaves[parts.leaf_start + next_leaf] == i {
+            in_parts = true;
+            next_leaf++;
+        }
+        var present = vec2<f32>(1.0, -1.0);
+        if in_parts {
+            present = clip_box(leaf.box_min.xyz, leaf.box_max.xyz, o, d, 0.0, hi);
+        }
         var lr: LeafRay;
         lr.present = present.x <= present.y;
         lr.lo = present.x;
@@ -224,12 +275,24 @@ fn prepare(si: u32, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
         lr.base = q_on_ray(leaf.base, o, d);
         lr.p0 = np;
         if HAS_PERTURBATIONS && lr.present {
-            for (var k = leaf.info.y; k < leaf.info.z; k++) {
-                let p = perturbations[k];
-                let q = q_on_ray(p.quadric, o, d);
-                if p.params.x != 0.0 && qr_range(q, present.x, present.y).y > 0.0 {
-                    pert_ray[np] = vec4<f32>(q, p.params.x);
-                    np++;
+            if parts.all {
+                for (var k = leaf.info.y; k < leaf.info.z; k++) {
+                    np = keep_perturbation(k, o, d, present.x, present.y, np);
+                }
+            } else {
+                // The active list is increasing: skip earlier leaves' entries, take this leaf's.
+                loop {
+                    if next_pert >= parts.pert_count {
+                        break;
+                    }
+                    let k = first_pert + active_perturbations[parts.pert_start + next_pert];
+                    if k >= leaf.info.z {
+                        break;
+                    }
+                    if k >= leaf.info.y {
+                        np = keep_perturbation(k, o, d, present.x, present.y, np);
+                    }
+                    next_pert++;
                 }
             }
         }
@@ -289,19 +352,23 @@ fn leaf_value(i: u32, s: f32) -> f32 {
     return v;
 }
 
-fn solid_bound(si: u32, lo: f32, hi: f32) -> vec4<f32> {
+// The bound of the solid being cast (its program `cast_program`) over [lo, hi].
+fn solid_bound(lo: f32, hi: f32) -> vec4<f32> {
     bound_evals++;
-    let info = solids[si].info;
-    if !HAS_CSG || info.w == 1u {
+    if !HAS_CSG {
         return leaf_bound(0u, lo, hi);
+    }
+    let first = cast_program.x;
+    if cast_program.y == 1u {
+        return leaf_bound((program[first] >> OP_BITS) - cast_first_leaf, lo, hi);
     }
     var stack: array<vec4<f32>, MAX_STACK>;
     var top = 0u;
-    for (var w = info.z; w < info.z + info.w; w++) {
+    for (var w = first; w < first + cast_program.y; w++) {
         let word = program[w];
         let op = word & ((1u << OP_BITS) - 1u);
         if op == OP_LEAF {
-            stack[top] = leaf_bound((word >> OP_BITS) - info.x, lo, hi);
+            stack[top] = leaf_bound((word >> OP_BITS) - cast_first_leaf, lo, hi);
             top++;
         } else if op == OP_NEG {
             let v = stack[top - 1u];
@@ -339,19 +406,23 @@ fn solid_bound(si: u32, lo: f32, hi: f32) -> vec4<f32> {
     return stack[0];
 }
 
-fn solid_value(si: u32, s: f32) -> f32 {
+// The value of the solid being cast at s.
+fn solid_value(s: f32) -> f32 {
     point_evals++;
-    let info = solids[si].info;
-    if !HAS_CSG || info.w == 1u {
+    if !HAS_CSG {
         return leaf_value(0u, s);
+    }
+    let first = cast_program.x;
+    if cast_program.y == 1u {
+        return leaf_value((program[first] >> OP_BITS) - cast_first_leaf, s);
     }
     var stack: array<f32, MAX_STACK>;
     var top = 0u;
-    for (var w = info.z; w < info.z + info.w; w++) {
+    for (var w = first; w < first + cast_program.y; w++) {
         let word = program[w];
         let op = word & ((1u << OP_BITS) - 1u);
         if op == OP_LEAF {
-            stack[top] = leaf_value((word >> OP_BITS) - info.x, s);
+            stack[top] = leaf_value((word >> OP_BITS) - cast_first_leaf, s);
             top++;
         } else if op == OP_NEG {
             stack[top - 1u] = -stack[top - 1u];
@@ -370,7 +441,7 @@ fn solid_value(si: u32, s: f32) -> f32 {
 }
 
 // Illinois regula falsi on f(a) < 0 ≤ f(b) with a single root; a point ≥ the root within eps.
-fn illinois(si: u32, a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> f32 {
+fn illinois(a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> f32 {
     var a = a_in;
     var fa = fa_in;
     var b = b_in;
@@ -394,7 +465,7 @@ fn illinois(si: u32, a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> 
                 break;
             }
         }
-        let fc = solid_value(si, c);
+        let fc = solid_value(c);
         if fc >= 0.0 {
             b = c;
             fb = fc;
@@ -415,8 +486,8 @@ fn illinois(si: u32, a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> 
 }
 
 // The first s in [lo, hi] with F′ ≥ 0 (to within eps), or NO_HIT: RayCaster::search.
-fn search(si: u32, lo: f32, hi: f32, eps: f32) -> f32 {
-    if solid_value(si, lo) >= 0.0 {
+fn search(lo: f32, hi: f32, eps: f32) -> f32 {
+    if solid_value(lo) >= 0.0 {
         return lo;
     }
     var segments: array<vec2<f32>, SEG_STACK>;
@@ -429,7 +500,7 @@ fn search(si: u32, lo: f32, hi: f32, eps: f32) -> f32 {
         n--;
         let a = segments[n].x;
         let b = segments[n].y;
-        let bound = solid_bound(si, a, b);
+        let bound = solid_bound(a, b);
         if bound.y < 0.0 {
             continue;
         }
@@ -437,28 +508,28 @@ fn search(si: u32, lo: f32, hi: f32, eps: f32) -> f32 {
             return a;
         }
         if bound.z > 0.0 {
-            let fb = solid_value(si, b);
+            let fb = solid_value(b);
             if fb < 0.0 {
                 continue;
             }
-            let fa = solid_value(si, a);
+            let fa = solid_value(a);
             if fa >= 0.0 {
                 return a;
             }
-            return illinois(si, a, fa, b, fb, eps);
+            return illinois(a, fa, b, fb, eps);
         }
         if bound.w < 0.0 {
-            if solid_value(si, a) >= 0.0 {
+            if solid_value(a) >= 0.0 {
                 return a;
             }
             continue;
         }
         let m = a + 0.5 * (b - a);
         if b - a <= eps || m <= a || m >= b || n + 2u > SEG_STACK {
-            if solid_value(si, m) >= 0.0 {
+            if solid_value(m) >= 0.0 {
                 return m;
             }
-            if solid_value(si, b) >= 0.0 {
+            if solid_value(b) >= 0.0 {
                 return b;
             }
             continue;
@@ -472,7 +543,7 @@ fn search(si: u32, lo: f32, hi: f32, eps: f32) -> f32 {
 
 // The first t in [lo, hi] where solid `si` is non-negative, or NO_HIT. The search runs in
 // s = t − t0 from the solid's box entry t0, which keeps the quadratics well conditioned in f32.
-fn cast_solid(si: u32, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, eps: f32) -> f32 {
+fn cast_solid(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, eps: f32) -> f32 {
     let solid = solids[si];
     let range = clip_box(solid.box_min.xyz, solid.box_max.xyz, o, d, lo, hi);
     if range.x > range.y {
@@ -481,10 +552,12 @@ fn cast_solid(si: u32, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, eps: f32) -
     let t0 = range.x;
     let os = o + d * t0;
     let end = range.y - t0;
-    if !prepare(si, os, d, end) {
+    if !prepare(si, parts, os, d, end) {
         return NO_HIT;
     }
-    let s = search(si, 0.0, end, eps);
+    cast_program = parts.program;
+    cast_first_leaf = solid.info.x;
+    let s = search(0.0, end, eps);
     if s < 0.0 {
         return NO_HIT;
     }
@@ -596,12 +669,31 @@ struct Hit {
     solid: u32,
 }
 
-fn nearest_hit(o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) -> Hit {
+// Every part of solid `si`, with its whole program.
+fn all_parts(si: u32) -> Parts {
+    var parts: Parts;
+    parts.all = true;
+    parts.program = solids[si].info.zw;
+    return parts;
+}
+
+// The nearest hit over the candidates of `item` (objects in increasing order, each with its
+// active parts; on a tie the earlier object keeps the hit).
+fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) -> Hit {
     var best: Hit;
     best.t = NO_HIT;
     var hi = BIG;
-    for (var si = 0u; si < frame.size.w; si++) {
-        let t = cast_solid(si, o, d, lo, hi, eps);
+    for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
+        let cand = candidates[c];
+        var parts: Parts;
+        parts.all = false;
+        parts.leaf_start = cand.leaf_start;
+        parts.leaf_count = cand.leaf_count;
+        parts.pert_start = cand.perturbation_start;
+        parts.pert_count = cand.perturbation_count;
+        parts.program = candidate_programs[c];
+        let si = cand.object;
+        let t = cast_solid(si, parts, o, d, lo, hi, eps);
         if t >= 0.0 && (best.t < 0.0 || t < best.t) {
             hi = t;
             best.t = t;
@@ -613,7 +705,7 @@ fn nearest_hit(o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) -> Hit {
 
 fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
     for (var si = 0u; si < frame.size.w; si++) {
-        if cast_solid(si, o, d, 0.0, distance, eps) >= 0.0 {
+        if cast_solid(si, all_parts(si), o, d, 0.0, distance, eps) >= 0.0 {
             return true;
         }
     }
@@ -687,7 +779,7 @@ fn add_wide(lo: u32, value: u32) {
 }
 
 // One pixel: camera ray, nearest hit, normal, shading. Writes colour + depth and normal + hit.
-fn render_pixel(px: u32, py: u32, slot: u32) {
+fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) {
     let eps = frame.up.w;
     let miss_colour = vec4<f32>(frame.background.xyz, -1.0);
     output[2u * slot] = miss_colour;
@@ -696,7 +788,7 @@ fn render_pixel(px: u32, py: u32, slot: u32) {
     if !ray.ok {
         return;
     }
-    let hit = nearest_hit(ray.origin, ray.dir, ray.t_near, eps);
+    let hit = nearest_hit(item, ray.origin, ray.dir, ray.t_near, eps);
     if hit.t < 0.0 {
         return;
     }
@@ -718,16 +810,27 @@ fn render_pixel(px: u32, py: u32, slot: u32) {
     atomicAdd(&counters[0], 1u);
 }
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let rows = frame.mode.z;
-    if gid.x >= frame.size.x || gid.y >= rows {
+// One workgroup per work item of this dispatch (`frame.mode.w` of them; a 2D grid of groups when
+// there are more than a dimension holds); its TILE_THREADS² invocations stride over the tile.
+@compute @workgroup_size(TILE_THREADS, TILE_THREADS)
+fn main(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    let k = group.y * groups.x + group.x;
+    if k >= frame.mode.w {
         return;
     }
+    let item = items[k];
     bound_evals = 0u;
     point_evals = 0u;
     shadow_rays = 0u;
-    render_pixel(gid.x, gid.y + frame.size.z, gid.y * frame.size.x + gid.x);
+    for (var py = item.y0 + local.y; py < item.y1; py += TILE_THREADS) {
+        for (var px = item.x0 + local.x; px < item.x1; px += TILE_THREADS) {
+            render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px);
+        }
+    }
     if shadow_rays > 0u {
         atomicAdd(&counters[1], shadow_rays);
     }

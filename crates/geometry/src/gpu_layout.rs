@@ -83,6 +83,17 @@ pub fn vec4(v: DVec3, w: f64) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, w as f32]
 }
 
+/// The program word of `op` for a solid whose leaves start at `first_leaf` in the leaf array
+/// (a leaf's index is global there). Also encodes pruned programs ([`crate::ActiveSet::program`]).
+pub fn program_word(op: CsgOp, first_leaf: u32) -> u32 {
+    match op {
+        CsgOp::Leaf(i) => ((first_leaf + i) << OP_BITS) | OP_LEAF,
+        CsgOp::Max => OP_MAX,
+        CsgOp::Min => OP_MIN,
+        CsgOp::Neg => OP_NEG,
+    }
+}
+
 /// Rounds `b` to f32 outward, relative to `reference`, so the f32 box still holds the f64 one.
 fn box_relative(b: &Aabb, reference: DVec3) -> ([f32; 4], [f32; 4]) {
     let lo = b.min - reference;
@@ -146,14 +157,12 @@ impl GpuSolids {
                 info: [u32::from(leaf.clips()), start, end, tag(i)],
             });
         }
-        for op in solid.program() {
-            self.program.push(match *op {
-                CsgOp::Leaf(i) => ((first_leaf + i) << OP_BITS) | OP_LEAF,
-                CsgOp::Max => OP_MAX,
-                CsgOp::Min => OP_MIN,
-                CsgOp::Neg => OP_NEG,
-            });
-        }
+        self.program.extend(
+            solid
+                .program()
+                .iter()
+                .map(|&op| program_word(op, first_leaf)),
+        );
         let (box_min, box_max) = box_relative(&solid.bounds(), self.reference);
         self.solids.push(GpuSolid {
             box_min,

@@ -1,9 +1,12 @@
-//! GPU frame time (dispatch + readback, pipeline built once beforehand) of data/scenes/csg.ron
-//! and turboprop.ron at 1024², on whatever adapter wgpu finds; the adapter's name is printed and
-//! put into the benchmark id. Without an adapter the benchmark says so and measures nothing.
+//! GPU frame time (dispatch + readback; pipeline and work list built once beforehand) of
+//! data/scenes/csg.ron and turboprop.ron at 1024², with the quadtree work list (`culled`) and
+//! with every tile and every object (`unculled`), plus the host-side work-list build, on whatever
+//! adapter wgpu finds; the adapter's name is printed and put into the benchmark id. Without an
+//! adapter the benchmark says so and measures nothing.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use fray_gpu::{GpuRenderer, GpuSettings};
+use fray_geometry::gpu_layout::GpuSolids;
+use fray_gpu::{GpuRenderer, GpuSettings, GpuWork};
 use std::path::Path;
 use std::time::Duration;
 
@@ -26,13 +29,26 @@ fn frames(c: &mut Criterion) {
         let mut scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         scene.width = 1024;
         scene.height = 1024;
-        let settings = GpuSettings::for_scene(&scene);
-        let pass = gpu
-            .prepare(&scene, &settings)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
-        group.bench_function(format!("{name}_shaded"), |b| {
-            b.iter(|| pass.run(gpu.context()).map(|o| o.hits))
+        let mut solids = GpuSolids::new(fray_gpu::params::reference_point(&scene.camera));
+        for object in &scene.objects {
+            solids.push(&object.solid, |_| 0);
+        }
+        group.bench_function(format!("{name}_work_list"), |b| {
+            b.iter(|| GpuWork::culled(&scene, &solids).map(|w| w.items.len()))
         });
+        for culling in [true, false] {
+            let settings = GpuSettings {
+                culling,
+                ..GpuSettings::for_scene(&scene)
+            };
+            let pass = gpu
+                .prepare(&scene, &settings)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let label = if culling { "culled" } else { "unculled" };
+            group.bench_function(format!("{name}_shaded_{label}"), |b| {
+                b.iter(|| pass.run(gpu.context()).map(|o| o.hits))
+            });
+        }
     }
     group.finish();
 }

@@ -14,6 +14,8 @@ pub enum GpuError {
     Pipeline { pass: &'static str, reason: String },
     #[error("the {pass} pass failed on the GPU: {reason}")]
     Dispatch { pass: &'static str, reason: String },
+    #[error("building the work list failed: {0}")]
+    WorkList(String),
     #[error("epsilon must be finite and > 0, got {0}")]
     BadEpsilon(f64),
     #[error("image size must be at least 1 × 1, got {0} × {1}")]

@@ -1,28 +1,33 @@
-//! The free-form pass: one compute dispatch per band of rows that casts, shades and writes each
-//! pixel (colour + depth, normal), then reads the band back. Owns its pipeline and buffers.
+//! The free-form pass: one compute dispatch per band of rows over the band's quadtree work items
+//! (one workgroup per item) that casts, shades and writes each pixel of the items' tiles (colour +
+//! depth, normal), then reads the band back. Owns its pipeline, scene and work-list buffers.
 
 use crate::params::{self, FrameParams};
 use crate::shader::{self, ArraySizes, Specialisation};
+use crate::work::{GpuWork, TILE};
 use crate::{GpuContext, GpuError};
 use bytemuck::Pod;
 use fray_geometry::gpu_layout::GpuSolids;
+use fray_quadtree::{QuadtreeStats, WorkItem};
 use fray_scene::Scene;
 use wgpu::util::DeviceExt;
 
 const PASS: &str = "free-form";
 /// Bytes written per pixel: two `vec4<f32>` (colour + depth, normal + hit flag).
 const BYTES_PER_PIXEL: u64 = 32;
-const WORKGROUP: u32 = 8;
 const COUNTERS: usize = 8;
+/// Storage buffers the pass binds (scene 6, output, counters, work list 5).
+const STORAGE_BUFFERS: u32 = 13;
 /// Upper bound of one band's output buffer (smaller bands keep readback memory modest).
 const BAND_BYTES: u64 = 64 << 20;
 
 /// What one run of the pass produced, in f32 as the GPU wrote it.
 #[derive(Clone, Debug, Default)]
 pub struct PassOutput {
-    /// Per pixel (row-major): `[r, g, b, depth]`, depth `< 0` for no hit.
+    /// Per pixel (row-major): `[r, g, b, depth]`; for a miss the background and depth `< 0`,
+    /// and all zeros where no work item covered the pixel (culled: a miss too).
     pub colour_depth: Vec<[f32; 4]>,
-    /// Per pixel: `[nx, ny, nz, hit]`.
+    /// Per pixel: `[nx, ny, nz, hit]` (`hit` is 1 for a hit, 0 otherwise).
     pub normal: Vec<[f32; 4]>,
     pub hits: u64,
     pub shadow_rays: u64,
@@ -38,6 +43,9 @@ pub struct FreeFormPass {
     params: FrameParams,
     params_buffer: wgpu::Buffer,
     scene_buffers: [wgpu::Buffer; 6],
+    /// Candidates, active leaves, active perturbations, candidate programs (bindings 10–13).
+    work_buffers: [wgpu::Buffer; 4],
+    work: GpuWork,
     counters: wgpu::Buffer,
     specialisation: Specialisation,
 }
@@ -70,13 +78,15 @@ fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntr
 }
 
 impl FreeFormPass {
-    /// Builds the specialised pipeline and uploads `scene` (positions relative to the eye).
+    /// Builds the specialised pipeline, uploads `scene` (positions relative to the eye) and its
+    /// work list: the quadtree's when `culling`, else every tile with every object.
     pub fn new(
         ctx: &GpuContext,
         scene: &Scene,
         epsilon: f64,
         shadow_offset: f64,
         specialisation: Specialisation,
+        culling: bool,
     ) -> Result<Self, GpuError> {
         let reference = params::reference_point(&scene.camera);
         let mut solids = GpuSolids::new(reference);
@@ -89,6 +99,19 @@ impl FreeFormPass {
                     .copied()
                     .filter(|&m| m < material_count)
                     .unwrap_or(material_count)
+            });
+        }
+        let work = if culling {
+            GpuWork::culled(scene, &solids).map_err(|e| GpuError::WorkList(e.to_string()))?
+        } else {
+            GpuWork::everything(scene, &solids)
+        };
+        let storage_limit = ctx.limits.max_storage_buffers_per_shader_stage;
+        if storage_limit < STORAGE_BUFFERS {
+            return Err(GpuError::TooLarge {
+                what: "storage buffers per shader stage",
+                needed: u64::from(STORAGE_BUFFERS),
+                limit: u64::from(storage_limit),
             });
         }
         let sizes = ArraySizes {
@@ -118,6 +141,11 @@ impl FreeFormPass {
                 entry(6, read),
                 entry(7, B::Storage { read_only: false }),
                 entry(8, B::Storage { read_only: false }),
+                entry(9, read),
+                entry(10, read),
+                entry(11, read),
+                entry(12, read),
+                entry(13, read),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -161,7 +189,7 @@ impl FreeFormPass {
                 &solids.perturbations,
                 Default::default(),
             ),
-            storage(ctx, "program", &solids.program, 0u32),
+            storage(ctx, "program", &work.program, 0u32),
             storage(ctx, "lights", &params::lights(scene), Default::default()),
             storage(
                 ctx,
@@ -169,6 +197,12 @@ impl FreeFormPass {
                 &params::materials(scene),
                 Default::default(),
             ),
+        ];
+        let work_buffers = [
+            storage(ctx, "candidates", &work.candidates, Default::default()),
+            storage(ctx, "active leaves", &work.leaves, 0u32),
+            storage(ctx, "active perturbations", &work.perturbations, 0u32),
+            storage(ctx, "candidate programs", &work.programs, [0u32; 2]),
         ];
         let counters = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("counters"),
@@ -184,6 +218,8 @@ impl FreeFormPass {
             params,
             params_buffer,
             scene_buffers,
+            work_buffers,
+            work,
             counters,
             specialisation,
         })
@@ -194,7 +230,13 @@ impl FreeFormPass {
         self.specialisation
     }
 
-    /// Rows per dispatch for an image `width` wide on this device.
+    /// The quadtree's counts when this pass culls (`None`: every tile is rendered).
+    pub fn work_stats(&self) -> Option<QuadtreeStats> {
+        self.work.stats
+    }
+
+    /// Rows per dispatch for an image `width` wide on this device: a multiple of the tile side
+    /// (tiles are aligned to it, so every item lies in one band).
     fn band_rows(ctx: &GpuContext, width: u32, height: u32) -> u32 {
         let limit = ctx
             .limits
@@ -202,29 +244,51 @@ impl FreeFormPass {
             .min(ctx.limits.max_buffer_size)
             .min(BAND_BYTES);
         let per_row = BYTES_PER_PIXEL * u64::from(width.max(1));
-        let rows = (limit / per_row).max(1);
-        let max_groups = u64::from(ctx.limits.max_compute_workgroups_per_dimension);
-        rows.min(max_groups * u64::from(WORKGROUP))
-            .min(u64::from(height.max(1))) as u32
+        let tile = u64::from(TILE);
+        let rows = (limit / per_row / tile).max(1) * tile;
+        rows.min(u64::from(height.max(1)).next_multiple_of(tile)) as u32
     }
 
     /// Renders every pixel and reads the results back.
     pub fn run(&self, ctx: &GpuContext) -> Result<PassOutput, GpuError> {
         let (width, height) = (self.params.size[0], self.params.size[1]);
-        if u64::from(width) * BYTES_PER_PIXEL > ctx.limits.max_buffer_size {
+        let tile_rows_bytes = u64::from(width) * BYTES_PER_PIXEL * u64::from(TILE);
+        let buffer_limit = ctx
+            .limits
+            .max_storage_buffer_binding_size
+            .min(ctx.limits.max_buffer_size);
+        if tile_rows_bytes > buffer_limit {
             return Err(GpuError::TooLarge {
-                what: "bytes per image row",
-                needed: u64::from(width) * BYTES_PER_PIXEL,
-                limit: ctx.limits.max_buffer_size,
+                what: "bytes per row of tiles",
+                needed: tile_rows_bytes,
+                limit: buffer_limit,
             });
         }
         let device = &ctx.device;
         let band = Self::band_rows(ctx, width, height);
+        let bands: Vec<(u32, u32)> = (0..height)
+            .step_by(band as usize)
+            .map(|y0| (y0, band.min(height - y0)))
+            .collect();
+        let most_items = bands
+            .iter()
+            .map(|&(y0, rows)| self.work.band(y0, y0 + rows).len())
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        let items = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("work items"),
+            size: (most_items * std::mem::size_of::<WorkItem>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let band_bytes = u64::from(band) * u64::from(width) * BYTES_PER_PIXEL;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("free-form output"),
             size: band_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
@@ -257,6 +321,16 @@ impl FreeFormPass {
             binding: 8,
             resource: self.counters.as_entire_binding(),
         });
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: items.as_entire_binding(),
+        });
+        for (i, b) in self.work_buffers.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 10 + i as u32,
+                resource: b.as_entire_binding(),
+            });
+        }
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("free-form"),
             layout: &self.layout,
@@ -271,28 +345,45 @@ impl FreeFormPass {
             normal: Vec::with_capacity(pixels),
             ..PassOutput::default()
         };
-        let mut y0 = 0u32;
-        while y0 < height {
-            let rows = band.min(height - y0);
+        let max_groups = ctx.limits.max_compute_workgroups_per_dimension.max(1);
+        for (i, &(y0, rows)) in bands.iter().enumerate() {
+            let band_items = self.work.band(y0, y0 + rows);
+            let n = band_items.len() as u32;
+            let bytes = u64::from(rows) * u64::from(width) * BYTES_PER_PIXEL;
+            let last = i + 1 == bands.len();
+            if n == 0 && !last {
+                // Every tile of the band was culled: nothing to run, nothing hit.
+                let pixels = (u64::from(rows) * u64::from(width)) as usize;
+                out.colour_depth
+                    .extend(std::iter::repeat_n([0.0; 4], pixels));
+                out.normal.extend(std::iter::repeat_n([0.0; 4], pixels));
+                continue;
+            }
             let mut params = self.params;
             params.size[2] = y0;
             params.mode[2] = rows;
+            params.mode[3] = n;
             ctx.queue
                 .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&params));
-            let bytes = u64::from(rows) * u64::from(width) * BYTES_PER_PIXEL;
+            if n > 0 {
+                ctx.queue
+                    .write_buffer(&items, 0, bytemuck::cast_slice(band_items));
+            }
             let mut encoder =
                 device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            {
+            // Pixels no item covers stay zero (a miss).
+            encoder.clear_buffer(&output, 0, Some(bytes));
+            if n > 0 {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("free-form"),
                     timestamp_writes: None,
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
-                pass.dispatch_workgroups(width.div_ceil(WORKGROUP), rows.div_ceil(WORKGROUP), 1);
+                let x = n.min(max_groups);
+                pass.dispatch_workgroups(x, n.div_ceil(x), 1);
             }
             encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
-            let last = y0 + rows >= height;
             if last {
                 encoder.copy_buffer_to_buffer(
                     &self.counters,
@@ -316,7 +407,6 @@ impl FreeFormPass {
                 out.bound_evaluations = wide(2);
                 out.point_evaluations = wide(4);
             }
-            y0 += rows;
         }
         Ok(out)
     }

@@ -22,6 +22,7 @@ pub mod freeform_pass;
 pub mod params;
 mod render;
 pub mod shader;
+pub mod work;
 
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use error::GpuError;
@@ -30,3 +31,4 @@ pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuSettings, SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon,
     render,
 };
+pub use work::GpuWork;

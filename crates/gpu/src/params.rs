@@ -18,7 +18,7 @@ pub const LIGHT_POINT: u32 = 1;
 /// Frame parameters (one uniform buffer).
 ///
 /// `size = (width, height, first row of this dispatch, solid count)`,
-/// `mode = (projector kind, light count, rows in this dispatch, –)`;
+/// `mode = (projector kind, light count, rows in this dispatch, work items in this dispatch)`;
 /// `forward.w` = pinhole `tan(fov_y/2)` or parallel half height; `right.w` = near distance;
 /// `up.w` = ε; `centre` = sphere centre (relative) and radius; `sphere = (fov_x, fov_y,
 /// ripple amplitude, ripple frequency)`; `shade.x` = shadow-ray offset.

@@ -22,6 +22,9 @@ pub struct GpuSettings {
     pub epsilon: f64,
     /// Cast shadow rays toward the lights.
     pub shadows: bool,
+    /// Render from the quadtree work list (`fray_scene::work_list`): culled tiles run nothing
+    /// and each tile casts only its candidates' active parts. Lossless: the same image as off.
+    pub culling: bool,
 }
 
 impl GpuSettings {
@@ -30,6 +33,7 @@ impl GpuSettings {
         Self {
             epsilon: scene.epsilon(),
             shadows: scene.settings.shadows,
+            culling: true,
         }
     }
 }
@@ -83,7 +87,14 @@ impl GpuRenderer {
         }
         let eps = gpu_epsilon(scene, settings.epsilon);
         let spec = Specialisation::for_scene(scene, settings.shadows);
-        FreeFormPass::new(&self.ctx, scene, eps, SHADOW_OFFSET_EPSILONS * eps, spec)
+        FreeFormPass::new(
+            &self.ctx,
+            scene,
+            eps,
+            SHADOW_OFFSET_EPSILONS * eps,
+            spec,
+            settings.culling,
+        )
     }
 
     /// Renders `scene`.
@@ -102,27 +113,32 @@ impl GpuRenderer {
                 let (Some(c), Some(n)) = (out.colour_depth.get(k), out.normal.get(k)) else {
                     continue;
                 };
-                colour.set(x, y, Vec3::new(c[0], c[1], c[2]));
                 if n[3] > 0.5 {
+                    colour.set(x, y, Vec3::new(c[0], c[1], c[2]));
                     depth.set(x, y, f64::from(c[3]));
                     normals.set(x, y, Vec3::new(n[0], n[1], n[2]));
+                } else {
+                    // A miss, or a pixel no work item covered (culled).
+                    colour.set(x, y, scene.background);
                 }
             }
         }
         let spec = pass.specialisation();
-        let mut passes = vec![
-            format!(
-                "pipelines built: {} ({:.1} ms)",
-                spec.describe(),
-                built.as_secs_f64() * 1e3
-            ),
-            "primary".to_owned(),
-        ];
+        let mut passes = vec![format!(
+            "pipelines built: {} ({:.1} ms)",
+            spec.describe(),
+            built.as_secs_f64() * 1e3
+        )];
+        let work = pass.work_stats();
+        if work.is_some() {
+            passes.push("quadtree".to_owned());
+        }
+        passes.push("primary".to_owned());
         passes.extend(scene.features.names().iter().map(|s| s.to_string()));
         if !spec.shadows {
             passes.retain(|p| p != "shadows");
         }
-        let stats = RenderStats {
+        let mut stats = RenderStats {
             backend: format!("gpu ({}, {})", self.ctx.adapter_name, self.ctx.backend),
             threads: 1,
             primary_rays: u64::from(w) * u64::from(h),
@@ -135,6 +151,11 @@ impl GpuRenderer {
             elapsed: start.elapsed(),
             ..RenderStats::default()
         };
+        if let Some(work) = work {
+            stats.cells_visited = work.cells_visited;
+            stats.cells_culled = work.cells_culled;
+            stats.work_items = work.items;
+        }
         Ok(Frame {
             colour,
             depth,

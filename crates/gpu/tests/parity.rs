@@ -5,6 +5,10 @@
 //! - hit/miss disagreement only on silhouette-edge pixels (a pixel whose 8-neighbourhood in the
 //!   CPU image holds both hits and misses, or different objects);
 //! - colour, away from edges and shadow boundaries: `|Δ| ≤ COLOUR_ABS + COLOUR_REL·|c|` per channel.
+//!
+//! And the GPU's quadtree culling against itself: culling on and off give bit-identical colour and
+//! depth and the same bound/point evaluation counts (the work list only skips what every ray of a
+//! tile would skip), with the work-list stats reported.
 
 mod common;
 
@@ -265,12 +269,123 @@ fn synthetic_scenes_match_the_cpu_reference() {
     }
 }
 
+/// A slab with `n × n` bumps on a grid and a CSG pair above it (many perturbations, few per tile).
+fn bumpy(n: u32) -> String {
+    let mut perts = String::new();
+    for i in 0..n {
+        for j in 0..n {
+            let x = -4.0 + 8.0 * (f64::from(i) + 0.5) / f64::from(n);
+            let z = -4.0 + 8.0 * (f64::from(j) + 0.5) / f64::from(n);
+            let f = if (i + j) % 3 == 0 { -0.6 } else { 1.2 };
+            let r = 2.0 / f64::from(n);
+            perts.push_str(&format!(
+                "(form_factor: {f}, quadric: Ellipsoid(center: ({x}, 0.3, {z}), radii: ({r}, {r}, {r}))),\n"
+            ));
+        }
+    }
+    format!(
+        r#"Scene(
+            image: (width: 96, height: 72),
+            camera: Pinhole(eye: (0, 5, -8), look_at: (0, 0, 0), fov_y: 45),
+            lights: [Sun(direction: (0.3, 1, -0.5), irradiance: (3, 3, 3))],
+            objects: [
+              (shape: FreeForm(base: Ellipsoid(center: (0, 0, 0), radii: (4.5, 0.3, 4.5)),
+                               perturbations: [{perts}])),
+              (shape: Difference(Sphere(center: (0, 1.5, 0), radius: 0.8),
+                                 Sphere(center: (0.5, 1.8, -0.5), radius: 0.5))),
+            ],
+        )"#
+    )
+}
+
+fn culling_on_and_off_give_the_same_image() {
+    let gpu = common::gpu("culling_on_and_off_give_the_same_image");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
+    let mut scenes: Vec<(String, Scene)> = Vec::new();
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    paths.sort();
+    for path in paths {
+        scenes.push((
+            path.display().to_string(),
+            sized(fray_scene::load(&path).unwrap()),
+        ));
+    }
+    for (name, text) in SYNTHETIC {
+        scenes.push((name.to_owned(), fray_scene::parse(text, name).unwrap()));
+    }
+    scenes.push((
+        "16×16 bumps".to_owned(),
+        fray_scene::parse(&bumpy(16), "bumpy.ron").unwrap(),
+    ));
+    let mut culled_cells = 0;
+    for (name, scene) in &scenes {
+        let on_settings = GpuSettings::for_scene(scene);
+        assert!(on_settings.culling, "culling is the default");
+        let on = gpu.render(scene, &on_settings).unwrap();
+        let off = gpu
+            .render(
+                scene,
+                &GpuSettings {
+                    culling: false,
+                    ..on_settings
+                },
+            )
+            .unwrap();
+        assert!(on.stats.passes.iter().any(|p| p == "quadtree"), "{name}");
+        assert!(!off.stats.passes.iter().any(|p| p == "quadtree"), "{name}");
+        assert!(
+            on.stats.work_items > 0 && on.stats.cells_visited > 0,
+            "{name}"
+        );
+        assert_eq!(
+            (off.stats.work_items, off.stats.cells_visited),
+            (0, 0),
+            "{name}"
+        );
+        culled_cells += on.stats.cells_culled;
+        let (mut identical, mut flips, mut max_diff) = (0usize, 0usize, 0f64);
+        for y in 0..scene.height {
+            for x in 0..scene.width {
+                let (a, b) = (on.depth.get(x, y), off.depth.get(x, y));
+                if a.to_bits() == b.to_bits() && on.colour.get(x, y) == off.colour.get(x, y) {
+                    identical += 1;
+                } else if a.is_finite() != b.is_finite() {
+                    flips += 1;
+                } else if a.is_finite() {
+                    max_diff = max_diff.max((a - b).abs());
+                }
+            }
+        }
+        let pixels = (scene.width * scene.height) as usize;
+        eprintln!(
+            "{name}: culling on vs off: {identical}/{pixels} pixels identical ({flips} hit/miss flips, max |Δdepth| {max_diff:.3e}); items {} of {} tiles, cells culled {}, bound evals on/off {}/{}",
+            on.stats.work_items,
+            scene.width.div_ceil(8) * scene.height.div_ceil(8),
+            on.stats.cells_culled,
+            on.stats.bound_evaluations,
+            off.stats.bound_evaluations
+        );
+        assert_eq!(identical, pixels, "{name}: culling changed the image");
+        assert_eq!(on.stats.hits, off.stats.hits, "{name}");
+        assert_eq!(
+            (on.stats.bound_evaluations, on.stats.point_evaluations),
+            (off.stats.bound_evaluations, off.stats.point_evaluations),
+            "{name}: culling changed the search"
+        );
+    }
+    assert!(culled_cells > 0, "no scene culled anything");
+}
+
 /// A custom harness (libtest-mimic) so that, without an adapter, these tests are reported as
 /// ignored rather than passed.
 fn main() {
     let args = Arguments::from_args();
     let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 2] = [
+    let tests: [(&str, fn()); 3] = [
         (
             "every_data_scene_matches_the_cpu_reference",
             every_data_scene_matches_the_cpu_reference,
@@ -278,6 +393,10 @@ fn main() {
         (
             "synthetic_scenes_match_the_cpu_reference",
             synthetic_scenes_match_the_cpu_reference,
+        ),
+        (
+            "culling_on_and_off_give_the_same_image",
+            culling_on_and_off_give_the_same_image,
         ),
     ];
     let trials = tests

@@ -48,7 +48,7 @@ pub struct RenderOptions {
     /// Worker threads for the CPU backend.
     pub threads: Option<usize>,
     pub shadows: Option<bool>,
-    /// Quadtree culling on the CPU backend (default on; the image is identical either way).
+    /// Quadtree culling on either backend (default on; the image is identical either way).
     pub culling: Option<bool>,
 }
 
@@ -130,6 +130,7 @@ impl Renderer {
                 let gpu_settings = GpuSettings {
                     epsilon: settings.epsilon,
                     shadows: settings.shadows,
+                    culling: settings.culling,
                 };
                 match fray_gpu::render(&scene, &gpu_settings) {
                     Ok(frame) => {
