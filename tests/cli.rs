@@ -198,3 +198,45 @@ fn backend_flag_picks_cpu_or_gpu_and_gpu_without_adapter_is_a_clear_error() {
         }
     }
 }
+
+/// Forces "no GPU adapter" on any machine: `WGPU_BACKEND=none` names no wgpu backend, so the
+/// instance has none to search (a subprocess, so the rest of the tests keep their adapter).
+#[test]
+fn without_any_gpu_adapter_auto_warns_and_renders_on_the_cpu_and_gpu_is_a_clear_error() {
+    let dir = temp_dir("no-adapter");
+    let run = |backend: &str, out: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_fray"))
+            .args([
+                "render",
+                "data/scenes/csg.ron",
+                "--width",
+                "24",
+                "--backend",
+                backend,
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .env("WGPU_BACKEND", "none")
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("the fray binary runs")
+    };
+    let out = dir.join("auto.png");
+    let o = run("auto", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: no GPU adapter"),
+        "{}",
+        stderr(&o)
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("(cpu,"), "{stdout}");
+    assert!(out.is_file());
+    let out = dir.join("gpu.png");
+    let o = run("gpu", &out);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("no GPU adapter"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

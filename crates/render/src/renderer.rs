@@ -132,26 +132,17 @@ impl Renderer {
                     shadows: settings.shadows,
                     culling: settings.culling,
                 };
-                match fray_gpu::render(&scene, &gpu_settings) {
-                    Ok(frame) => {
-                        if let Some(report) = progress {
-                            let n = u64::from(scene.width) * u64::from(scene.height);
-                            report(n, n);
-                        }
-                        Ok(frame)
+                let gpu = || {
+                    let frame = fray_gpu::render(&scene, &gpu_settings)?;
+                    if let Some(report) = progress {
+                        let n = u64::from(scene.width) * u64::from(scene.height);
+                        report(n, n);
                     }
-                    // A device lost mid-render, or any GPU failure under `Auto` (a GPU that
-                    // would not open, a scene its pipeline cannot hold): fall back to the
-                    // reference backend. An explicit `Gpu` request reports other errors.
-                    Err(e)
-                        if matches!(e, GpuError::DeviceLost(_))
-                            || self.options.backend == Backend::Auto =>
-                    {
-                        eprintln!("warning: {e}; rendering on the CPU instead");
-                        Ok(cpu(&settings)?)
-                    }
-                    Err(e) => Err(RenderError::Gpu(e)),
-                }
+                    Ok(frame)
+                };
+                gpu_or_fallback(self.options.backend, gpu, || cpu(&settings), &mut |w| {
+                    eprintln!("{w}")
+                })
             }
         }
     }
@@ -179,5 +170,95 @@ impl Renderer {
         s.width = w;
         s.height = h;
         Ok(std::borrow::Cow::Owned(s))
+    }
+}
+
+/// Renders with `gpu`; when it fails in a way the request allows, warns (through `warn`) and
+/// renders with `cpu` instead: a device lost mid-render always, any GPU failure under `Auto` (a GPU
+/// that would not open, a scene its pipeline cannot hold). An explicit `Gpu` request reports the
+/// other errors.
+fn gpu_or_fallback(
+    requested: Backend,
+    gpu: impl FnOnce() -> Result<Frame, GpuError>,
+    cpu: impl FnOnce() -> Result<Frame, TraceError>,
+    warn: &mut dyn FnMut(String),
+) -> Result<Frame, RenderError> {
+    match gpu() {
+        Ok(frame) => Ok(frame),
+        Err(e) if matches!(e, GpuError::DeviceLost(_)) || requested == Backend::Auto => {
+            warn(format!("warning: {e}; rendering on the CPU instead"));
+            Ok(cpu()?)
+        }
+        Err(e) => Err(RenderError::Gpu(e)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene() -> Scene {
+        fray_scene::parse(
+            "Scene(image: (width: 24, height: 16), \
+             camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), \
+             objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
+            "sphere.ron",
+        )
+        .unwrap()
+    }
+
+    /// The facade's fallback path with injected GPU failures (no real device loss needed).
+    #[test]
+    fn a_failed_gpu_falls_back_to_a_cpu_frame_with_a_warning_when_allowed() {
+        let scene = scene();
+        let cpu = || fray_trace::render(&scene, &TraceSettings::for_scene(&scene), None);
+        let lost = GpuError::DeviceLost("injected loss".into());
+        let missing = GpuError::NoAdapter("injected: none".into());
+        let pipeline = GpuError::Pipeline {
+            pass: "free-form",
+            reason: "injected".into(),
+        };
+        for (requested, error, falls_back) in [
+            (Backend::Gpu, &lost, true),
+            (Backend::Auto, &lost, true),
+            (Backend::Auto, &missing, true),
+            (Backend::Auto, &pipeline, true),
+            (Backend::Gpu, &missing, false),
+            (Backend::Gpu, &pipeline, false),
+        ] {
+            let mut warnings = Vec::new();
+            let result = gpu_or_fallback(requested, || Err(error.clone()), cpu, &mut |w| {
+                warnings.push(w)
+            });
+            let what = format!("{requested:?} with {error}");
+            if falls_back {
+                let frame = result.unwrap_or_else(|e| panic!("{what}: {e}"));
+                assert_eq!(frame.stats.backend, "cpu", "{what}");
+                assert!(frame.stats.hits > 0, "{what}");
+                assert_eq!(
+                    warnings,
+                    [format!("warning: {error}; rendering on the CPU instead")],
+                    "{what}"
+                );
+            } else {
+                match result {
+                    Err(RenderError::Gpu(e)) => assert_eq!(&e, error, "{what}"),
+                    other => panic!("{what}: expected the GPU error, got {other:?}"),
+                }
+                assert!(warnings.is_empty(), "{what}: {warnings:?}");
+            }
+        }
+        // A working GPU is used as it is: no warning, the CPU never runs.
+        let gpu_frame = cpu().unwrap();
+        let mut warnings = Vec::new();
+        let frame = gpu_or_fallback(
+            Backend::Gpu,
+            || Ok(gpu_frame.clone()),
+            || panic!("the CPU must not run"),
+            &mut |w| warnings.push(w),
+        )
+        .unwrap();
+        assert_eq!(frame.stats.hits, gpu_frame.stats.hits);
+        assert!(warnings.is_empty());
     }
 }
