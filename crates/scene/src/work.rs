@@ -42,10 +42,46 @@ fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
         .collect()
 }
 
+/// The pyramid level whose max columns feed the cell test: at most 8 × 8 columns per terrain.
+const TERRAIN_TEST_LEVEL: u32 = 3;
+
+/// A terrain's box and its coarse max columns (level `min(n, 3)`: each column is a cell's map
+/// rectangle from the base up to the pyramid's maximum over it). Every surface point lies in
+/// one of the columns, so a bundle that misses all of them misses the terrain.
+struct TerrainBoxes {
+    bounds: Aabb,
+    columns: Vec<Aabb>,
+}
+
+fn terrain_boxes(scene: &Scene) -> Vec<TerrainBoxes> {
+    scene
+        .terrains
+        .iter()
+        .map(|t| {
+            let t = &t.terrain;
+            let level = t.max_pyramid().levels().min(TERRAIN_TEST_LEVEL);
+            let side = 1usize << level;
+            let columns = (0..side * side)
+                .filter_map(|k| t.column_bounds(level, k % side, k / side))
+                .collect();
+            TerrainBoxes {
+                bounds: t.bounds(),
+                columns,
+            }
+        })
+        .collect()
+}
+
 /// The quadtree work list the backends render from when culling: tiles of at most
 /// `cell_size` pixels with their candidate objects, active leaves and perturbations.
+///
+/// Terrains are candidates too, with ids after the objects: candidate `object` id
+/// `scene.objects.len() + k` is `scene.terrains[k]` (no leaves, no perturbations). A cell keeps
+/// a terrain when its bundle meets the terrain's box and one of its coarse max columns.
 pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     let boxes = object_boxes(scene);
+    let terrains = terrain_boxes(scene);
+    let first_terrain = scene.objects.len();
     let mut root = Candidates::new();
     for (i, (object, b)) in scene.objects.iter().zip(&boxes).enumerate() {
         root.begin(i as u32, 0.0, f64::INFINITY);
@@ -58,9 +94,28 @@ pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtre
             root.push_perturbation(k);
         }
     }
+    for k in 0..terrains.len() {
+        root.begin((first_terrain + k) as u32, 0.0, f64::INFINITY);
+    }
     let mut active = ActiveSet::new();
     let test = |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
         for c in &parent.candidates {
+            if let Some(t) = (c.object as usize)
+                .checked_sub(first_terrain)
+                .and_then(|k| terrains.get(k))
+            {
+                if bundle.box_range(&t.bounds).is_some() {
+                    let hull = t
+                        .columns
+                        .iter()
+                        .filter_map(|b| bundle.box_range(b))
+                        .reduce(|a, b| fray_core::Interval::new(a.lo.min(b.lo), a.hi.max(b.hi)));
+                    if let Some(range) = hull {
+                        out.begin(c.object, range.lo, range.hi);
+                    }
+                }
+                continue;
+            }
             let Some(b) = boxes.get(c.object as usize) else {
                 continue;
             };

@@ -1,11 +1,13 @@
 //! The nearest hit over all objects of a scene: the pair (ray parameter, primitive).
 
+use crate::terrain_hit::{nearer_terrain_hit, terrain_occludes};
 use fray_core::{Interval, Ray};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::Scene;
 
 /// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit, and
-/// the outward unit normal there.
+/// the outward unit normal there. `object ≥ scene.objects.len()` is terrain
+/// `scene.terrains[object − objects.len()]` (leaf 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneHit {
     pub t: f64,
@@ -25,7 +27,9 @@ pub fn nearest_hit(
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
     let all = (0..scene.objects.len()).map(|i| (i, None));
-    nearest_over(scene, caster, ray, range, eps, all, stats)
+    let best = nearest_over(scene, caster, ray, range, eps, all, stats);
+    let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
+    nearer_terrain_hit(scene, ray, range, eps, best, terrains)
 }
 
 /// [`nearest_hit`] over a subset: only the listed objects (increasing indices), each cast with
@@ -44,7 +48,10 @@ pub fn nearest_hit_among(
     let listed = candidates
         .iter()
         .map(|(index, active)| (*index as usize, Some(active)));
-    nearest_over(scene, caster, ray, range, eps, listed, stats)
+    let best = nearest_over(scene, caster, ray, range, eps, listed, stats);
+    // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
+    let terrains = candidates.iter().map(|(index, _)| *index as usize);
+    nearer_terrain_hit(scene, ray, range, eps, best, terrains)
 }
 
 /// The nearest hit over `candidates` (object index, and the active subset or `None` for all of
@@ -103,4 +110,5 @@ pub fn occluded(
         .objects
         .iter()
         .any(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
+        || terrain_occludes(scene, ray, range, eps)
 }

@@ -29,6 +29,7 @@ mod hit;
 mod render;
 mod settings;
 mod shade;
+mod terrain_hit;
 
 /// The work list (moved to `fray-scene`, which both backends share), re-exported.
 pub use fray_scene::work_list;

@@ -97,13 +97,15 @@ pub fn render(
                         list.candidates_of(&list.items[k])
                             .iter()
                             .map(|c| {
-                                let solid = &scene.objects[c.object as usize].solid;
                                 let mut a = ActiveSet::new();
-                                a.set(
-                                    solid,
-                                    c.leaves(&list.leaves),
-                                    c.perturbations(&list.perturbations),
-                                );
+                                // Terrain candidates (ids after the objects) have no solid.
+                                if let Some(object) = scene.objects.get(c.object as usize) {
+                                    a.set(
+                                        &object.solid,
+                                        c.leaves(&list.leaves),
+                                        c.perturbations(&list.perturbations),
+                                    );
+                                }
                                 (c.object, a)
                             })
                             .collect(),
@@ -303,7 +305,6 @@ fn shade_pixel(
     let Some(hit) = hit else {
         return miss;
     };
-    let object = &scene.objects[hit.object as usize];
     let position = ray.at(hit.t);
     let to_viewer = -ray.dir;
     let normal = if hit.t <= camera_ray.t_near {
@@ -322,10 +323,8 @@ fn shade_pixel(
         normal
     };
     // Borrowed, not cloned: a clone allocates the material's name for every hit pixel.
-    let material = object
-        .leaf_materials
-        .get(hit.leaf as usize)
-        .and_then(|&m| scene.materials.get(m as usize));
+    let material = crate::terrain_hit::material_of(scene, hit.object, hit.leaf)
+        .and_then(|m| scene.materials.get(m as usize));
     let fallback;
     let material = match material {
         Some(m) => m,
