@@ -4,7 +4,7 @@
 //! by every projector kind.
 
 use fray_trace::{TraceSettings, render};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Writes a `.npy` map of `n × n` `<f4` samples from `f(column, row)` into a fresh folder and
 /// returns that folder.
@@ -29,7 +29,7 @@ fn map_dir(name: &str, n: usize, f: impl Fn(usize, usize) -> f32) -> PathBuf {
     dir
 }
 
-fn scene(dir: &PathBuf, body: &str) -> fray_scene::Scene {
+fn scene(dir: &Path, body: &str) -> fray_scene::Scene {
     let path = dir.join("scene.ron");
     std::fs::write(&path, body).unwrap();
     fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
