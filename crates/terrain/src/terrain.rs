@@ -233,15 +233,30 @@ impl Terrain {
     /// The nearest hit in `range` (world distances along `ray`); `eps` is the root tolerance of
     /// the bicubic search (world units; the bilinear hit is exact to rounding).
     pub fn cast(&self, ray: &Ray, range: Interval, eps: f64) -> Option<TerrainHit> {
-        self.cast_with_stats(ray, range, eps, &mut TerrainStats::default())
+        self.cast_with_stats(ray, range, eps, 0.0, &mut TerrainStats::default())
     }
 
-    /// [`Terrain::cast`], counting work into `stats`.
+    /// [`Terrain::cast`] with a pixel-footprint level of detail: `footprint` is the world size of
+    /// a pixel per unit of distance (≈ the pixel's angle). A segment starting at distance `t`
+    /// stops at the level whose cells are at least `footprint · t` wide (and hits that level's
+    /// max column tops), so the work follows the screen, not the map size; `0` is exact.
+    pub fn cast_lod(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        footprint: f64,
+    ) -> Option<TerrainHit> {
+        self.cast_with_stats(ray, range, eps, footprint, &mut TerrainStats::default())
+    }
+
+    /// [`Terrain::cast_lod`], counting work into `stats`.
     pub fn cast_with_stats(
         &self,
         ray: &Ray,
         range: Interval,
         eps: f64,
+        footprint: f64,
         stats: &mut TerrainStats,
     ) -> Option<TerrainHit> {
         let m = self.placement.map_ray(ray);
@@ -249,7 +264,13 @@ impl Terrain {
         let clip = clip_box(&m, lo, hi, range.lo, range.hi)?;
         let err = rounding(&m, &clip);
         let n = self.max.levels();
-        let stop = n.saturating_sub(self.options.lod_bias);
+        let stop_bias = n.saturating_sub(self.options.lod_bias);
+        // Finest cells per pixel per unit distance (0: no pixel LOD).
+        let lod_scale = if footprint > 0.0 && footprint.is_finite() {
+            footprint / self.placement.spacing().min_element()
+        } else {
+            0.0
+        };
         let mut stack = [(0.0f64, 0.0f64); STACK];
         stack[0] = (clip.t0, clip.t1);
         let mut len = 1;
@@ -257,6 +278,11 @@ impl Terrain {
             len -= 1;
             let (ta, tb) = stack[len];
             stats.segments += 1;
+            let stop = if lod_scale > 0.0 {
+                stop_bias.min(level_for(lod_scale * ta.max(0.0), n))
+            } else {
+                stop_bias
+            };
             let (pa, pb) = (m.at(ta), m.at(tb));
             let fp = Footprint::of(pa, pb, err);
             let tm = 0.5 * (ta + tb);

@@ -285,3 +285,37 @@ fn no_nan_and_nothing_behind_the_start_on_degenerate_rays() {
         }
     }
 }
+
+#[test]
+fn lod_hits_are_never_later_than_exact_hits_and_never_miss_them() {
+    // LOD bias and pixel footprint stop at coarse max columns, which contain the surface.
+    let exact = terrain(DVec3::ZERO, Interpolation::Bilinear);
+    let coarse = |lod_bias| {
+        let options = TerrainOptions {
+            lod_bias,
+            ..TerrainOptions::default()
+        };
+        Terrain::new(exact.map().clone(), *exact.placement(), options).unwrap()
+    };
+    let (biased, pixel) = (coarse(2), coarse(0));
+    let mut rng = Rng(5);
+    let range = Interval::new(0.0, f64::INFINITY);
+    for k in 0..20_000 {
+        let ray = random_ray(&exact, &mut rng, k % 5);
+        let Some(e) = exact.cast(&ray, range, 1e-9) else {
+            continue;
+        };
+        for (what, h) in [
+            ("bias 2", biased.cast(&ray, range, 1e-9)),
+            ("pixel", pixel.cast_lod(&ray, range, 1e-9, 0.05)),
+        ] {
+            let h = h.unwrap_or_else(|| panic!("ray {k}: {what} missed an exact hit"));
+            assert!(
+                h.t <= e.t,
+                "ray {k}: {what} hit at {} after the exact {}",
+                h.t,
+                e.t
+            );
+        }
+    }
+}
