@@ -38,45 +38,62 @@ pub struct GpuWork {
 }
 
 impl GpuWork {
-    /// The culled work list of `scene` (`solids`: the scene's objects flattened in order).
+    /// The culled work list of `scene` (`solids`: the scene's objects flattened in order). Only
+    /// free-form candidates are kept (the scheduler's list also names other primitive kinds, e.g.
+    /// terrains, with ids past the objects: their own passes render them); items left with none
+    /// are dropped, and the stats count the items this pass runs.
     pub fn culled(scene: &Scene, solids: &GpuSolids) -> Result<Self, QuadtreeError> {
         let list = fray_scene::work_list(scene, TILE)?;
         let mut work = Self {
-            items: list.items,
-            candidates: list.candidates,
-            leaves: list.leaves,
-            perturbations: list.perturbations,
-            programs: Vec::new(),
             program: solids.program.clone(),
             stats: Some(list.stats),
+            ..Self::default()
         };
         let mut active = ActiveSet::new();
-        for c in &work.candidates {
-            let (Some(object), Some(flat)) = (
-                scene.objects.get(c.object as usize),
-                solids.solids.get(c.object as usize),
-            ) else {
-                work.programs.push([0, 0]);
-                continue;
-            };
-            let first_leaf = flat.info[0];
-            let start = work.program.len() as u32;
-            if active.set(
-                &object.solid,
-                c.leaves(&work.leaves),
-                c.perturbations(&work.perturbations),
-            ) {
+        for item in &list.items {
+            let candidate_start = work.candidates.len() as u32;
+            for c in list.candidates_of(item) {
+                let (Some(object), Some(flat)) = (
+                    scene.objects.get(c.object as usize),
+                    solids.solids.get(c.object as usize),
+                ) else {
+                    continue;
+                };
+                let (leaves, perturbations) =
+                    (c.leaves(&list.leaves), c.perturbations(&list.perturbations));
+                if !active.set(&object.solid, leaves, perturbations) {
+                    continue;
+                }
+                let start = work.program.len() as u32;
                 work.program.extend(
                     active
                         .program()
                         .iter()
-                        .map(|&op| program_word(op, first_leaf)),
+                        .map(|&op| program_word(op, flat.info[0])),
                 );
+                work.programs
+                    .push([start, work.program.len() as u32 - start]);
+                work.candidates.push(Candidate {
+                    leaf_start: work.leaves.len() as u32,
+                    perturbation_start: work.perturbations.len() as u32,
+                    ..*c
+                });
+                work.leaves.extend_from_slice(leaves);
+                work.perturbations.extend_from_slice(perturbations);
             }
-            work.programs
-                .push([start, work.program.len() as u32 - start]);
+            let candidate_count = work.candidates.len() as u32 - candidate_start;
+            if candidate_count > 0 {
+                work.items.push(WorkItem {
+                    candidate_start,
+                    candidate_count,
+                    ..*item
+                });
+            }
         }
         work.items.sort_by_key(|it| it.y0);
+        if let Some(stats) = work.stats.as_mut() {
+            stats.items = work.items.len() as u64;
+        }
         Ok(work)
     }
 
@@ -270,5 +287,31 @@ mod tests {
         // Every band's items start in the band.
         let band = w.band(8, 16);
         assert!(band.iter().all(|i| (8..16).contains(&i.y0)));
+    }
+
+    #[test]
+    fn only_free_form_candidates_reach_the_gpu() {
+        // The scheduler's list also names the terrain (id past the objects); the pass drops it.
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../data/scenes/terrain_low.ron"
+        );
+        let mut s = fray_scene::load(std::path::Path::new(path)).unwrap();
+        (s.width, s.height) = (64, 36);
+        let list = fray_scene::work_list(&s, TILE).unwrap();
+        assert!(
+            list.candidates
+                .iter()
+                .any(|c| c.object as usize >= s.objects.len())
+        );
+        let w = GpuWork::culled(&s, &flat(&s)).unwrap();
+        assert!(
+            w.candidates
+                .iter()
+                .all(|c| (c.object as usize) < s.objects.len())
+        );
+        assert!(w.items.iter().all(|i| i.candidate_count > 0));
+        assert_eq!(w.stats.unwrap().items as usize, w.items.len());
+        assert!(w.items.len() < list.items.len());
     }
 }
