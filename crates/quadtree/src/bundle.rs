@@ -7,7 +7,9 @@
 //! rays holds them all; for a parallel projection the origins are affine in the pixel and the
 //! direction is fixed; for the sphere picture surface, whose directions are not linear in the
 //! pixel, the picture points of the cell are bounded by interval arithmetic over its azimuth and
-//! elevation ranges (ripple included) and the cone is the one from the eye around that ball.
+//! elevation ranges (ripple included) and the cone is the one from the eye around that ball. Side
+//! planes (through the eye or the edge origins) cut the cone down to the cell's pyramid: for the
+//! sphere surface, two wedges over the corners of that box of picture points.
 
 use crate::trig::{cos_range, sin_range};
 use fray_core::{Aabb, Interval, Projector, Ray};
@@ -35,8 +37,8 @@ pub struct RayBundle {
     pub axis: DVec3,
     /// In radians; `≥ π` means "any direction" (no culling possible).
     pub half_angle: f64,
-    /// Side planes `(n, p)` of the bundle (pinhole and parallel): every point of every ray has
-    /// `n · (x − p) ≥ 0`. Unused planes have `n = 0`.
+    /// Side planes `(n, p)` of the bundle (pinhole, parallel and sphere surface): every point of
+    /// every ray has `n · (x − p) ≥ 0`. Unused planes have `n = 0`.
     pub planes: [(DVec3, DVec3); 4],
 }
 
@@ -132,6 +134,33 @@ impl RayBundle {
                     bundle.axis = v / l;
                     bundle.half_angle = (rho / l).asin() + ANGLE_SLACK;
                 }
+                // Side planes through the eye: every ray passes through the box of picture points
+                // (inflated by the same slack as `rho`), so its direction lies in the cone over
+                // the box's corners. Bound that cone by a wedge about `up` (its projection on the
+                // forward/right plane) and one about `right` (on the forward/up plane).
+                let slack = rho - half.length();
+                let mut corners = [DVec3::ZERO; 8];
+                for (k, c) in corners.iter_mut().enumerate() {
+                    // Corner k of the box: the low or high end of each local interval.
+                    let end = |axis: usize| {
+                        let i = local[axis];
+                        if k & (1 << axis) == 0 {
+                            i.lo - slack
+                        } else {
+                            i.hi + slack
+                        }
+                    };
+                    *c = s.centre + b.forward * end(0) + b.right * end(1) + b.up * end(2) - s.eye;
+                }
+                for (k, (a, c)) in [(b.forward, b.right), (b.forward, b.up)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    if let Some([n0, n1]) = wedge(&corners, a, c) {
+                        bundle.planes[2 * k] = (n0, s.eye);
+                        bundle.planes[2 * k + 1] = (n1, s.eye);
+                    }
+                }
             }
         }
         bundle
@@ -183,7 +212,16 @@ impl RayBundle {
         if (ray.origin - self.origin).length() > self.origin_radius {
             return false;
         }
-        self.is_unbounded() || ray.dir.dot(self.axis).clamp(-1.0, 1.0).acos() <= self.half_angle
+        // Every point of the ray on the inner side of every side plane (within the slack).
+        let in_planes = self.planes.iter().all(|&(n, p)| {
+            n == DVec3::ZERO
+                || (n.dot(ray.dir) >= -ANGLE_SLACK
+                    && n.dot(ray.origin - p)
+                        >= -(RELATIVE_SLACK * (ray.origin.length() + p.length()) + 1e-12))
+        });
+        in_planes
+            && (self.is_unbounded()
+                || ray.dir.dot(self.axis).clamp(-1.0, 1.0).acos() <= self.half_angle)
     }
 
     /// A conservative range of the ray parameter `t ≥ 0` where rays of the bundle can be inside
@@ -219,6 +257,41 @@ impl RayBundle {
         }
         Some(range)
     }
+}
+
+/// The two planes through the origin, each containing the axis `a × c`, that bound the projections
+/// of `dirs` on the (orthonormal) `a`/`c` plane: unit normals `n` with `n · d ≥ 0` for every `d`
+/// (with [`ANGLE_SLACK`] to spare). `None` when the projected wedge is not well inside a
+/// half-plane (or a direction projects onto the axis).
+fn wedge(dirs: &[DVec3], a: DVec3, c: DVec3) -> Option<[DVec3; 2]> {
+    let flat: Vec<(f64, f64)> = dirs.iter().map(|d| (d.dot(a), d.dot(c))).collect();
+    let mut m = (0.0, 0.0);
+    for &(x, y) in &flat {
+        let len = x.hypot(y);
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        m = (m.0 + x / len, m.1 + y / len);
+    }
+    let len = m.0.hypot(m.1);
+    if len.is_nan() || len <= 1e-6 {
+        return None;
+    }
+    let m = (m.0 / len, m.1 / len);
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for &(x, y) in &flat {
+        let angle = (m.0 * y - m.1 * x).atan2(m.0 * x + m.1 * y);
+        lo = lo.min(angle);
+        hi = hi.max(angle);
+    }
+    let (lo, hi) = (lo - ANGLE_SLACK, hi + ANGLE_SLACK);
+    if lo <= -0.5 * PI + 1e-6 || hi >= 0.5 * PI - 1e-6 {
+        return None;
+    }
+    let rotate = |t: f64| (m.0 * t.cos() - m.1 * t.sin(), m.0 * t.sin() + m.1 * t.cos());
+    let (w0, w1) = (rotate(lo), rotate(hi));
+    // Inside is counter-clockwise of w0 and clockwise of w1.
+    Some([a * -w0.1 + c * w0.0, a * w1.1 - c * w1.0])
 }
 
 /// `n` normalised and flipped so that `n · inside ≥ 0`; zero if degenerate (plane unused).

@@ -126,3 +126,40 @@ fn depth_ranges_hold_the_box_entries() {
         }
     }
 }
+
+/// Sphere-surface cells carry side planes (two wedges over the cell's picture points), and they
+/// cull boxes the direction cone alone keeps — soundly, by the test above.
+#[test]
+fn sphere_surface_side_planes_cull_more_than_the_cone() {
+    let (w, h) = (64, 48);
+    let (mut with_planes, mut cone_only, mut cells_with_planes) = (0, 0, 0);
+    for p in projectors() {
+        if !matches!(p, Projector::Sphere(_)) {
+            continue;
+        }
+        for cell in cells(w, h) {
+            let b = RayBundle::of_cell(&p, (w, h), cell);
+            if b.planes.iter().any(|(n, _)| *n != DVec3::ZERO) {
+                cells_with_planes += 1;
+            }
+            let cone = RayBundle {
+                planes: [(DVec3::ZERO, DVec3::ZERO); 4],
+                ..b
+            };
+            for i in 0..400 {
+                let t = f64::from(i);
+                let c = DVec3::new((t * 0.37).sin(), (t * 0.73).cos(), (t * 1.3).sin()) * 8.0;
+                let half = DVec3::new(0.05 + 0.4 * (t * 0.5).cos().abs(), 0.05, 1.5);
+                let bx = Aabb::from_center_half(c + DVec3::new(1.0, 2.0, 3.0), half);
+                with_planes += usize::from(b.box_range(&bx).is_none());
+                cone_only += usize::from(cone.box_range(&bx).is_none());
+            }
+        }
+    }
+    assert!(cells_with_planes > 20, "{cells_with_planes}");
+    assert!(
+        with_planes > cone_only + cone_only / 10,
+        "planes cull {with_planes}, the cone alone {cone_only}"
+    );
+    eprintln!("sphere cells: planes cull {with_planes} boxes, the cone alone {cone_only}");
+}
