@@ -20,6 +20,9 @@ pub enum GpuError {
     BadEpsilon(f64),
     #[error("image size must be at least 1 × 1, got {0} × {1}")]
     EmptyImage(u32, u32),
+    /// The scene uses a feature this backend does not draw yet (`Auto` renders it on the CPU).
+    #[error("the GPU backend does not draw {feature} yet; render this scene with the CPU backend")]
+    Unsupported { feature: &'static str },
     #[error("the scene needs {what} = {needed}, more than this backend supports ({limit})")]
     TooLarge {
         what: &'static str,
