@@ -22,6 +22,7 @@ pub mod freeform_pass;
 pub mod params;
 mod render;
 pub mod shader;
+pub mod terrain_pass;
 pub mod work;
 
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
@@ -31,4 +32,5 @@ pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuSettings, SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon,
     render,
 };
+pub use terrain_pass::TerrainPass;
 pub use work::GpuWork;

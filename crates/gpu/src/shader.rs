@@ -9,7 +9,10 @@ use fray_scene::Scene;
 pub const FREEFORM_WGSL: &str = include_str!("../../../shaders/freeform.wgsl");
 
 /// Every shader file in `shaders/` with its name (for validation tests).
-pub const SHADER_FILES: [(&str, &str); 1] = [("freeform.wgsl", FREEFORM_WGSL)];
+pub const SHADER_FILES: [(&str, &str); 2] = [
+    ("freeform.wgsl", FREEFORM_WGSL),
+    ("terrain.wgsl", crate::terrain_pass::TERRAIN_WGSL),
+];
 
 /// Sizes of the per-invocation arrays, fixed per scene when the module is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,6 +52,7 @@ pub fn prelude(sizes: ArraySizes) -> String {
     for st in params::WGSL_STRUCTS.iter().chain(&work::WGSL_STRUCTS) {
         s.push_str(&st.declaration());
     }
+    s.push_str(&fray_terrain::gpu_layout::wgsl_declaration());
     s
 }
 

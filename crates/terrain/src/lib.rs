@@ -7,7 +7,8 @@
 //! height-map space, nearer half first, dropping halves that stay above the pyramid level their
 //! footprint selects, and intersecting the bilinear patch (exactly: a quadratic per cell) or
 //! the bicubic B-spline surface at the finest level. A threshold cuts out cells, giving any
-//! outline, holes included.
+//! outline, holes included. [`gpu_layout`] holds the `#[repr(C)]` parameter block (and its
+//! generated WGSL) and the flat pyramid the GPU uploads.
 //!
 //! ```
 //! use fray_core::{Interval, Ray};
@@ -35,6 +36,7 @@
 
 mod clip;
 mod error;
+pub mod gpu_layout;
 mod heightmap;
 mod interpolation;
 mod load;

@@ -1,0 +1,268 @@
+//! The terrain pass (one struct, its pipeline and buffers): `shaders/terrain.wgsl` casts a batch
+//! of camera-relative rays against one terrain — the max pyramid as a storage buffer (levels at
+//! offsets `(4ᵏ − 1) / 3`), the samples as another — and reads back `(t, normal)` per ray. It is
+//! the f32 twin of `fray_terrain::Terrain::cast` for bilinear terrains (bicubic is refused); a
+//! parity test bounds the difference. Not yet composed into the GPU frame (the backend refuses
+//! terrain scenes, see `render.rs`).
+
+use crate::{GpuContext, GpuError};
+use bytemuck::Pod;
+use fray_terrain::gpu_layout::{self, GpuTerrainParams};
+use fray_terrain::{Interpolation, Terrain};
+use glam::DVec3;
+use wgpu::util::DeviceExt;
+
+const PASS: &str = "terrain";
+const WORKGROUP: u32 = 64;
+
+/// `shaders/terrain.wgsl`.
+pub const TERRAIN_WGSL: &str = include_str!("../../../shaders/terrain.wgsl");
+
+/// The complete terrain module: the generated prelude (which holds the terrain's parameter
+/// struct, from `fray_terrain::gpu_layout`), then the shader.
+pub fn terrain_source() -> String {
+    crate::shader::prelude(crate::shader::ArraySizes::default()) + TERRAIN_WGSL
+}
+
+/// One ray of a batch, relative to the pass's reference point: `(origin, t_lo)`,
+/// `(unit direction, t_hi)`.
+pub type GpuRay = [[f32; 4]; 2];
+
+/// The terrain pass of one terrain.
+#[derive(Debug)]
+pub struct TerrainPass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: GpuTerrainParams,
+    pyramid: wgpu::Buffer,
+    samples: wgpu::Buffer,
+}
+
+fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl TerrainPass {
+    /// Builds the pipeline and uploads `terrain` relative to `reference` (the camera).
+    pub fn new(ctx: &GpuContext, terrain: &Terrain, reference: DVec3) -> Result<Self, GpuError> {
+        if terrain.options().interpolation == Interpolation::Bicubic {
+            return Err(GpuError::Unsupported {
+                feature: "bicubic terrain",
+            });
+        }
+        let pyramid = gpu_layout::pyramid_values(terrain);
+        let samples = terrain.map().samples();
+        let limit = ctx.limits.max_storage_buffer_binding_size;
+        let bytes = (pyramid.len().max(samples.len()) * 4) as u64;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "terrain buffer bytes",
+                needed: bytes,
+                limit,
+            });
+        }
+        let device = &ctx.device;
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("terrain.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(terrain_source().into()),
+        });
+        use wgpu::BufferBindingType as B;
+        let read = B::Storage { read_only: true };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(PASS),
+            entries: &[
+                entry(0, B::Uniform),
+                entry(1, read),
+                entry(2, read),
+                entry(3, read),
+                entry(4, B::Storage { read_only: false }),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(PASS),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(PASS),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(validation.pop()) {
+            return Err(GpuError::Pipeline {
+                pass: PASS,
+                reason: e.to_string(),
+            });
+        }
+        let storage = |label, data: &[f32]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(data),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        Ok(Self {
+            pipeline,
+            layout,
+            params: GpuTerrainParams::new(terrain, reference, 0),
+            pyramid: storage("terrain pyramid", &pyramid),
+            samples: storage("terrain samples", samples),
+        })
+    }
+
+    /// Casts `rays` (relative to the reference point); per ray `(t, normal)`, `t < 0` for a miss.
+    pub fn cast(&self, ctx: &GpuContext, rays: &[GpuRay]) -> Result<Vec<[f32; 4]>, GpuError> {
+        if rays.is_empty() {
+            return Ok(Vec::new());
+        }
+        let device = &ctx.device;
+        let mut params = self.params;
+        params.sizes[2] = rays.len() as u32;
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("terrain params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("terrain rays"),
+            contents: bytemuck::cast_slice(rays),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let bytes = (rays.len() * 16) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("terrain hits"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("terrain readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(PASS),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.pyramid.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.samples.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: ray_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: output.as_entire_binding(),
+                },
+            ],
+        });
+        let groups = (rays.len() as u32).div_ceil(WORKGROUP);
+        let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(PASS),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
+        ctx.queue.submit([encoder.finish()]);
+        read_back(device, &readback, bytes)
+    }
+}
+
+/// Maps `buffer[..bytes]`, waits, copies it out and unmaps.
+fn read_back<T: Pod>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    bytes: u64,
+) -> Result<Vec<T>, GpuError> {
+    let slice = buffer.slice(..bytes);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
+    match rx.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => {
+            return Err(GpuError::Dispatch {
+                pass: PASS,
+                reason: e.to_string(),
+            });
+        }
+        Err(_) => return Err(GpuError::DeviceLost("readback never completed".into())),
+    }
+    let data = {
+        let view = slice.get_mapped_range().map_err(|e| GpuError::Dispatch {
+            pass: PASS,
+            reason: e.to_string(),
+        })?;
+        bytemuck::pod_collect_to_vec::<u8, T>(&view)
+    };
+    buffer.unmap();
+    Ok(data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The terrain module (generated struct + shader) parses and validates with naga, and the
+    /// generated struct's layout is the Rust one (every field a 16-byte vector, in order).
+    #[test]
+    fn terrain_wgsl_validates_and_its_struct_layout_matches_rust() {
+        let module = naga::front::wgsl::parse_str(&terrain_source()).expect("terrain.wgsl parses");
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module);
+        assert!(info.is_ok(), "{info:?}");
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("TerrainParams"))
+            .expect("TerrainParams declared");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("TerrainParams is not a struct");
+        };
+        assert_eq!(*span as usize, std::mem::size_of::<GpuTerrainParams>());
+        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
+        let fields: Vec<&str> = gpu_layout::FIELDS.iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, fields);
+        for (k, m) in members.iter().enumerate() {
+            assert_eq!(m.offset as usize, 16 * k, "{:?}", m.name);
+        }
+    }
+}
