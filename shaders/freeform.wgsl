@@ -272,7 +272,10 @@ fn prepare(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
         lr.lo = present.x;
         lr.hi = present.y;
         lr.clips = leaf.info.x != 0u;
-        lr.base = q_on_ray(leaf.base, o, d);
+        if lr.present {
+            // Read only for present leaves.
+            lr.base = q_on_ray(leaf.base, o, d);
+        }
         lr.p0 = np;
         if HAS_PERTURBATIONS && lr.present {
             if parts.all {
@@ -811,7 +814,8 @@ fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) {
 }
 
 // One workgroup per work item of this dispatch (`frame.mode.w` of them; a 2D grid of groups when
-// there are more than a dimension holds); its TILE_THREADS² invocations stride over the tile.
+// there are more than a dimension holds); its TILE_THREADS² invocations are the pixels of the
+// tile (tiles are at most TILE_THREADS wide and tall: the work list's cell size).
 @compute @workgroup_size(TILE_THREADS, TILE_THREADS)
 fn main(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -826,11 +830,12 @@ fn main(
     bound_evals = 0u;
     point_evals = 0u;
     shadow_rays = 0u;
-    for (var py = item.y0 + local.y; py < item.y1; py += TILE_THREADS) {
-        for (var px = item.x0 + local.x; px < item.x1; px += TILE_THREADS) {
-            render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px);
-        }
+    let px = item.x0 + local.x;
+    let py = item.y0 + local.y;
+    if px >= item.x1 || py >= item.y1 {
+        return;
     }
+    render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px);
     if shadow_rays > 0u {
         atomicAdd(&counters[1], shadow_rays);
     }
