@@ -1,8 +1,10 @@
 // terrain.wgsl — height-map terrain ray casting (DESIGN §4), the f32 twin of
-// fray_terrain::Terrain::cast for bilinear patches: one invocation per ray, the ray segment
+// fray_terrain::Terrain::cast for bilinear patches and uniform cubic B-splines (sizes.w = 1):
+// one invocation per ray, the ray segment
 // clipped to the terrain box in map space (u, v, r), halved nearer-first with the footprint
-// level rule against the max pyramid, finest cells intersected exactly (a quadratic per cell),
-// or, with a LOD bias, the stop level's max-column tops. The struct TerrainParams is generated
+// level rule against the max pyramid, finest cells intersected exactly (bilinear: a quadratic
+// per cell; bicubic: halving with the B-spline's slope bounds, monotone pieces finished by
+// Illinois), or, with a LOD bias, the stop level's max-column tops. The struct TerrainParams is generated
 // from Rust (fray_terrain::gpu_layout) and prepended.
 //
 // Rays: two vec4 per ray, camera-relative — (origin.xyz, t_lo), (unit dir.xyz, t_hi).
@@ -137,6 +139,163 @@ fn cell_hit(o: vec3<f32>, d: vec3<f32>, i: u32, j: u32, c0: f32, c1: f32, ta: f3
     return vec4<f32>(c.x + tau, surface_normal(ka + kk * w, kb + kk * s));
 }
 
+// B-spline control point (column i − 1 + l, row j − 1 + m) of solid cell (i, j): the sample, or
+// the cell's nearest corner where the neighbour is off the map or below the threshold.
+fn control(i: u32, j: u32, l: i32, m: i32) -> f32 {
+    let x = i32(i) - 1 + l;
+    let y = i32(j) - 1 + m;
+    let inside = x >= 0 && y >= 0 && x < i32(P.sizes.x) && y < i32(P.sizes.y);
+    if (inside) {
+        let v = sample(u32(x), u32(y));
+        if (v >= P.heights.z) {
+            return v;
+        }
+    }
+    return sample(u32(clamp(x, i32(i), i32(i) + 1)), u32(clamp(y, i32(j), i32(j) + 1)));
+}
+
+fn basis(s: f32) -> vec4<f32> {
+    let t = 1.0 - s;
+    let s2 = s * s;
+    let s3 = s2 * s;
+    return vec4<f32>(t * t * t, 3.0 * s3 - 6.0 * s2 + 4.0, -3.0 * s3 + 3.0 * s2 + 3.0 * s + 1.0, s3) / 6.0;
+}
+
+fn basis_d(s: f32) -> vec4<f32> {
+    let t = 1.0 - s;
+    let s2 = s * s;
+    return vec4<f32>(-t * t, 3.0 * s2 - 4.0 * s, -3.0 * s2 + 2.0 * s + 1.0, s2) * 0.5;
+}
+
+// (f, f', S_s, S_w) at τ for the ray (s0 + τ ds, w0 + τ dw, r0 + τ dr) against the patch `p`.
+fn bspline_f(p: array<vec4<f32>, 4>, s0: f32, w0: f32, r0: f32, d: vec3<f32>, tau: f32) -> vec4<f32> {
+    let bs = basis(s0 + tau * d.x);
+    let ds = basis_d(s0 + tau * d.x);
+    let bw = basis(w0 + tau * d.y);
+    let dw = basis_d(w0 + tau * d.y);
+    var v = 0.0;
+    var vs = 0.0;
+    var vw = 0.0;
+    for (var m = 0; m < 4; m++) {
+        let r = dot(bs, p[m]);
+        v += bw[m] * r;
+        vs += bw[m] * dot(ds, p[m]);
+        vw += dw[m] * r;
+    }
+    return vec4<f32>(r0 + tau * d.z - v, d.z - (vs * d.x + vw * d.y), vs, vw);
+}
+
+// First hit on bicubic cell (i, j) within [ta, tb] ∩ the cell column: (t, normal), t < 0 none.
+fn bicubic_hit(o: vec3<f32>, d: vec3<f32>, i: u32, j: u32, c0: f32, c1: f32, ta: f32, tb: f32) -> vec4<f32> {
+    let miss = vec4<f32>(-1.0, 0.0, 0.0, 0.0);
+    let lo = vec3<f32>(f32(i), f32(j), P.heights.x);
+    let hi = vec3<f32>(f32(i + 1u), f32(j + 1u), P.heights.y);
+    let c = clip(o, d, lo, hi, c0, c1);
+    let a0 = max(c.x, ta);
+    let b0 = min(c.y, tb);
+    if (a0 > b0) {
+        return miss;
+    }
+    var p: array<vec4<f32>, 4>;
+    for (var m = 0; m < 4; m++) {
+        p[m] = vec4<f32>(control(i, j, 0, m), control(i, j, 1, m), control(i, j, 2, m), control(i, j, 3, m));
+    }
+    // Slope bounds (first and second differences), as in fray_terrain::BicubicCell.
+    var d1 = vec2<f32>(0.0);
+    var d2 = vec3<f32>(0.0);
+    for (var m = 0; m < 4; m++) {
+        for (var l = 0; l < 3; l++) {
+            d1.x = max(d1.x, abs(p[m][l + 1] - p[m][l]));
+            d1.y = max(d1.y, abs(p[l + 1][m] - p[l][m]));
+        }
+        for (var l = 0; l < 2; l++) {
+            d2.x = max(d2.x, abs(p[m][l + 2] - 2.0 * p[m][l + 1] + p[m][l]));
+            d2.z = max(d2.z, abs(p[l + 2][m] - 2.0 * p[l + 1][m] + p[l][m]));
+        }
+    }
+    for (var m = 0; m < 3; m++) {
+        for (var l = 0; l < 3; l++) {
+            d2.y = max(d2.y, abs(p[m + 1][l + 1] - p[m + 1][l] - p[m][l + 1] + p[m][l]));
+        }
+    }
+    let start = o + d * c.x;
+    let s0 = start.x - f32(i);
+    let w0 = start.y - f32(j);
+    let r0 = start.z;
+    let k1 = abs(d.z) + d1.x * abs(d.x) + d1.y * abs(d.y);
+    let k2 = d2.x * d.x * d.x + 2.0 * d2.y * abs(d.x * d.y) + d2.z * d.y * d.y;
+    let lo_t = a0 - c.x;
+    let hi_t = b0 - c.x;
+    let eps = max(1e-6 * (abs(a0) + abs(b0)), 1e-30);
+    let f_lo = bspline_f(p, s0, w0, r0, d, lo_t);
+    var root = -1.0;
+    if (f_lo.x <= 0.0) {
+        root = lo_t;
+    } else {
+        var stack: array<vec4<f32>, 24>;
+        stack[0] = vec4<f32>(lo_t, hi_t, f_lo.x, bspline_f(p, s0, w0, r0, d, hi_t).x);
+        var len = 1u;
+        loop {
+            if (len == 0u || root >= 0.0) {
+                break;
+            }
+            len -= 1u;
+            let seg = stack[len];
+            let mid = 0.5 * (seg.x + seg.y);
+            let half = 0.5 * (seg.y - seg.x);
+            let fm = bspline_f(p, s0, w0, r0, d, mid);
+            let monotone = abs(fm.y) > k2 * half;
+            if (seg.w <= 0.0) {
+                if (monotone || seg.y - seg.x <= eps || len + 2u > 24u) {
+                    // Illinois on the bracket f(a) > 0 ≥ f(b).
+                    var a = seg.x;
+                    var b = seg.y;
+                    var fa = seg.z;
+                    var fb = seg.w;
+                    var side = 0;
+                    for (var it = 0; it < 40; it++) {
+                        if (b - a <= eps || fb == 0.0) {
+                            break;
+                        }
+                        var t = (a * fb - b * fa) / (fb - fa);
+                        if (!(t > a && t < b)) {
+                            t = 0.5 * (a + b);
+                        }
+                        let ft = bspline_f(p, s0, w0, r0, d, t).x;
+                        if (ft > 0.0) {
+                            a = t;
+                            fa = ft;
+                            if (side == 1) {
+                                fb *= 0.5;
+                            }
+                            side = 1;
+                        } else {
+                            b = t;
+                            fb = ft;
+                            if (side == -1) {
+                                fa *= 0.5;
+                            }
+                            side = -1;
+                        }
+                    }
+                    root = b;
+                    break;
+                }
+            } else if (fm.x - k1 * half > 0.0 || monotone || seg.y - seg.x <= eps || len + 2u > 24u) {
+                continue;
+            }
+            stack[len] = vec4<f32>(mid, seg.y, fm.x, seg.w);
+            stack[len + 1u] = vec4<f32>(seg.x, mid, seg.z, fm.x);
+            len += 2u;
+        }
+    }
+    if (root < 0.0) {
+        return miss;
+    }
+    let g = bspline_f(p, s0, w0, r0, d, root);
+    return vec4<f32>(c.x + root, surface_normal(g.z, g.w));
+}
+
 // LOD hit: entry into the nearest max column of level `level` among cells ra × rb.
 fn column_hit(o: vec3<f32>, d: vec3<f32>, level: u32, n: u32, ra: vec2<i32>, rb: vec2<i32>, c0: f32, c1: f32, ta: f32, tb: f32) -> vec4<f32> {
     let size = f32(1u << (n - level));
@@ -219,7 +378,12 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32) -> vec4
                             continue;
                         }
                         let end = select(seg.y, best.x, best.x >= 0.0);
-                        let h = cell_hit(o, d, u32(a), u32(b), c.x, c.y, seg.x, end);
+                        var h: vec4<f32>;
+                        if (P.sizes.w == 1u) {
+                            h = bicubic_hit(o, d, u32(a), u32(b), c.x, c.y, seg.x, end);
+                        } else {
+                            h = cell_hit(o, d, u32(a), u32(b), c.x, c.y, seg.x, end);
+                        }
                         if (h.x >= 0.0 && (best.x < 0.0 || h.x < best.x)) {
                             best = h;
                         }

@@ -1,6 +1,6 @@
 //! GPU terrain pass time (ray upload + dispatch + readback; pipeline and pyramid uploaded once)
-//! for the DEM scenes' camera rays at their own resolution (terrain_low 640 × 360, bilinear;
-//! terrain_high 512 × 512 with its map re-built bilinear, the GPU pass having no bicubic), on
+//! for the DEM scenes' camera rays at their own resolution (terrain_low 640 × 360 and
+//! terrain_high 512 × 512, both with bilinear patches), on
 //! whatever adapter wgpu finds (named in the benchmark id); without one it says so and measures
 //! nothing. The CPU reference casts of the same rays are timed alongside (one thread).
 

@@ -1,14 +1,14 @@
 //! The terrain pass (one struct, its pipeline and buffers): `shaders/terrain.wgsl` casts a batch
 //! of camera-relative rays against one terrain — the max pyramid as a storage buffer (levels at
 //! offsets `(4ᵏ − 1) / 3`), the samples as another — and reads back `(t, normal)` per ray. It is
-//! the f32 twin of `fray_terrain::Terrain::cast` for bilinear terrains (bicubic is refused); a
-//! parity test bounds the difference. Not yet composed into the GPU frame (the backend refuses
+//! the f32 twin of `fray_terrain::Terrain::cast` (bilinear and B-spline bicubic); a parity test
+//! bounds the difference. Not yet composed into the GPU frame (the backend refuses
 //! terrain scenes, see `render.rs`).
 
 use crate::{GpuContext, GpuError};
 use bytemuck::Pod;
+use fray_terrain::Terrain;
 use fray_terrain::gpu_layout::{self, GpuTerrainParams};
-use fray_terrain::{Interpolation, Terrain};
 use glam::DVec3;
 use wgpu::util::DeviceExt;
 
@@ -54,11 +54,6 @@ fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntr
 impl TerrainPass {
     /// Builds the pipeline and uploads `terrain` relative to `reference` (the camera).
     pub fn new(ctx: &GpuContext, terrain: &Terrain, reference: DVec3) -> Result<Self, GpuError> {
-        if terrain.options().interpolation == Interpolation::Bicubic {
-            return Err(GpuError::Unsupported {
-                feature: "bicubic terrain",
-            });
-        }
         let pyramid = gpu_layout::pyramid_values(terrain);
         let samples = terrain.map().samples();
         let limit = ctx.limits.max_storage_buffer_binding_size;

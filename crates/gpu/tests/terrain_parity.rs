@@ -1,11 +1,14 @@
 //! GPU terrain pass vs the f64 CPU reference (`fray_terrain::Terrain::cast`) on the DEM scenes'
-//! camera rays: bilinear at LOD bias 0 (terrain_low as it is; terrain_high's map with bilinear
-//! patches) and a LOD bias of 2 (max-column tops). Bounds (f32 vs f64, rays up to 66 km long):
-//! on pixels both hit, `|Δt| ≤ 2e-5 · t` except on at most 0.1 % of them (grazing rays, where an
-//! f32 height error moves the hit by `Δh / sin θ`; measured max 4.8e-6 · t, none over), hit/miss
-//! disagreements on at most 0.2 % of pixels (silhouettes; measured 0), and with LOD bias 0 unit
-//! normals within 1e-3 (measured 3e-5; LOD normals are not compared: the GPU gives column walls
-//! the top's normal). Uses the libtest-mimic harness: ignored without an adapter, a failure under
+//! camera rays: both scenes with bilinear patches and with the bicubic B-spline (grazing rays in
+//! terrain_low), and a LOD bias of 2 (max-column tops). Bounds (f32 vs f64, rays up to 66 km):
+//! - depth, on pixels both hit: `|Δt| ≤ 2e-5 · t` except on at most 0.1 % of them (grazing rays,
+//!   where an f32 height error moves the hit by `Δh / sin θ`); measured max 4.8e-6 · t bilinear,
+//!   1.7e-5 · t bicubic (terrain_low's grazing rays), none over;
+//! - hit/miss disagreements on at most 0.2 % of pixels (silhouettes); measured 0;
+//! - unit normals within 1e-3 at LOD bias 0; measured 3e-5 bilinear, 3.7e-4 bicubic (LOD normals
+//!   are not compared: the GPU gives column walls the top's normal).
+//!
+//! Uses the libtest-mimic harness: ignored without an adapter, a failure under
 //! `FRAY_REQUIRE_GPU=1`.
 
 mod common;
@@ -100,9 +103,14 @@ fn rebuilt(s: &fray_scene::Scene, options: TerrainOptions) -> Terrain {
     Terrain::new(t.map().clone(), *t.placement(), options).unwrap()
 }
 
-fn low_view_bilinear() {
+fn low_view_bilinear_and_bicubic() {
     let s = scene("terrain_low.ron", 160);
     compare("terrain_low, bilinear", &s, &s.terrains[0].terrain, true);
+    let bicubic = TerrainOptions {
+        interpolation: Interpolation::Bicubic,
+        ..TerrainOptions::default()
+    };
+    compare("terrain_low, bicubic", &s, &rebuilt(&s, bicubic), true);
 }
 
 fn high_view_bilinear_and_lod() {
@@ -119,12 +127,21 @@ fn high_view_bilinear_and_lod() {
     compare("terrain_high, LOD bias 2", &s, &rebuilt(&s, lod), false);
 }
 
+fn high_view_bicubic() {
+    let s = scene("terrain_high.ron", 128);
+    compare("terrain_high, bicubic", &s, &s.terrains[0].terrain, true);
+}
+
 fn main() {
     let args = Arguments::from_args();
     let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 2] = [
-        ("low_view_bilinear", low_view_bilinear),
+    let tests: [(&str, fn()); 3] = [
+        (
+            "low_view_bilinear_and_bicubic",
+            low_view_bilinear_and_bicubic,
+        ),
         ("high_view_bilinear_and_lod", high_view_bilinear_and_lod),
+        ("high_view_bicubic", high_view_bicubic),
     ];
     let trials = tests
         .into_iter()

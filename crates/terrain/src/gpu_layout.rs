@@ -22,7 +22,8 @@ pub struct GpuTerrainParams {
     pub axis_v: [f32; 4],
     /// Spacing along `u`, along `v`, vertical scale, 0.
     pub scale: [f32; 4],
-    /// Raw-height range of the solid: bottom, top, 0, 0.
+    /// Raw-height range of the solid and the threshold: bottom, top, threshold ([`NO_SURFACE`]
+    /// for none), 0.
     pub heights: [f32; 4],
     /// Cells along `u`, cells along `v`, pyramid levels `n`, stop level `n − lod_bias`.
     pub grid: [u32; 4],
@@ -77,7 +78,12 @@ impl GpuTerrainParams {
                 p.vertical_scale() as f32,
                 0.0,
             ],
-            heights: [bottom as f32, top as f32, 0.0, 0.0],
+            heights: [
+                bottom as f32,
+                top as f32,
+                terrain.map().threshold().max(NO_SURFACE),
+                0.0,
+            ],
             grid: [
                 cw as u32,
                 ch as u32,
