@@ -1,7 +1,7 @@
 //! Adapter and device setup on any wgpu backend (`WGPU_BACKEND` is honoured).
 
 use crate::GpuError;
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// An open device and its queue, with the adapter's name.
 #[derive(Debug)]
@@ -13,6 +13,9 @@ pub struct GpuContext {
     /// The wgpu backend in use, e.g. `"Vulkan"`.
     pub backend: String,
     pub limits: wgpu::Limits,
+    /// The first GPU error no error scope caught, or a device loss, since it was last taken:
+    /// wgpu's default handler would panic on it; fray turns it into a [`GpuError`] instead.
+    uncaptured: Arc<Mutex<Option<String>>>,
 }
 
 fn instance() -> wgpu::Instance {
@@ -48,14 +51,41 @@ impl GpuContext {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
+        let uncaptured = Arc::new(Mutex::new(None));
+        let sink = Arc::clone(&uncaptured);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| record(&sink, e.to_string())));
+        let sink = Arc::clone(&uncaptured);
+        device.set_device_lost_callback(move |reason, message| {
+            record(&sink, format!("device lost ({reason:?}): {message}"))
+        });
         Ok(Self {
             device,
             queue,
             adapter_name: info.name,
             backend: format!("{:?}", info.backend),
             limits,
+            uncaptured,
         })
     }
+
+    /// Takes the first error since the last call that no error scope caught (a validation or
+    /// out-of-memory error in a dispatch, a lost device), if any. Passes call this after their
+    /// readback and fail with it, so the facade can fall back to the CPU.
+    pub fn take_uncaptured_error(&self) -> Option<String> {
+        match self.uncaptured.lock() {
+            Ok(mut slot) => slot.take(),
+            Err(poisoned) => poisoned.into_inner().take(),
+        }
+    }
+}
+
+/// Keeps the first error (later ones are usually its consequences).
+fn record(slot: &Mutex<Option<String>>, message: String) {
+    let mut slot = match slot.lock() {
+        Ok(slot) => slot,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    slot.get_or_insert(message);
 }
 
 /// What [`probe_adapter`] found.

@@ -107,6 +107,17 @@ impl GpuRenderer {
         let pass = self.prepare(scene, settings)?;
         let built = start.elapsed();
         let out = pass.run(&self.ctx)?;
+        // An error no scope caught (or a lost device) would otherwise go unnoticed: fail with it.
+        if let Some(reason) = self.ctx.take_uncaptured_error() {
+            return Err(if reason.starts_with("device lost") {
+                GpuError::DeviceLost(reason)
+            } else {
+                GpuError::Dispatch {
+                    pass: "free-form",
+                    reason,
+                }
+            });
+        }
         let (w, h) = (scene.width, scene.height);
         let mut colour = Image::filled(w, h, fray_core::Rgb::ZERO);
         let mut depth = Image::filled(w, h, f64::INFINITY);

@@ -1,0 +1,52 @@
+//! GPU errors that no error scope catches become values, never panics: wgpu's default handler
+//! panics on an uncaptured validation error, so `GpuContext` installs its own and a pass that
+//! finds one fails with a `GpuError` (which the facade turns into a CPU fallback under `auto`).
+//! Ignored without an adapter; a failure under `FRAY_REQUIRE_GPU=1`.
+
+mod common;
+
+use fray_gpu::GpuContext;
+use libtest_mimic::{Arguments, Trial};
+
+/// A deliberately invalid buffer (mappable for reading *and* a storage buffer, which WebGPU
+/// forbids) outside any error scope: the error is recorded, not raised, and taken exactly once.
+fn uncaptured_validation_error_is_recorded_not_raised() {
+    let ctx = match GpuContext::new() {
+        Ok(ctx) => ctx,
+        Err(e) => panic!("the GPU is unavailable: {e}"),
+    };
+    assert_eq!(
+        ctx.take_uncaptured_error(),
+        None,
+        "a fresh device has no error"
+    );
+    let _invalid = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("invalid on purpose"),
+        size: 256,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let reason = ctx.take_uncaptured_error();
+    assert!(
+        reason.as_deref().is_some_and(|r| !r.is_empty()),
+        "the validation error was not recorded: {reason:?}"
+    );
+    eprintln!(
+        "recorded: {}",
+        reason.unwrap_or_default().lines().next().unwrap_or("")
+    );
+    assert_eq!(ctx.take_uncaptured_error(), None, "taken once");
+}
+
+fn main() {
+    let args = Arguments::from_args();
+    let ignored = common::gpu_tests_ignored();
+    let trials = vec![
+        Trial::test("uncaptured_validation_error_is_recorded_not_raised", || {
+            uncaptured_validation_error_is_recorded_not_raised();
+            Ok(())
+        })
+        .with_ignored_flag(ignored),
+    ];
+    libtest_mimic::run(&args, trials).exit();
+}
