@@ -11,10 +11,8 @@ use libtest_mimic::{Arguments, Trial};
 /// A deliberately invalid buffer (mappable for reading *and* a storage buffer, which WebGPU
 /// forbids) outside any error scope: the error is recorded, not raised, and taken exactly once.
 fn uncaptured_validation_error_is_recorded_not_raised() {
-    let ctx = match GpuContext::new() {
-        Ok(ctx) => ctx,
-        Err(e) => panic!("the GPU is unavailable: {e}"),
-    };
+    let renderer = common::gpu("uncaptured_validation_error_is_recorded_not_raised");
+    let ctx: &GpuContext = renderer.context();
     assert_eq!(
         ctx.take_uncaptured_error(),
         None,
