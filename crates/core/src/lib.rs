@@ -29,6 +29,7 @@ mod image;
 mod interval;
 mod projector;
 mod ray;
+pub mod root;
 
 pub use aabb::Aabb;
 pub use colour::{Rgb, ToneMap, linear_to_srgb, srgb_to_linear};

@@ -19,6 +19,7 @@
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
 
 use crate::{ActiveSet, CsgOp, RayQuadratic, Solid};
+use fray_core::root::illinois;
 use fray_core::{Interval, Ray};
 use glam::DVec3;
 
@@ -792,7 +793,7 @@ fn finish<F: RayFunction>(f: &mut F, (a, fa): (f64, f64), (b, fb): (f64, f64), e
     if let Some(r) = f.predict(a, b) {
         let fr = f.value(r);
         if fr < 0.0 {
-            return illinois(f, (r, fr), (b, fb), eps);
+            return illinois(|t| f.value(t), (r, fr), (b, fb), eps);
         }
         let before = r - eps;
         if before <= a {
@@ -802,57 +803,9 @@ fn finish<F: RayFunction>(f: &mut F, (a, fa): (f64, f64), (b, fb): (f64, f64), e
         if f_before < 0.0 {
             return r;
         }
-        return illinois(f, (a, fa), (before, f_before), eps);
+        return illinois(|t| f.value(t), (a, fa), (before, f_before), eps);
     }
-    illinois(f, (a, fa), (b, fb), eps)
-}
-
-/// Illinois regula falsi on a bracket with `f(a) < 0 ≤ f(b)` and a single root; returns a
-/// point `t ≥ root` with `t − root ≤ eps` and `f(t) ≥ 0`.
-fn illinois<F: RayFunction>(
-    f: &mut F,
-    (mut a, mut fa): (f64, f64),
-    (mut b, mut fb): (f64, f64),
-    eps: f64,
-) -> f64 {
-    let mut last_side = 0i8;
-    let mut width_before = b - a;
-    for iteration in 0..200 {
-        if b - a <= eps || fb == 0.0 {
-            break;
-        }
-        let mut c = b - fb * (b - a) / (fb - fa);
-        // Every fourth step, insist on halving progress; always stay strictly inside.
-        if iteration % 4 == 3 {
-            if b - a > 0.5 * width_before {
-                c = a + 0.5 * (b - a);
-            }
-            width_before = b - a;
-        }
-        if !(c > a && c < b) {
-            c = a + 0.5 * (b - a);
-            if !(c > a && c < b) {
-                break; // no float between a and b
-            }
-        }
-        let fc = f.value(c);
-        if fc >= 0.0 {
-            b = c;
-            fb = fc;
-            if last_side == 1 {
-                fa *= 0.5;
-            }
-            last_side = 1;
-        } else {
-            a = c;
-            fa = fc;
-            if last_side == -1 {
-                fb *= 0.5;
-            }
-            last_side = -1;
-        }
-    }
-    b
+    illinois(|t| f.value(t), (a, fa), (b, fb), eps)
 }
 
 impl Solid {
