@@ -456,11 +456,12 @@ fn illinois(a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> f32 {
             break;
         }
         var c = b - fb * (b - a) / (fb - fa);
-        if iteration % 4u == 3u {
-            if b - a > 0.5 * width_before {
-                c = a + 0.5 * (b - a);
-            }
+        // Windows of four steps (fray_core::root::illinois): the fourth bisects unless the first
+        // three halved the bracket.
+        if iteration % 4u == 0u {
             width_before = b - a;
+        } else if iteration % 4u == 3u && b - a > 0.5 * width_before {
+            c = a + 0.5 * (b - a);
         }
         if !(c > a && c < b) {
             c = a + 0.5 * (b - a);
