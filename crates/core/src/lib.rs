@@ -24,6 +24,7 @@
 
 mod aabb;
 mod colour;
+mod footprint;
 mod frame;
 mod image;
 mod interval;
@@ -33,6 +34,7 @@ pub mod root;
 
 pub use aabb::Aabb;
 pub use colour::{Rgb, ToneMap, linear_to_srgb, srgb_to_linear};
+pub use footprint::PixelFootprint;
 pub use frame::{Frame, RenderStats};
 pub use glam;
 pub use image::Image;

@@ -42,12 +42,13 @@ fn object_boxes(scene: &Scene) -> Vec<ObjectBoxes> {
         .collect()
 }
 
-/// The pyramid level whose max columns feed the cell test: at most 8 × 8 columns per terrain.
-const TERRAIN_TEST_LEVEL: u32 = 3;
-
-/// A terrain's box and its coarse max columns (level `min(n, 3)`: each column is a cell's map
-/// rectangle from the base up to the pyramid's maximum over it). Every surface point lies in
-/// one of the columns, so a bundle that misses all of them misses the terrain.
+/// A terrain's box and its coarse max columns (level [`Terrain::coarsest_stop_level`], at most
+/// 8 × 8 columns: each column is a cell's map rectangle from the base up to the pyramid's maximum
+/// over it). Every hit — the exact surface, and the max-column tops a LOD search (bias or pixel
+/// footprint) stops at, which lie in the columns of any coarser level — is in one of the columns,
+/// so a bundle that misses all of them misses the terrain.
+///
+/// [`Terrain::coarsest_stop_level`]: fray_terrain::Terrain::coarsest_stop_level
 struct TerrainBoxes {
     bounds: Aabb,
     columns: Vec<Aabb>,
@@ -59,7 +60,7 @@ fn terrain_boxes(scene: &Scene) -> Vec<TerrainBoxes> {
         .iter()
         .map(|t| {
             let t = &t.terrain;
-            let level = t.max_pyramid().levels().min(TERRAIN_TEST_LEVEL);
+            let level = t.coarsest_stop_level();
             let side = 1usize << level;
             let columns = (0..side * side)
                 .filter_map(|k| t.column_bounds(level, k % side, k / side))

@@ -1,5 +1,6 @@
 //! Terrain benchmarks (criterion), all on one fixed screen of 128 × 128 pinhole rays looking
-//! obliquely (≈ 35° down) over a 30 km square of terrain:
+//! obliquely (≈ 35° down) over a 30 km square of terrain (the setup is `fray_terrain::sweep`,
+//! shared with `cargo xtask bench`):
 //!
 //! - `size/<N>`: the pyramid search (bilinear, LOD bias 0) on maps of N² samples, N = 256 …
 //!   4096, covering the same ground: the Jacksboro DEM upsampled with the B-spline plus
@@ -15,13 +16,12 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use fray_core::{Interval, Ray};
-use fray_terrain::{Heightmap, Interpolation, Placement, Terrain, TerrainOptions};
+use fray_terrain::{Heightmap, Interpolation, Placement, Terrain, TerrainOptions, sweep};
 use glam::{DVec2, DVec3};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
 
-const EXTENT: f64 = 30_000.0;
 const SCREEN: usize = 128;
 
 fn dem() -> Terrain {
@@ -36,76 +36,16 @@ fn dem() -> Terrain {
     Terrain::new(map, placement, options).expect("DEM terrain")
 }
 
-fn hash(i: i64, j: i64, octave: u32) -> f64 {
-    let mut z = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
-        ^ u64::from(octave).wrapping_mul(0x1656_67B1_9E37_79F9);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-}
-
-/// Bilinearly interpolated hashed lattice noise with lattice period `period` samples.
-fn value_noise(x: f64, y: f64, period: f64, octave: u32) -> f64 {
-    let (fx, fy) = (x / period, y / period);
-    let (i, j) = (fx.floor(), fy.floor());
-    let (s, t) = (fx - i, fy - j);
-    let (i, j) = (i as i64, j as i64);
-    let a = hash(i, j, octave) * (1.0 - s) + hash(i + 1, j, octave) * s;
-    let b = hash(i, j + 1, octave) * (1.0 - s) + hash(i + 1, j + 1, octave) * s;
-    a * (1.0 - t) + b * t
-}
-
-/// The DEM upsampled to `n × n` by its B-spline, with fractal detail below its resolution,
-/// placed over the same `EXTENT`² square for every `n`.
 fn terrain(base: &Terrain, n: usize, options: TerrainOptions) -> Terrain {
-    let (cw, ch) = base.map().cells();
-    let scale = (n - 1) as f64;
-    let samples = (0..n * n)
-        .map(|k| {
-            let (i, j) = ((k % n) as f64, (k / n) as f64);
-            let (u, v) = (i / scale * cw as f64, j / scale * ch as f64);
-            let mut h = base.surface(u, v).unwrap_or(0.0);
-            // Detail at periods of 16, 8, 4, 2 samples of this map, ≈ 74 m / … amplitude.
-            for octave in 0..4u32 {
-                let period = f64::from(16 >> octave);
-                if period * 0.5 > n as f64 / 403.0 {
-                    continue; // only below the DEM's own resolution
-                }
-                h += 12.0 * 0.5f64.powi(octave as i32) * value_noise(i, j, period, octave);
-            }
-            h as f32
-        })
-        .collect();
-    let map = Heightmap::from_samples(n, n, samples).expect("generated map");
-    let spacing = EXTENT / scale;
-    let placement = Placement::new(DVec3::ZERO, DVec2::splat(spacing), 1.0).expect("placement");
-    Terrain::new(map, placement, options).expect("generated terrain")
+    sweep::upsampled(base, n, options).expect("generated terrain")
 }
 
-/// The fixed screen: a pinhole at a corner, 4 km up, looking at the centre (≈ 35° down).
 fn rays() -> Vec<Ray> {
-    let eye = DVec3::new(-4_000.0, 14_000.0, -4_000.0);
-    let target = DVec3::new(0.5 * EXTENT, 600.0, 0.5 * EXTENT);
-    let fwd = (target - eye).normalize();
-    let right = fwd.cross(DVec3::Y).normalize();
-    let up = right.cross(fwd);
-    let half = (25f64).to_radians().tan();
-    let mut out = Vec::with_capacity(SCREEN * SCREEN);
-    for y in 0..SCREEN {
-        for x in 0..SCREEN {
-            let sx = ((x as f64 + 0.5) / SCREEN as f64 * 2.0 - 1.0) * half;
-            let sy = (1.0 - (y as f64 + 0.5) / SCREEN as f64 * 2.0) * half;
-            out.push(Ray::new(eye, fwd + right * sx + up * sy).expect("ray"));
-        }
-    }
-    out
+    sweep::screen_rays(SCREEN)
 }
 
-/// World size of a pixel per unit distance on the fixed screen (50° field of view).
 fn pixel_footprint() -> f64 {
-    2.0 * 25f64.to_radians().tan() / SCREEN as f64
+    sweep::screen_footprint(SCREEN)
 }
 
 fn cast_all(t: &Terrain, rays: &[Ray]) -> usize {
@@ -125,20 +65,8 @@ fn cast_all_lod(t: &Terrain, rays: &[Ray]) -> usize {
 
 /// Mean and max |Δt| in cells against `reference` (hits both), and hit/miss disagreements.
 fn error(reference: &[Option<f64>], got: &[Option<f64>], cell: f64) -> (f64, f64, usize) {
-    let (mut sum, mut max, mut n, mut flips) = (0.0, 0.0f64, 0usize, 0usize);
-    for (a, b) in reference.iter().zip(got) {
-        match (a, b) {
-            (Some(a), Some(b)) => {
-                let e = (a - b).abs() / cell;
-                sum += e;
-                max = max.max(e);
-                n += 1;
-            }
-            (None, None) => {}
-            _ => flips += 1,
-        }
-    }
-    (sum / n.max(1) as f64, max, flips)
+    let e = sweep::DepthError::of(reference, got, cell);
+    (e.mean, e.max, e.flips)
 }
 
 fn benches(c: &mut Criterion) {
@@ -166,7 +94,7 @@ fn benches(c: &mut Criterion) {
     g.finish();
 
     let n = 1024;
-    let cell = EXTENT / (n - 1) as f64;
+    let cell = sweep::cell_size(n);
     let reference_terrain = terrain(&base, n, exact);
     let reference: Vec<Option<f64>> = rays
         .iter()

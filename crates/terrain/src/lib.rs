@@ -43,6 +43,7 @@ mod load;
 mod npy;
 mod placement;
 mod pyramid;
+pub mod sweep;
 mod terrain;
 
 pub use error::TerrainError;
@@ -50,4 +51,6 @@ pub use heightmap::{Heightmap, MAX_SAMPLES, MAX_SIDE};
 pub use interpolation::{BicubicCell, BilinearCell, Interpolation};
 pub use placement::{MapRay, Placement};
 pub use pyramid::Pyramid;
-pub use terrain::{HitKind, Terrain, TerrainHit, TerrainOptions, TerrainStats};
+pub use terrain::{
+    HitKind, PIXEL_LOD_COARSEST_LEVEL, Terrain, TerrainHit, TerrainOptions, TerrainStats,
+};

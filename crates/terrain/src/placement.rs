@@ -107,7 +107,12 @@ impl Placement {
         self.origin + self.rotation * local
     }
 
-    /// A map-space vector `(du, dv, dr)` → world (no origin).
+    /// World → map space `(u, v, r)` (the inverse of [`Placement::to_world`]).
+    pub fn to_map(&self, w: DVec3) -> DVec3 {
+        self.vector_to_map(w - self.origin)
+    }
+
+    /// A world vector → map space (no origin).
     fn vector_to_map(&self, w: DVec3) -> DVec3 {
         let l = self.rotation.transpose() * w;
         DVec3::new(

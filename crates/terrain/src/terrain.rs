@@ -22,7 +22,7 @@
 use crate::clip::{Clip, clip_box, clip_within};
 use crate::interpolation::{BicubicCell, BilinearCell, Interpolation};
 use crate::{Heightmap, MapRay, Placement, Pyramid, TerrainError};
-use fray_core::{Aabb, Interval, Ray};
+use fray_core::{Aabb, Interval, PixelFootprint, Ray};
 use glam::{DVec2, DVec3};
 
 /// How a terrain is searched and drawn.
@@ -59,6 +59,10 @@ pub struct TerrainHit {
     /// The cell `(column, row)` hit (at the stop level's resolution for LOD hits).
     pub cell: [u32; 2],
     pub kind: HitKind,
+    /// 0 for a hit on the exact surface, its walls or its base; `k > 0` for a hit on a
+    /// level-`(n − k)` max column (a LOD hit: its normal is the column face's, see
+    /// [`Terrain::surface_normal_at`] for the surface's).
+    pub levels_above_finest: u32,
 }
 
 /// Work counters of terrain casts.
@@ -68,14 +72,26 @@ pub struct TerrainStats {
     pub segments: u64,
     /// Finest cells (or stop-level columns) intersected.
     pub cells: u64,
+    /// Segments that reached their stop level and were intersected there.
+    pub stops: u64,
+    /// Sum over those stops of their level's distance above the finest (`n − level`): divided by
+    /// `stops`, the mean level of detail actually used (0 = exact everywhere).
+    pub stop_levels_above_finest: u64,
 }
 
 impl std::ops::AddAssign for TerrainStats {
     fn add_assign(&mut self, o: Self) {
         self.segments += o.segments;
         self.cells += o.cells;
+        self.stops += o.stops;
+        self.stop_levels_above_finest += o.stop_levels_above_finest;
     }
 }
+
+/// The coarsest level a pixel-footprint search stops at (clamped to the pyramid's depth): 8 × 8
+/// max columns over the whole map. A pixel wider than that sees the map as a few blocks anyway,
+/// and the quadtree's cell test ([`Terrain::coarsest_stop_level`]) relies on the bound.
+pub const PIXEL_LOD_COARSEST_LEVEL: u32 = 3;
 
 /// A height map placed in the world, with its pyramid(s): ready to ray-cast.
 #[derive(Clone, Debug)]
@@ -202,6 +218,15 @@ impl Terrain {
         b
     }
 
+    /// The coarsest pyramid level any search of this terrain stops at — exact (`n − lod_bias`) or
+    /// pixel-footprint ([`PIXEL_LOD_COARSEST_LEVEL`] at most): every hit, LOD hits included, lies
+    /// in one of this level's max columns ([`Terrain::column_bounds`]).
+    pub fn coarsest_stop_level(&self) -> u32 {
+        let n = self.max.levels();
+        n.saturating_sub(self.options.lod_bias)
+            .min(n.min(PIXEL_LOD_COARSEST_LEVEL))
+    }
+
     /// The world box of the level-`level` max column `(a, b)`: the cell's map rectangle (clipped
     /// to the map) from the bottom to the column's maximum; `None` for an empty column.
     pub fn column_bounds(&self, level: u32, a: usize, b: usize) -> Option<Aabb> {
@@ -259,18 +284,40 @@ impl Terrain {
         footprint: f64,
         stats: &mut TerrainStats,
     ) -> Option<TerrainHit> {
+        let footprint = PixelFootprint {
+            size: 0.0,
+            angle: footprint,
+        };
+        self.cast_footprint(ray, range, eps, footprint, stats)
+    }
+
+    /// The pixel-footprint search for any projector: a segment starting at distance `t` stops at
+    /// the level whose cells are at least `footprint.at(t)` wide (never coarser than
+    /// [`PIXEL_LOD_COARSEST_LEVEL`], never finer than the LOD bias allows) and hits that level's
+    /// max-column tops — never later than the exact hit, never missing one.
+    /// [`PixelFootprint::ZERO`] is [`Terrain::cast`]. Counts work into `stats`.
+    pub fn cast_footprint(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        footprint: PixelFootprint,
+        stats: &mut TerrainStats,
+    ) -> Option<TerrainHit> {
         let m = self.placement.map_ray(ray);
         let (lo, hi) = self.map_box();
         let clip = clip_box(&m, lo, hi, range.lo, range.hi)?;
         let err = rounding(&m, &clip);
         let n = self.max.levels();
         let stop_bias = n.saturating_sub(self.options.lod_bias);
-        // Finest cells per pixel per unit distance (0: no pixel LOD).
-        let lod_scale = if footprint > 0.0 && footprint.is_finite() {
-            footprint / self.placement.spacing().min_element()
-        } else {
-            0.0
-        };
+        let floor = n.min(PIXEL_LOD_COARSEST_LEVEL);
+        // Finest cells per pixel (0: no pixel LOD).
+        let cell = self.placement.spacing().min_element();
+        let pixel = !footprint.is_zero()
+            && footprint.size.is_finite()
+            && footprint.angle.is_finite()
+            && footprint.size >= 0.0
+            && footprint.angle >= 0.0;
         let mut stack = [(0.0f64, 0.0f64); STACK];
         stack[0] = (clip.t0, clip.t1);
         let mut len = 1;
@@ -278,8 +325,8 @@ impl Terrain {
             len -= 1;
             let (ta, tb) = stack[len];
             stats.segments += 1;
-            let stop = if lod_scale > 0.0 {
-                stop_bias.min(level_for(lod_scale * ta.max(0.0), n))
+            let stop = if pixel {
+                stop_bias.min(level_for(footprint.at(ta) / cell, n).max(floor))
             } else {
                 stop_bias
             };
@@ -305,6 +352,8 @@ impl Terrain {
                 continue;
             }
             if level == stop {
+                stats.stops += 1;
+                stats.stop_levels_above_finest += u64::from(n - stop);
                 let hit = if stop == n {
                     self.finest_hit(
                         &m,
@@ -496,6 +545,7 @@ impl Terrain {
             normal: self.placement.surface_normal(slope),
             cell: [i as u32, j as u32],
             kind: HitKind::Surface,
+            levels_above_finest: 0,
         })
     }
 
@@ -526,6 +576,7 @@ impl Terrain {
                 normal: this.placement.surface_normal(slope(s, w)),
                 cell,
                 kind: HitKind::Surface,
+                levels_above_finest: 0,
             }
         };
         if t != c.t0 {
@@ -537,6 +588,7 @@ impl Terrain {
                 normal: -ray.dir,
                 cell,
                 kind: HitKind::Start,
+                levels_above_finest: 0,
             },
             Some((2, sign)) if sign > 0.0 => surface(self),
             Some((axis, sign)) => {
@@ -548,6 +600,7 @@ impl Terrain {
                     normal: self.placement.axis_normal(axis, sign),
                     cell,
                     kind: HitKind::Wall,
+                    levels_above_finest: 0,
                 }
             }
         }
@@ -616,6 +669,7 @@ impl Terrain {
                     normal,
                     cell: [a as u32, b as u32],
                     kind,
+                    levels_above_finest: self.max.levels() - level,
                 });
             }
         }
@@ -644,6 +698,32 @@ impl Terrain {
             }
         }
         best
+    }
+
+    /// The world unit normal of the interpolated surface under the world point `p` (the
+    /// analytic normal at its map position `(u, v)`, the height ignored); `None` off the map or
+    /// on a cut-out cell. Renderers shade LOD hits (flat max-column faces) with it, so relief
+    /// shading survives a coarse level.
+    pub fn surface_normal_at(&self, p: DVec3) -> Option<DVec3> {
+        let q = self.placement.to_map(p);
+        let (u, v) = (q.x, q.y);
+        let (cw, ch) = self.map.cells();
+        if !(u >= 0.0 && v >= 0.0 && u <= cw as f64 && v <= ch as f64) {
+            return None;
+        }
+        let (i, j) = (
+            (u.floor() as usize).min(cw - 1),
+            (v.floor() as usize).min(ch - 1),
+        );
+        if !self.map.cell_is_solid(i, j) {
+            return None;
+        }
+        let (s, w) = (u - i as f64, v - j as f64);
+        let slope = match self.options.interpolation {
+            Interpolation::Bilinear => BilinearCell::new(&self.map, i, j).slope(s, w),
+            Interpolation::Bicubic => BicubicCell::new(&self.map, i, j).eval_with_slope(s, w).1,
+        };
+        Some(self.placement.surface_normal(slope))
     }
 
     /// The interpolated surface height (raw units) at map point `(u, v)`; `None` off the map or
