@@ -211,8 +211,21 @@ fn render(args: &RenderArgs) -> Result<(), String> {
     write_image(&frame, &output, &png).map_err(|e| e.to_string())?;
     if !args.quiet {
         let s = &frame.stats;
+        // Terrain work, when a terrain was searched: per terrain cast of a camera ray.
+        let terrain = if s.terrain_rays > 0 {
+            let per = |n: u64| n as f64 / s.terrain_rays as f64;
+            format!(
+                ", terrain: {} rays, {:.1} segment + {:.2} cell tests per ray, mean LOD {:.2} levels above the finest",
+                s.terrain_rays,
+                per(s.terrain_segments),
+                per(s.terrain_cells),
+                s.terrain_mean_lod(),
+            )
+        } else {
+            String::new()
+        };
         println!(
-            "{name} → {}: {}×{} in {:.1} ms ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray, ε = {:.3e}; ran: {}",
+            "{name} → {}: {}×{} in {:.1} ms ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{terrain}, ε = {:.3e}; ran: {}",
             output.display(),
             frame.colour.width(),
             frame.colour.height(),

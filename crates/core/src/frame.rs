@@ -40,6 +40,16 @@ pub struct RenderStats {
     pub cells_culled: u64,
     /// Work items (tiles with candidates) that were rendered per pixel.
     pub work_items: u64,
+    /// Terrain casts of camera rays (one per ray and terrain searched; 0 without terrain).
+    pub terrain_rays: u64,
+    /// Pyramid segments the terrain searches tested (halving steps).
+    pub terrain_segments: u64,
+    /// Finest cells (or LOD max columns) the terrain searches intersected.
+    pub terrain_cells: u64,
+    /// Terrain segments that reached their stop level (level of detail) and were intersected.
+    pub terrain_stops: u64,
+    /// Sum over those stops of their level's distance above the finest level.
+    pub terrain_stop_levels: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).
     pub passes: Vec<String>,
     /// Wall time of the render call.
@@ -60,5 +70,11 @@ impl RenderStats {
     /// Bound evaluations per ray: the "steps per ray" of the binary search.
     pub fn steps_per_ray(&self) -> f64 {
         self.bound_evaluations as f64 / self.rays().max(1) as f64
+    }
+
+    /// Mean level of detail of the terrain searches: levels above the finest where they stopped
+    /// (0 = exact everywhere).
+    pub fn terrain_mean_lod(&self) -> f64 {
+        self.terrain_stop_levels as f64 / self.terrain_stops.max(1) as f64
     }
 }

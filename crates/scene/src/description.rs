@@ -279,10 +279,23 @@ pub struct Terrain {
     /// Degrees about x, y, z (in that order) about `origin`.
     pub rotate: Vec3,
     pub interpolation: TerrainInterpolation,
-    /// Pyramid levels above the finest where the search stops (0 = exact surface).
+    /// How the camera's rays choose the level of detail (default: the pixel footprint).
+    pub lod: TerrainLod,
+    /// Whole pyramid levels coarser than the `lod` rule's level (0 = the rule's own level).
     pub lod_bias: u32,
     /// Raw samples below this are no surface (cut out); default: keep everything.
     pub threshold: Option<f64>,
+}
+
+/// How a terrain's level of detail is chosen for camera rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum TerrainLod {
+    /// Every ray descends to the finest level: the exact surface (with `lod_bias` 0).
+    Exact,
+    /// A segment stops at the level whose cells cover the camera pixel at its distance and hits
+    /// that level's max-column tops (DESIGN §4): cost follows the screen, not the map size.
+    #[default]
+    Pixel,
 }
 
 /// How a terrain's surface is interpolated between samples.
@@ -434,6 +447,8 @@ macro_rules! quadrics {
                 #[serde(default)]
                 interpolation: TerrainInterpolation,
                 #[serde(default)]
+                lod: TerrainLod,
+                #[serde(default)]
                 lod_bias: u32,
                 #[serde(default)]
                 threshold: Option<f64>,
@@ -451,8 +466,8 @@ macro_rules! quadrics {
                     ShapeRepr::Intersection(v) => Shape::Intersection(v),
                     ShapeRepr::Difference(a, b) => Shape::Difference(a, b),
                     ShapeRepr::Transformed { shape, transform } => Shape::Transformed { shape, transform },
-                    ShapeRepr::Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod_bias, threshold } => {
-                        Shape::Terrain(Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod_bias, threshold })
+                    ShapeRepr::Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold } => {
+                        Shape::Terrain(Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold })
                     }
                     $( ShapeRepr::$name { $( $field ),* } => Shape::Quadric(Quadric::$name { $( $field ),* }) ),*
                 }

@@ -41,6 +41,7 @@ mod scene;
 mod terrain;
 mod work;
 
+pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;
 pub use load::{load, parse, parse_description};

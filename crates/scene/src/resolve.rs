@@ -90,6 +90,7 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
                 name: name(),
                 terrain: std::sync::Arc::new(terrain),
                 material,
+                lod: t.lod,
             });
             continue;
         }

@@ -1,6 +1,7 @@
 //! The resolved scene: what a scene file means once parsed and validated, ready for a backend.
 
 use crate::FeatureSet;
+use crate::description::TerrainLod;
 use fray_core::{Projector, Rgb};
 use fray_geometry::Solid;
 use fray_terrain::Terrain;
@@ -100,6 +101,10 @@ pub struct TerrainObject {
     pub terrain: Arc<Terrain>,
     /// Index into [`Scene::materials`].
     pub material: u32,
+    /// How camera rays choose the level of detail ([`TerrainLod::Pixel`]: from the camera's
+    /// pixel footprint, coarser by the terrain's LOD bias; [`TerrainLod::Exact`]: the finest
+    /// level, or the fixed level `n − lod_bias`). Shadow rays are always exact.
+    pub lod: TerrainLod,
 }
 
 impl Scene {

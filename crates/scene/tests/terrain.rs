@@ -20,6 +20,8 @@ fn the_dem_scenes_resolve_with_their_terrain() {
             (403, 344)
         );
         assert_eq!(s.materials[t.material as usize].name, "land");
+        // The level of detail a terrain user expects: the pixel footprint (the default).
+        assert_eq!(t.lod, fray_scene::TerrainLod::Pixel, "{name}");
         // The scene box holds the terrain: 402 × 74 m by 343 × 93 m.
         let b = s.bounds();
         assert!(
@@ -95,6 +97,13 @@ fn bad_terrain_values_and_assets_are_located_errors() {
     );
     assert!(
         e.contains("objects[0].shape.interpolation: unknown variant `Cubic`"),
+        "{e}"
+    );
+    let e = error(
+        "(objects: [\n (shape: Terrain(path: \"../terrain/jacksboro_fault_dem.png\", lod: Fast)),\n])",
+    );
+    assert!(
+        e.contains(":2:") && e.contains("objects[0].shape.lod: unknown variant `Fast`"),
         "{e}"
     );
     let e = error(

@@ -1,6 +1,6 @@
 //! The nearest hit over all objects of a scene: the pair (ray parameter, primitive).
 
-use crate::terrain_hit::{nearer_terrain_hit, terrain_occludes};
+use crate::terrain_hit::{TerrainCast, nearer_terrain_hit, terrain_occludes};
 use fray_core::{Interval, Ray};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::Scene;
@@ -17,7 +17,7 @@ pub struct SceneHit {
 }
 
 /// The nearest hit in `range` over every object of `scene`. Each object is searched only up to
-/// the best hit so far, so occluded objects cost little.
+/// the best hit so far, so occluded objects cost little. Terrains are cast exactly.
 pub fn nearest_hit(
     scene: &Scene,
     caster: &mut RayCaster,
@@ -26,16 +26,46 @@ pub fn nearest_hit(
     eps: f64,
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
-    let all = (0..scene.objects.len()).map(|i| (i, None));
-    let best = nearest_over(scene, caster, ray, range, eps, all, stats);
-    let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
-    nearer_terrain_hit(scene, ray, range, eps, best, terrains)
+    let mut exact = TerrainCast::default();
+    nearest_hit_lod(scene, caster, ray, range, eps, None, stats, &mut exact)
+}
+
+/// [`nearest_hit`] (`candidates: None`) or [`nearest_hit_among`] (`Some`), with the terrains
+/// cast at their level of detail for `terrain.footprint` and their work counted into `terrain`.
+#[allow(clippy::too_many_arguments)]
+pub fn nearest_hit_lod(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    candidates: Option<&[(u32, ActiveSet)]>,
+    stats: &mut CastStats,
+    terrain: &mut TerrainCast,
+) -> Option<SceneHit> {
+    match candidates {
+        None => {
+            let all = (0..scene.objects.len()).map(|i| (i, None));
+            let best = nearest_over(scene, caster, ray, range, eps, all, stats);
+            let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
+            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
+        }
+        Some(candidates) => {
+            let listed = candidates
+                .iter()
+                .map(|(index, active)| (*index as usize, Some(active)));
+            let best = nearest_over(scene, caster, ray, range, eps, listed, stats);
+            // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
+            let terrains = candidates.iter().map(|(index, _)| *index as usize);
+            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
+        }
+    }
 }
 
 /// [`nearest_hit`] over a subset: only the listed objects (increasing indices), each cast with
 /// its [`ActiveSet`]. The same hit as [`nearest_hit`] when the subset is conservative for the ray
 /// (objects left out cannot be hit, sets hold what the ray may need) — what a quadtree work item
-/// guarantees for the rays of its tile.
+/// guarantees for the rays of its tile. Terrains are cast exactly.
 pub fn nearest_hit_among(
     scene: &Scene,
     caster: &mut RayCaster,
@@ -45,13 +75,9 @@ pub fn nearest_hit_among(
     candidates: &[(u32, ActiveSet)],
     stats: &mut CastStats,
 ) -> Option<SceneHit> {
-    let listed = candidates
-        .iter()
-        .map(|(index, active)| (*index as usize, Some(active)));
-    let best = nearest_over(scene, caster, ray, range, eps, listed, stats);
-    // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
-    let terrains = candidates.iter().map(|(index, _)| *index as usize);
-    nearer_terrain_hit(scene, ray, range, eps, best, terrains)
+    let mut exact = TerrainCast::default();
+    let some = Some(candidates);
+    nearest_hit_lod(scene, caster, ray, range, eps, some, stats, &mut exact)
 }
 
 /// The nearest hit over `candidates` (object index, and the active subset or `None` for all of

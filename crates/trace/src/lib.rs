@@ -33,7 +33,8 @@ mod terrain_hit;
 
 /// The work list (moved to `fray-scene`, which both backends share), re-exported.
 pub use fray_scene::work_list;
-pub use hit::{SceneHit, nearest_hit, nearest_hit_among, occluded};
+pub use hit::{SceneHit, nearest_hit, nearest_hit_among, nearest_hit_lod, occluded};
 pub use render::{Progress, render};
 pub use settings::{TraceError, TraceSettings};
 pub use shade::{ShadeContext, SurfacePoint};
+pub use terrain_hit::TerrainCast;

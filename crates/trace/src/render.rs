@@ -1,8 +1,9 @@
 //! The CPU frame loop: tiles in parallel (rayon), one primary ray per pixel centre, shading, and
 //! the frame's statistics. The result does not depend on the thread count.
 
-use crate::hit::{nearest_hit, nearest_hit_among};
+use crate::hit::nearest_hit_lod;
 use crate::shade::{ShadeContext, SurfacePoint};
+use crate::terrain_hit::TerrainCast;
 use crate::{TraceError, TraceSettings};
 use fray_core::{Frame, Image, Interval, RenderStats, Rgb};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
@@ -27,6 +28,7 @@ struct TileResult {
     hits: u64,
     shadow_rays: u64,
     cast: CastStats,
+    terrain: TerrainCast,
 }
 
 /// Renders `scene` on the CPU.
@@ -145,6 +147,11 @@ pub fn render(
         stats.shadow_rays += t.shadow_rays;
         stats.bound_evaluations += t.cast.bound_evaluations;
         stats.point_evaluations += t.cast.point_evaluations;
+        stats.terrain_rays += t.terrain.rays;
+        stats.terrain_segments += t.terrain.stats.segments;
+        stats.terrain_cells += t.terrain.stats.cells;
+        stats.terrain_stops += t.terrain.stats.stops;
+        stats.terrain_stop_levels += t.terrain.stats.stop_levels_above_finest;
     }
     if list.is_some() {
         stats.passes.push("quadtree".into());
@@ -250,6 +257,9 @@ fn render_tile(
         hits: 0,
         shadow_rays: 0,
         cast: CastStats::default(),
+        terrain: TerrainCast::with_footprint(
+            scene.camera.pixel_footprint(scene.width, scene.height),
+        ),
     };
     let mut shade = ShadeContext {
         scene,
@@ -265,7 +275,7 @@ fn render_tile(
                 settings,
                 caster,
                 &mut shade,
-                &mut tile.cast,
+                (&mut tile.cast, &mut tile.terrain),
                 (px, py),
                 candidates,
             );
@@ -287,7 +297,7 @@ fn shade_pixel(
     settings: &TraceSettings,
     caster: &mut RayCaster,
     shade: &mut ShadeContext<'_>,
-    stats: &mut CastStats,
+    (stats, terrain): (&mut CastStats, &mut TerrainCast),
     (px, py): (u32, u32),
     candidates: Option<&[(u32, ActiveSet)]>,
 ) -> (Rgb, f64, Vec3) {
@@ -298,10 +308,7 @@ fn shade_pixel(
     let ray = camera_ray.ray;
     let range = Interval::new(camera_ray.t_near, f64::INFINITY);
     let eps = settings.epsilon;
-    let hit = match candidates {
-        Some(c) => nearest_hit_among(scene, caster, &ray, range, eps, c, stats),
-        None => nearest_hit(scene, caster, &ray, range, eps, stats),
-    };
+    let hit = nearest_hit_lod(scene, caster, &ray, range, eps, candidates, stats, terrain);
     let Some(hit) = hit else {
         return miss;
     };

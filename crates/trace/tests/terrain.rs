@@ -49,7 +49,7 @@ fn flat_terrain_is_lit_like_a_plane_and_a_sphere_above_shadows_it() {
             materials: { "grey": (diffuse: (0.5, 0.5, 0.5), ambient: (0, 0, 0)) },
             objects: [
                 (material: "grey", shape: Terrain(path: "map.npy", spacing: (0.5, 0.5),
-                    vertical_scale: 0.5, origin: (-8, 0, -8))),
+                    vertical_scale: 0.5, origin: (-8, 0, -8), lod: Exact)),
                 (shape: Sphere(center: (4, 3, 4), radius: 1)),
             ],
         )"#,
@@ -145,7 +145,13 @@ fn culling_is_lossless_on_a_holed_terrain_for_every_projector() {
         "Parallel(eye: (35, 30, -5), look_at: (20, 0, 20), height: 40)",
         "Sphere(eye: (20, 6, 20), look_at: (30, 0, 20), fov_x: 360, fov_y: 150, radius: 1)",
     ];
-    for camera in cameras {
+    // The default pixel LOD, pixel LOD 2 levels coarser, and a fixed stop level (exact, bias 4)
+    // coarser than the cell test's default level 3: LOD hits lie in the tested columns too.
+    let lods = ["", "lod_bias: 2", "lod: Exact, lod_bias: 4"];
+    for (camera, lod) in cameras
+        .iter()
+        .flat_map(|c| lods.iter().map(move |l| (c, l)))
+    {
         let s = scene(
             &dir,
             &format!(
@@ -154,7 +160,7 @@ fn culling_is_lossless_on_a_holed_terrain_for_every_projector() {
                     camera: {camera},
                     lights: [Sun(direction: (0.4, 1, 0.3))],
                     objects: [
-                        (shape: Terrain(path: "map.npy", threshold: 0, interpolation: Bicubic)),
+                        (shape: Terrain(path: "map.npy", threshold: 0, interpolation: Bicubic, {lod})),
                         (shape: Sphere(center: (20, 2, 20), radius: 2)),
                     ],
                 )"#
@@ -165,13 +171,17 @@ fn culling_is_lossless_on_a_holed_terrain_for_every_projector() {
         let plain = render(&s, &settings, None).unwrap();
         settings.culling = true;
         let culled = render(&s, &settings, None).unwrap();
-        assert!(plain.stats.hits > 100, "{camera}: {}", plain.stats.hits);
+        assert!(
+            plain.stats.hits > 100,
+            "{camera} {lod}: {}",
+            plain.stats.hits
+        );
         for y in 0..s.height {
             for x in 0..s.width {
                 assert_eq!(
                     plain.depth.get(x, y).to_bits(),
                     culled.depth.get(x, y).to_bits(),
-                    "{camera}: ({x}, {y})"
+                    "{camera} {lod}: ({x}, {y})"
                 );
                 let bits = |v: &glam::Vec3| v.to_array().map(f32::to_bits);
                 assert_eq!(bits(plain.colour.get(x, y)), bits(culled.colour.get(x, y)));
@@ -179,6 +189,49 @@ fn culling_is_lossless_on_a_holed_terrain_for_every_projector() {
                     bits(plain.normals.get(x, y)),
                     bits(culled.normals.get(x, y))
                 );
+            }
+        }
+    }
+}
+
+/// The pixel LOD (the default) against exact on a rough map, every projector: a LOD hit is never
+/// later than the exact hit and never a miss where exact hits; the LOD really stops coarser
+/// somewhere (the stats say so), and exact stops at the finest level only.
+#[test]
+fn pixel_lod_hits_are_never_later_than_exact_hits() {
+    let dir = map_dir("rough", 129, |i, j| {
+        4.0 + 3.0 * ((i as f32) * 0.37).sin() * ((j as f32) * 0.23).cos() + (i * j % 7) as f32 * 0.3
+    });
+    let cameras = [
+        "Pinhole(eye: (-20, 40, -20), look_at: (64, 0, 64), fov_y: 50)",
+        "Parallel(eye: (64, 80, -40), look_at: (64, 0, 64), height: 200)",
+        "Sphere(eye: (64, 12, 64), look_at: (100, 0, 64), fov_x: 360, fov_y: 150, radius: 1)",
+    ];
+    for camera in cameras {
+        let render_with = |lod: &str| {
+            let s = scene(
+                &dir,
+                &format!(
+                    r#"Scene(
+                        image: (width: 48, height: 32),
+                        camera: {camera},
+                        objects: [(shape: Terrain(path: "map.npy", lod: {lod}))],
+                    )"#
+                ),
+            );
+            render(&s, &TraceSettings::for_scene(&s), None).unwrap()
+        };
+        let (exact, pixel) = (render_with("Exact"), render_with("Pixel"));
+        assert!(exact.stats.terrain_rays > 0 && exact.stats.terrain_stop_levels == 0);
+        assert!(
+            pixel.stats.terrain_stop_levels > 0,
+            "{camera}: {:?}",
+            pixel.stats
+        );
+        for y in 0..32 {
+            for x in 0..48 {
+                let (e, p) = (*exact.depth.get(x, y), *pixel.depth.get(x, y));
+                assert!(p <= e, "{camera}: ({x}, {y}) pixel {p} > exact {e}");
             }
         }
     }
