@@ -1,5 +1,6 @@
 //! `cargo xtask`: fray's developer tasks. This file only parses arguments and dispatches.
 
+mod bench;
 mod bless;
 mod compare;
 mod regress;
@@ -26,6 +27,20 @@ enum Command {
     Regress(RegressArgs),
     /// Render scenes on the CPU backend and write them as the new references.
     Bless(BlessArgs),
+    /// Terrain sweeps: time vs map size (exact, pixel LOD), time vs error over the LOD bias and
+    /// the fixed-step march, DEM scenes exact vs default; target/bench/terrain.{csv,md}.
+    Bench(BenchArgs),
+}
+
+#[derive(Debug, Args)]
+struct BenchArgs {
+    /// Directory for terrain.csv and terrain.md [default: target/bench]
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Repetitions per timing (the median is reported)
+    #[arg(long, value_name = "N", default_value_t = 5,
+          value_parser = clap::value_parser!(u32).range(1..=100))]
+    repeats: u32,
 }
 
 /// Arguments shared by the tasks that render the scene set.
@@ -91,6 +106,14 @@ fn main() -> ExitCode {
             stems: args.stems,
         })
         .map(|()| true),
+        Command::Bench(args) => bench::run(&bench::BenchOptions {
+            out: args.out.unwrap_or_else(workspace::default_bench_out),
+            repeats: args.repeats as usize,
+        })
+        .map(|summary| {
+            println!("{summary}");
+            true
+        }),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -18,6 +18,11 @@ pub fn default_reference() -> PathBuf {
     root().join("data").join("reference")
 }
 
+/// `target/bench`: `cargo xtask bench`'s results.
+pub fn default_bench_out() -> PathBuf {
+    root().join("target").join("bench")
+}
+
 /// `target/regress`: the regression report and the images it shows.
 pub fn default_regress_out() -> PathBuf {
     root().join("target").join("regress")
