@@ -17,6 +17,10 @@ override SHADOWS: bool = true;
 override HAS_SUN: bool = true;
 override HAS_POINT: bool = true;
 override PROJECTOR: u32 = 0u;
+// The scene's terrain (terrain.wgsl's cast_terrain; without terrain a stub that always misses):
+// cast after the free forms, nearest hit wins (a tie keeps the free form); shadow rays test it.
+override HAS_TERRAIN: bool = false;
+override TERRAIN_MATERIAL: u32 = 0u;
 
 const BIG: f32 = 1.0e30;
 const NO_HIT: f32 = -1.0;
@@ -671,6 +675,9 @@ fn surface_at(si: u32, p: vec3<f32>, fallback: vec3<f32>) -> Surface {
 struct Hit {
     t: f32,
     solid: u32,
+    // A terrain hit (its normal below); else solid `solid`.
+    terrain: bool,
+    normal: vec3<f32>,
 }
 
 // Every part of solid `si`, with its whole program.
@@ -704,6 +711,15 @@ fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) ->
             best.solid = si;
         }
     }
+    if HAS_TERRAIN {
+        // The terrain over [lo, best so far]: nearer hits only, a tie keeps the free form.
+        let th = cast_terrain(o, d, lo, select(BIG, best.t, best.t >= 0.0));
+        if th.x >= 0.0 && (best.t < 0.0 || th.x < best.t) {
+            best.t = th.x;
+            best.terrain = true;
+            best.normal = th.yzw;
+        }
+    }
     return best;
 }
 
@@ -712,6 +728,9 @@ fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
         if cast_solid(si, all_parts(si), o, d, 0.0, distance, eps) >= 0.0 {
             return true;
         }
+    }
+    if HAS_TERRAIN && cast_terrain(o, d, 0.0, distance).x >= 0.0 {
+        return true;
     }
     return false;
 }
@@ -798,8 +817,16 @@ fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) {
     }
     let p = ray.origin + ray.dir * hit.t;
     let to_viewer = -ray.dir;
-    let surface = surface_at(hit.solid, p, to_viewer);
-    var normal = surface.normal;
+    var normal: vec3<f32>;
+    var material: u32;
+    if HAS_TERRAIN && hit.terrain {
+        normal = hit.normal;
+        material = TERRAIN_MATERIAL;
+    } else {
+        let surface = surface_at(hit.solid, p, to_viewer);
+        normal = surface.normal;
+        material = leaves[surface.leaf].info.w;
+    }
     if hit.t <= ray.t_near {
         normal = to_viewer;
     }
@@ -807,7 +834,7 @@ fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) {
     if dot(normal, to_viewer) < 0.0 {
         shading_normal = -normal;
     }
-    let m = materials[leaves[surface.leaf].info.w];
+    let m = materials[material];
     let colour = radiance(p, shading_normal, to_viewer, m, eps);
     output[2u * slot] = vec4<f32>(colour, hit.t);
     output[2u * slot + 1u] = vec4<f32>(normal, 1.0);

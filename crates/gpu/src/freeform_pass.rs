@@ -47,6 +47,9 @@ pub struct FreeFormPass {
     work_buffers: [wgpu::Buffer; 4],
     work: GpuWork,
     counters: wgpu::Buffer,
+    /// The terrain's parameter block, max pyramid and samples (bindings 14–16), when the scene
+    /// has one.
+    terrain_buffers: Option<[wgpu::Buffer; 3]>,
     specialisation: Specialisation,
 }
 
@@ -62,6 +65,39 @@ fn storage<T: Pod>(ctx: &GpuContext, label: &str, data: &[T], fill: T) -> wgpu::
             contents: bytemuck::cast_slice(&data),
             usage: wgpu::BufferUsages::STORAGE,
         })
+}
+
+/// The terrain's buffers for the free-form module: its parameter block relative to `reference`,
+/// the max pyramid and the samples (each within the device's storage binding limit).
+fn terrain_buffers(
+    ctx: &GpuContext,
+    terrain: &fray_terrain::Terrain,
+    reference: glam::DVec3,
+) -> Result<[wgpu::Buffer; 3], GpuError> {
+    let pyramid = fray_terrain::gpu_layout::pyramid_values(terrain);
+    let samples = terrain.map().samples();
+    let limit = ctx.limits.max_storage_buffer_binding_size;
+    let bytes = (pyramid.len().max(samples.len()) * 4) as u64;
+    if bytes > limit {
+        return Err(GpuError::TooLarge {
+            what: "terrain buffer bytes",
+            needed: bytes,
+            limit,
+        });
+    }
+    let params = fray_terrain::gpu_layout::GpuTerrainParams::new(terrain, reference, 0);
+    let uniform = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("terrain params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+    Ok([
+        uniform,
+        storage(ctx, "terrain pyramid", &pyramid, 0.0f32),
+        storage(ctx, "terrain samples", samples, 0.0f32),
+    ])
 }
 
 fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
@@ -107,10 +143,12 @@ impl FreeFormPass {
             GpuWork::everything(scene, &solids)
         };
         let storage_limit = ctx.limits.max_storage_buffers_per_shader_stage;
-        if storage_limit < STORAGE_BUFFERS {
+        // The terrain adds its pyramid and samples.
+        let needed = STORAGE_BUFFERS + if scene.terrains.is_empty() { 0 } else { 2 };
+        if storage_limit < needed {
             return Err(GpuError::TooLarge {
                 what: "storage buffers per shader stage",
-                needed: u64::from(STORAGE_BUFFERS),
+                needed: u64::from(needed),
                 limit: u64::from(storage_limit),
             });
         }
@@ -122,7 +160,17 @@ impl FreeFormPass {
         let device = &ctx.device;
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
-        let source = shader::freeform_source(sizes);
+        // At most one terrain on the GPU; its buffers (checked against the device limit first).
+        let terrain = match scene.terrains.as_slice() {
+            [] => None,
+            [t] => Some(terrain_buffers(ctx, &t.terrain, reference)?),
+            _ => {
+                return Err(GpuError::Unsupported {
+                    feature: "more than one terrain",
+                });
+            }
+        };
+        let source = shader::freeform_source(sizes, terrain.is_some());
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("freeform.wgsl"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -146,7 +194,10 @@ impl FreeFormPass {
                 entry(11, read),
                 entry(12, read),
                 entry(13, read),
-            ],
+                entry(shader::FREEFORM_TERRAIN_BINDING, B::Uniform),
+                entry(shader::FREEFORM_TERRAIN_BINDING + 1, read),
+                entry(shader::FREEFORM_TERRAIN_BINDING + 2, read),
+            ][..if terrain.is_some() { 17 } else { 14 }],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("free-form"),
@@ -221,6 +272,7 @@ impl FreeFormPass {
             work_buffers,
             work,
             counters,
+            terrain_buffers: terrain,
             specialisation,
         })
     }
@@ -328,6 +380,12 @@ impl FreeFormPass {
         for (i, b) in self.work_buffers.iter().enumerate() {
             entries.push(wgpu::BindGroupEntry {
                 binding: 10 + i as u32,
+                resource: b.as_entire_binding(),
+            });
+        }
+        for (i, b) in self.terrain_buffers.iter().flatten().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: shader::FREEFORM_TERRAIN_BINDING + i as u32,
                 resource: b.as_entire_binding(),
             });
         }

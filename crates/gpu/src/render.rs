@@ -85,10 +85,6 @@ impl GpuRenderer {
         if scene.width == 0 || scene.height == 0 {
             return Err(GpuError::EmptyImage(scene.width, scene.height));
         }
-        // Terrain has a CPU reference only so far: refuse rather than draw the scene without it.
-        if scene.features.terrain {
-            return Err(GpuError::Unsupported { feature: "terrain" });
-        }
         let eps = gpu_epsilon(scene, settings.epsilon);
         let spec = Specialisation::for_scene(scene, settings.shadows);
         FreeFormPass::new(

@@ -8,11 +8,45 @@ use fray_scene::Scene;
 /// `shaders/freeform.wgsl`: free-form ray casting and shading over quadtree work items.
 pub const FREEFORM_WGSL: &str = include_str!("../../../shaders/freeform.wgsl");
 
+/// `shaders/terrain.wgsl`: the terrain ray cast (`cast_terrain`), without bindings or entry point.
+pub const TERRAIN_WGSL: &str = include_str!("../../../shaders/terrain.wgsl");
+/// `shaders/terrain_batch.wgsl`: the terrain pass over ray batches (bindings 3–4, `main`).
+pub const TERRAIN_BATCH_WGSL: &str = include_str!("../../../shaders/terrain_batch.wgsl");
+
 /// Every shader file in `shaders/` with its name (for validation tests).
-pub const SHADER_FILES: [(&str, &str); 2] = [
+pub const SHADER_FILES: [(&str, &str); 3] = [
     ("freeform.wgsl", FREEFORM_WGSL),
-    ("terrain.wgsl", crate::terrain_pass::TERRAIN_WGSL),
+    ("terrain.wgsl", TERRAIN_WGSL),
+    ("terrain_batch.wgsl", TERRAIN_BATCH_WGSL),
 ];
+
+/// The free-form module's terrain hook for a scene without terrain: `cast_terrain` always misses
+/// (and `HAS_TERRAIN` is false), so no terrain code or binding is compiled.
+pub const NO_TERRAIN_WGSL: &str = "\n// No terrain in this scene.\n\
+fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32) -> vec4<f32> {\n\
+    return vec4<f32>(-1.0, 0.0, 0.0, 0.0);\n\
+}\n";
+
+/// The first binding of the terrain's buffers in the free-form module (after its 14).
+pub const FREEFORM_TERRAIN_BINDING: u32 = 14;
+
+/// The terrain bindings terrain.wgsl reads, at `first`, `first + 1`, `first + 2` of group 0: the
+/// parameter block `P`, the max pyramid and the samples.
+pub fn terrain_bindings(first: u32) -> String {
+    format!(
+        "@group(0) @binding({}) var<uniform> P: TerrainParams;\n\
+         @group(0) @binding({}) var<storage, read> pyramid: array<f32>;\n\
+         @group(0) @binding({}) var<storage, read> samples: array<f32>;\n",
+        first,
+        first + 1,
+        first + 2
+    )
+}
+
+/// The complete terrain batch module (`TerrainPass`).
+pub fn terrain_batch_source() -> String {
+    prelude(ArraySizes::default()) + &terrain_bindings(0) + TERRAIN_WGSL + TERRAIN_BATCH_WGSL
+}
 
 /// Sizes of the per-invocation arrays, fixed per scene when the module is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,9 +90,17 @@ pub fn prelude(sizes: ArraySizes) -> String {
     s
 }
 
-/// The complete free-form module source for `sizes`.
-pub fn freeform_source(sizes: ArraySizes) -> String {
-    prelude(sizes) + FREEFORM_WGSL
+/// The complete free-form module source for `sizes`; with `terrain`, the terrain's bindings
+/// (from [`FREEFORM_TERRAIN_BINDING`]) and terrain.wgsl, else the no-terrain hook.
+pub fn freeform_source(sizes: ArraySizes, terrain: bool) -> String {
+    let mut s = prelude(sizes);
+    if terrain {
+        s.push_str(&terrain_bindings(FREEFORM_TERRAIN_BINDING));
+        s.push_str(TERRAIN_WGSL);
+    } else {
+        s.push_str(NO_TERRAIN_WGSL);
+    }
+    s + FREEFORM_WGSL
 }
 
 /// What the free-form pipeline is specialised for: features absent here compile to nothing.
@@ -70,6 +112,10 @@ pub struct Specialisation {
     pub sun: bool,
     pub point_lights: bool,
     pub projector: u32,
+    /// The scene's terrain (at most one on the GPU) is cast after the free forms.
+    pub terrain: bool,
+    /// The terrain's material index.
+    pub terrain_material: u32,
 }
 
 impl Specialisation {
@@ -83,6 +129,11 @@ impl Specialisation {
             sun: f.sun,
             point_lights: f.point_lights,
             projector: params::projector_kind(&scene.camera),
+            terrain: !scene.terrains.is_empty(),
+            terrain_material: scene
+                .terrains
+                .first()
+                .map_or(0, |t| t.material.min(scene.materials.len() as u32)),
         }
     }
 
@@ -96,6 +147,8 @@ impl Specialisation {
             ("HAS_SUN", b(self.sun)),
             ("HAS_POINT", b(self.point_lights)),
             ("PROJECTOR", f64::from(self.projector)),
+            ("HAS_TERRAIN", b(self.terrain)),
+            ("TERRAIN_MATERIAL", f64::from(self.terrain_material)),
         ]
     }
 
@@ -113,6 +166,7 @@ impl Specialisation {
             (self.shadows, "shadows"),
             (self.sun, "sun"),
             (self.point_lights, "point-lights"),
+            (self.terrain, "terrain"),
         ] {
             if on {
                 parts.push(name);
@@ -163,9 +217,20 @@ mod tests {
                 max_stack: 1,
             },
         ] {
-            for (name, text) in SHADER_FILES {
-                validate(name, &(prelude(sizes) + text));
-            }
+            validate("freeform.wgsl", &freeform_source(sizes, false));
+            validate(
+                "freeform.wgsl + terrain.wgsl",
+                &freeform_source(sizes, true),
+            );
+        }
+        validate("terrain_batch.wgsl", &terrain_batch_source());
+        // Every file is part of a validated module.
+        for (name, text) in SHADER_FILES {
+            assert!(
+                freeform_source(ArraySizes::default(), true).contains(text)
+                    || terrain_batch_source().contains(text),
+                "{name} is in no module"
+            );
         }
     }
 
@@ -173,7 +238,10 @@ mod tests {
     fn generated_wgsl_layouts_match_rust() {
         use fray_geometry::gpu_layout::{self as g};
         use std::mem::{offset_of, size_of};
-        let module = validate("freeform.wgsl", &freeform_source(ArraySizes::default()));
+        let module = validate(
+            "freeform.wgsl",
+            &freeform_source(ArraySizes::default(), true),
+        );
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
         let mut found: HashMap<String, (u32, Vec<u32>)> = HashMap::new();
@@ -275,6 +343,7 @@ mod tests {
         assert!(!s.perturbations && !s.csg);
         assert_eq!(s.projector, params::PROJECTOR_PINHOLE);
         assert!(s.describe().starts_with("freeform[pinhole"));
-        assert_eq!(s.constants().len(), 6);
+        assert_eq!(s.constants().len(), 8);
+        assert!(!s.terrain);
     }
 }

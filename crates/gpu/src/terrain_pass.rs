@@ -15,13 +15,13 @@ use wgpu::util::DeviceExt;
 const PASS: &str = "terrain";
 const WORKGROUP: u32 = 64;
 
-/// `shaders/terrain.wgsl`.
-pub const TERRAIN_WGSL: &str = include_str!("../../../shaders/terrain.wgsl");
+pub use crate::shader::TERRAIN_WGSL;
 
-/// The complete terrain module: the generated prelude (which holds the terrain's parameter
-/// struct, from `fray_terrain::gpu_layout`), then the shader.
+/// The complete terrain batch module: the generated prelude (which holds the terrain's parameter
+/// struct, from `fray_terrain::gpu_layout`), the terrain bindings, terrain.wgsl and
+/// terrain_batch.wgsl.
 pub fn terrain_source() -> String {
-    crate::shader::prelude(crate::shader::ArraySizes::default()) + TERRAIN_WGSL
+    crate::shader::terrain_batch_source()
 }
 
 /// One ray of a batch, relative to the pass's reference point: `(origin, t_lo)`,

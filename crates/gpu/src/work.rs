@@ -39,9 +39,10 @@ pub struct GpuWork {
 
 impl GpuWork {
     /// The culled work list of `scene` (`solids`: the scene's objects flattened in order). Only
-    /// free-form candidates are kept (the scheduler's list also names other primitive kinds, e.g.
-    /// terrains, with ids past the objects: their own passes render them); items left with none
-    /// are dropped, and the stats count the items this pass runs.
+    /// free-form candidates are listed (the scheduler's list also names terrains, with ids past
+    /// the objects: the shader casts the terrain on every pixel of the items it runs); items with
+    /// neither a free-form nor a terrain candidate are dropped, and the stats count the items
+    /// this pass runs.
     pub fn culled(scene: &Scene, solids: &GpuSolids) -> Result<Self, QuadtreeError> {
         let list = fray_scene::work_list(scene, TILE)?;
         let mut work = Self {
@@ -52,7 +53,9 @@ impl GpuWork {
         let mut active = ActiveSet::new();
         for item in &list.items {
             let candidate_start = work.candidates.len() as u32;
+            let mut terrain = false;
             for c in list.candidates_of(item) {
+                terrain |= c.object as usize >= scene.objects.len();
                 let (Some(object), Some(flat)) = (
                     scene.objects.get(c.object as usize),
                     solids.solids.get(c.object as usize),
@@ -82,7 +85,7 @@ impl GpuWork {
                 work.perturbations.extend_from_slice(perturbations);
             }
             let candidate_count = work.candidates.len() as u32 - candidate_start;
-            if candidate_count > 0 {
+            if candidate_count > 0 || terrain {
                 work.items.push(WorkItem {
                     candidate_start,
                     candidate_count,
@@ -120,7 +123,7 @@ impl GpuWork {
             work.perturbations.extend(0..perturbations);
             work.programs.push([flat.info[2], flat.info[3]]);
         }
-        if work.candidates.is_empty() {
+        if work.candidates.is_empty() && scene.terrains.is_empty() {
             return work;
         }
         for y0 in (0..scene.height).step_by(TILE as usize) {
@@ -291,7 +294,8 @@ mod tests {
 
     #[test]
     fn only_free_form_candidates_reach_the_gpu() {
-        // The scheduler's list also names the terrain (id past the objects); the pass drops it.
+        // The scheduler's list also names the terrain (id past the objects): the pass lists only
+        // free forms but keeps the terrain's tiles.
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../../data/scenes/terrain_low.ron"
@@ -310,8 +314,14 @@ mod tests {
                 .iter()
                 .all(|c| (c.object as usize) < s.objects.len())
         );
-        assert!(w.items.iter().all(|i| i.candidate_count > 0));
+        // Tiles where only the terrain may be hit are kept (the shader casts the terrain there).
+        assert!(w.items.iter().any(|i| i.candidate_count == 0));
+        let kept = list
+            .items
+            .iter()
+            .filter(|it| !list.candidates_of(it).is_empty())
+            .count();
+        assert_eq!(w.items.len(), kept);
         assert_eq!(w.stats.unwrap().items as usize, w.items.len());
-        assert!(w.items.len() < list.items.len());
     }
 }
