@@ -2,8 +2,8 @@
 //! of camera-relative rays against one terrain — the max pyramid as a storage buffer (levels at
 //! offsets `(4ᵏ − 1) / 3`), the samples as another — and reads back `(t, normal)` per ray. It is
 //! the f32 twin of `fray_terrain::Terrain::cast` (bilinear and B-spline bicubic); a parity test
-//! bounds the difference. Not yet composed into the GPU frame (the backend refuses
-//! terrain scenes, see `render.rs`).
+//! bounds the difference. The GPU frame casts terrain with the same `cast_terrain`, from the
+//! free-form module (see `shader::freeform_source`).
 
 use crate::{GpuContext, GpuError};
 use bytemuck::Pod;
