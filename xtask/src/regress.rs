@@ -124,10 +124,6 @@ fn regress_scene(
     let mut rows = Vec::new();
     let mut first: Option<(String, Rendered)> = None;
     for &backend in backends {
-        // The GPU backend does not draw terrain yet (it refuses such scenes): CPU rows only.
-        if backend == fray_render::Backend::Gpu && loaded.features.terrain {
-            continue;
-        }
         let name = backend_name(backend);
         let mut row = Row::failure(stem, &name, String::new());
         row.thresholds = thresholds.for_row(&name);
