@@ -3,6 +3,7 @@
 //! depth, normal), then reads the band back. Owns its pipeline, scene and work-list buffers.
 
 use crate::params::{self, FrameParams};
+use crate::readback::read_back;
 use crate::shader::{self, ArraySizes, Specialisation};
 use crate::work::{GpuWork, TILE};
 use crate::{GpuContext, GpuError};
@@ -452,13 +453,14 @@ impl FreeFormPass {
                 );
             }
             ctx.queue.submit([encoder.finish()]);
-            let data: Vec<[f32; 4]> = read_back(device, &readback, bytes)?;
+            let data: Vec<[f32; 4]> = read_back(device, &readback, bytes, PASS)?;
             for pair in data.chunks_exact(2) {
                 out.colour_depth.push(pair[0]);
                 out.normal.push(pair[1]);
             }
             if last {
-                let c: Vec<u32> = read_back(device, &counters_readback, (COUNTERS * 4) as u64)?;
+                let c: Vec<u32> =
+                    read_back(device, &counters_readback, (COUNTERS * 4) as u64, PASS)?;
                 let wide = |lo: usize| u64::from(c[lo]) | (u64::from(c[lo + 1]) << 32);
                 out.hits = u64::from(c[0]);
                 out.shadow_rays = u64::from(c[1]);
@@ -468,39 +470,4 @@ impl FreeFormPass {
         }
         Ok(out)
     }
-}
-
-/// Maps `buffer[..bytes]`, waits, copies it out and unmaps.
-fn read_back<T: Pod>(
-    device: &wgpu::Device,
-    buffer: &wgpu::Buffer,
-    bytes: u64,
-) -> Result<Vec<T>, GpuError> {
-    let slice = buffer.slice(..bytes);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
-    match rx.recv() {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => {
-            return Err(GpuError::Dispatch {
-                pass: PASS,
-                reason: e.to_string(),
-            });
-        }
-        Err(_) => return Err(GpuError::DeviceLost("readback never completed".into())),
-    }
-    let data = {
-        let view = slice.get_mapped_range().map_err(|e| GpuError::Dispatch {
-            pass: PASS,
-            reason: e.to_string(),
-        })?;
-        bytemuck::pod_collect_to_vec::<u8, T>(&view)
-    };
-    buffer.unmap();
-    Ok(data)
 }

@@ -20,6 +20,7 @@ mod context;
 mod error;
 pub mod freeform_pass;
 pub mod params;
+mod readback;
 mod render;
 pub mod shader;
 pub mod terrain_pass;

@@ -5,8 +5,8 @@
 //! bounds the difference. The GPU frame casts terrain with the same `cast_terrain`, from the
 //! free-form module (see `shader::freeform_source`).
 
+use crate::readback::read_back;
 use crate::{GpuContext, GpuError};
-use bytemuck::Pod;
 use fray_terrain::Terrain;
 use fray_terrain::gpu_layout::{self, GpuTerrainParams};
 use glam::DVec3;
@@ -190,43 +190,8 @@ impl TerrainPass {
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
         ctx.queue.submit([encoder.finish()]);
-        read_back(device, &readback, bytes)
+        read_back(device, &readback, bytes, PASS)
     }
-}
-
-/// Maps `buffer[..bytes]`, waits, copies it out and unmaps.
-fn read_back<T: Pod>(
-    device: &wgpu::Device,
-    buffer: &wgpu::Buffer,
-    bytes: u64,
-) -> Result<Vec<T>, GpuError> {
-    let slice = buffer.slice(..bytes);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
-    match rx.recv() {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => {
-            return Err(GpuError::Dispatch {
-                pass: PASS,
-                reason: e.to_string(),
-            });
-        }
-        Err(_) => return Err(GpuError::DeviceLost("readback never completed".into())),
-    }
-    let data = {
-        let view = slice.get_mapped_range().map_err(|e| GpuError::Dispatch {
-            pass: PASS,
-            reason: e.to_string(),
-        })?;
-        bytemuck::pod_collect_to_vec::<u8, T>(&view)
-    };
-    buffer.unmap();
-    Ok(data)
 }
 
 #[cfg(test)]
