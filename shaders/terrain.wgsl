@@ -74,6 +74,48 @@ fn surface_normal(su: f32, sv: f32) -> vec3<f32> {
     return normalize(n);
 }
 
+// The interpolant's normal at map point (u, v) (Terrain::surface_normal_at), or `fallback` off
+// the map or on a cut-out cell.
+fn normal_beneath(u: f32, v: f32, fallback: vec3<f32>) -> vec3<f32> {
+    let cw = P.grid.x;
+    let ch = P.grid.y;
+    if (!(u >= 0.0 && v >= 0.0 && u <= f32(cw) && v <= f32(ch))) {
+        return fallback;
+    }
+    let i = min(u32(floor(u)), cw - 1u);
+    let j = min(u32(floor(v)), ch - 1u);
+    if (pyr(P.grid.z, i, j) <= -3.0e38) {
+        return fallback;
+    }
+    let s = u - f32(i);
+    let w = v - f32(j);
+    var su: f32;
+    var sv: f32;
+    if (P.sizes.w == 1u) {
+        let bs = basis(s);
+        let bw = basis(w);
+        let ds = basis_d(s);
+        let dw = basis_d(w);
+        su = 0.0;
+        sv = 0.0;
+        for (var l = 0; l < 4; l++) {
+            for (var m = 0; m < 4; m++) {
+                let c = control(i, j, l, m);
+                su += c * ds[l] * bw[m];
+                sv += c * bs[l] * dw[m];
+            }
+        }
+    } else {
+        let h00 = sample(i, j);
+        let h10 = sample(i + 1u, j);
+        let h01 = sample(i, j + 1u);
+        let h11 = sample(i + 1u, j + 1u);
+        su = (h10 - h00) * (1.0 - w) + (h11 - h01) * w;
+        sv = (h01 - h00) * (1.0 - s) + (h11 - h10) * s;
+    }
+    return surface_normal(su, sv);
+}
+
 // First hit on bilinear cell (i, j) within [ta, tb] ∩ the cell column (inside clip [c0, c1]):
 // (t, normal), t < 0 for none.
 fn cell_hit(o: vec3<f32>, d: vec3<f32>, i: u32, j: u32, c0: f32, c1: f32, ta: f32, tb: f32) -> vec4<f32> {
@@ -329,7 +371,6 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32) -> vec4
         return miss;
     }
     let n = P.grid.z;
-    let stop = P.grid.w;
     let err = (abs(o) + abs(d) * max(abs(c.x), abs(c.y))) * (8.0 * F32_EPS) + vec3<f32>(1e-30);
     var stack: array<vec2<f32>, STACK>;
     stack[0] = c;
@@ -349,6 +390,12 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32) -> vec4
         let r_min = min(pa.z, pb.z) - err.z;
         let tm = 0.5 * (seg.x + seg.y);
         let splittable = seg.x < tm && tm < seg.y && len + 2u <= STACK;
+        // Pixel level of detail (Terrain::cast_footprint): stop where a cell covers the pixel
+        // at the segment's start, never coarser than the floor level.
+        var stop = P.grid.w;
+        if (P.lod.z > 0.5) {
+            stop = min(stop, max(level_for(P.lod.x + P.lod.y * seg.x, n), u32(P.lod.w)));
+        }
         var level = min(level_for(max(u1 - u0, v1 - v0), n), stop);
         if (!splittable) {
             level = stop;
@@ -389,6 +436,11 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32) -> vec4
                 }
             } else {
                 best = column_hit(o, d, level, n, ra, rb, c.x, c.y, seg.x, seg.y);
+                if (best.x >= 0.0) {
+                    // A flat max-column face: shade with the surface beneath (as the CPU does).
+                    let q = o + d * best.x;
+                    best = vec4<f32>(best.x, normal_beneath(q.x, q.y, best.yzw));
+                }
             }
             if (best.x >= 0.0) {
                 return best;

@@ -74,6 +74,7 @@ fn terrain_buffers(
     ctx: &GpuContext,
     terrain: &fray_terrain::Terrain,
     reference: glam::DVec3,
+    footprint: fray_core::PixelFootprint,
 ) -> Result<[wgpu::Buffer; 3], GpuError> {
     let pyramid = fray_terrain::gpu_layout::pyramid_values(terrain);
     let samples = terrain.map().samples();
@@ -86,7 +87,8 @@ fn terrain_buffers(
             limit,
         });
     }
-    let params = fray_terrain::gpu_layout::GpuTerrainParams::new(terrain, reference, 0);
+    let params = fray_terrain::gpu_layout::GpuTerrainParams::new(terrain, reference, 0)
+        .with_pixel_lod(terrain, footprint);
     let uniform = ctx
         .device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -164,7 +166,17 @@ impl FreeFormPass {
         // At most one terrain on the GPU; its buffers (checked against the device limit first).
         let terrain = match scene.terrains.as_slice() {
             [] => None,
-            [t] => Some(terrain_buffers(ctx, &t.terrain, reference)?),
+            [t] => {
+                // Camera rays cast at the terrain's level of detail, as on the CPU.
+                let footprint = match t.lod {
+                    fray_scene::TerrainLod::Pixel => scene
+                        .camera
+                        .pixel_footprint(scene.width, scene.height)
+                        .coarser(t.terrain.options().lod_bias),
+                    fray_scene::TerrainLod::Exact => fray_core::PixelFootprint::ZERO,
+                };
+                Some(terrain_buffers(ctx, &t.terrain, reference, footprint)?)
+            }
             _ => {
                 return Err(GpuError::Unsupported {
                     feature: "more than one terrain",

@@ -5,8 +5,9 @@
 //! Positions are relative to a reference point (the camera) in f64 before rounding to f32, so a
 //! terrain far from the world origin keeps f32 precision near the viewer.
 
-use crate::{Interpolation, Terrain};
+use crate::{Interpolation, PIXEL_LOD_COARSEST_LEVEL, Terrain};
 use bytemuck::{Pod, Zeroable};
+use fray_core::PixelFootprint;
 use glam::DVec3;
 
 /// The uniform block of the terrain pass. All fields are 16-byte vectors, so the WGSL layout
@@ -29,10 +30,14 @@ pub struct GpuTerrainParams {
     pub grid: [u32; 4],
     /// Samples along `u`, samples along `v`, ray count, interpolation (0 bilinear, 1 bicubic).
     pub sizes: [u32; 4],
+    /// Pixel level of detail ([`crate::Terrain::cast_footprint`]): the footprint's size and
+    /// growth per unit distance in finest cells, 1 when on (0: exact), and the coarsest level a
+    /// pixel stop may take ([`crate::PIXEL_LOD_COARSEST_LEVEL`]).
+    pub lod: [f32; 4],
 }
 
 /// `(field, WGSL type)` of [`GpuTerrainParams`], in order: the WGSL struct is generated from it.
-pub const FIELDS: [(&str, &str); 8] = [
+pub const FIELDS: [(&str, &str); 9] = [
     ("origin", "vec4<f32>"),
     ("axis_u", "vec4<f32>"),
     ("axis_up", "vec4<f32>"),
@@ -41,6 +46,7 @@ pub const FIELDS: [(&str, &str); 8] = [
     ("heights", "vec4<f32>"),
     ("grid", "vec4<u32>"),
     ("sizes", "vec4<u32>"),
+    ("lod", "vec4<f32>"),
 ];
 
 /// The WGSL declaration of [`GpuTerrainParams`].
@@ -96,7 +102,26 @@ impl GpuTerrainParams {
                 rays,
                 u32::from(terrain.options().interpolation == Interpolation::Bicubic),
             ],
+            lod: [0.0, 0.0, 0.0, n.min(PIXEL_LOD_COARSEST_LEVEL) as f32],
         }
+    }
+
+    /// These parameters casting with the pixel footprint `footprint` (already widened by the
+    /// LOD bias, as [`crate::Terrain::cast_footprint`] takes it); a zero or non-finite footprint
+    /// leaves the cast exact, as on the CPU.
+    pub fn with_pixel_lod(mut self, terrain: &Terrain, footprint: PixelFootprint) -> Self {
+        let cell = terrain.placement().spacing().min_element();
+        let on = !footprint.is_zero()
+            && footprint.size.is_finite()
+            && footprint.angle.is_finite()
+            && footprint.size >= 0.0
+            && footprint.angle >= 0.0;
+        if on {
+            self.lod[0] = (footprint.size / cell) as f32;
+            self.lod[1] = (footprint.angle / cell) as f32;
+            self.lod[2] = 1.0;
+        }
+        self
     }
 }
 
