@@ -2,12 +2,12 @@
 //! (one workgroup per item) that casts, shades and writes each pixel of the items' tiles (colour +
 //! depth, normal), then reads the band back. Owns its pipeline, scene and work-list buffers.
 
+use crate::bindings::{entry, storage};
 use crate::params::{self, FrameParams};
 use crate::readback::read_back;
 use crate::shader::{self, ArraySizes, Specialisation};
 use crate::work::{GpuWork, TILE};
 use crate::{GpuContext, GpuError};
-use bytemuck::Pod;
 use fray_geometry::gpu_layout::GpuSolids;
 use fray_quadtree::{QuadtreeStats, WorkItem};
 use fray_scene::Scene;
@@ -54,20 +54,6 @@ pub struct FreeFormPass {
     specialisation: Specialisation,
 }
 
-fn storage<T: Pod>(ctx: &GpuContext, label: &str, data: &[T], fill: T) -> wgpu::Buffer {
-    let data: Vec<T> = if data.is_empty() {
-        vec![fill]
-    } else {
-        data.to_vec()
-    };
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::cast_slice(&data),
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-}
-
 /// The terrain's buffers for the free-form module: its parameter block relative to `reference`,
 /// the max pyramid and the samples (each within the device's storage binding limit).
 fn terrain_buffers(
@@ -101,19 +87,6 @@ fn terrain_buffers(
         storage(ctx, "terrain pyramid", &pyramid, 0.0f32),
         storage(ctx, "terrain samples", samples, 0.0f32),
     ])
-}
-
-fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl FreeFormPass {

@@ -5,6 +5,7 @@
 //! bounds the difference. The GPU frame casts terrain with the same `cast_terrain`, from the
 //! free-form module (see `shader::freeform_source`).
 
+use crate::bindings::{entry, storage};
 use crate::readback::read_back;
 use crate::{GpuContext, GpuError};
 use fray_terrain::Terrain;
@@ -36,19 +37,6 @@ pub struct TerrainPass {
     params: GpuTerrainParams,
     pyramid: wgpu::Buffer,
     samples: wgpu::Buffer,
-}
-
-fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl TerrainPass {
@@ -102,19 +90,12 @@ impl TerrainPass {
                 reason: e.to_string(),
             });
         }
-        let storage = |label, data: &[f32]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::cast_slice(data),
-                usage: wgpu::BufferUsages::STORAGE,
-            })
-        };
         Ok(Self {
             pipeline,
             layout,
             params: GpuTerrainParams::new(terrain, reference, 0),
-            pyramid: storage("terrain pyramid", &pyramid),
-            samples: storage("terrain samples", samples),
+            pyramid: storage(ctx, "terrain pyramid", &pyramid, 0.0),
+            samples: storage(ctx, "terrain samples", samples, 0.0),
         })
     }
 
