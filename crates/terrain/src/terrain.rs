@@ -706,19 +706,7 @@ impl Terrain {
     /// shading survives a coarse level.
     pub fn surface_normal_at(&self, p: DVec3) -> Option<DVec3> {
         let q = self.placement.to_map(p);
-        let (u, v) = (q.x, q.y);
-        let (cw, ch) = self.map.cells();
-        if !(u >= 0.0 && v >= 0.0 && u <= cw as f64 && v <= ch as f64) {
-            return None;
-        }
-        let (i, j) = (
-            (u.floor() as usize).min(cw - 1),
-            (v.floor() as usize).min(ch - 1),
-        );
-        if !self.map.cell_is_solid(i, j) {
-            return None;
-        }
-        let (s, w) = (u - i as f64, v - j as f64);
+        let (i, j, s, w) = self.solid_cell_at(q.x, q.y)?;
         let slope = match self.options.interpolation {
             Interpolation::Bilinear => BilinearCell::new(&self.map, i, j).slope(s, w),
             Interpolation::Bicubic => BicubicCell::new(&self.map, i, j).eval_with_slope(s, w).1,
@@ -726,9 +714,9 @@ impl Terrain {
         Some(self.placement.surface_normal(slope))
     }
 
-    /// The interpolated surface height (raw units) at map point `(u, v)`; `None` off the map or
-    /// on a cut-out cell.
-    pub fn surface(&self, u: f64, v: f64) -> Option<f64> {
+    /// The solid cell `(i, j)` holding map point `(u, v)` (the far edges belong to the last
+    /// cell) and the point's position `(s, w)` in it; `None` off the map or on a cut-out cell.
+    fn solid_cell_at(&self, u: f64, v: f64) -> Option<(usize, usize, f64, f64)> {
         let (cw, ch) = self.map.cells();
         if !(u >= 0.0 && v >= 0.0 && u <= cw as f64 && v <= ch as f64) {
             return None;
@@ -737,10 +725,15 @@ impl Terrain {
             (u.floor() as usize).min(cw - 1),
             (v.floor() as usize).min(ch - 1),
         );
-        if !self.map.cell_is_solid(i, j) {
-            return None;
-        }
-        let (s, w) = (u - i as f64, v - j as f64);
+        self.map
+            .cell_is_solid(i, j)
+            .then_some((i, j, u - i as f64, v - j as f64))
+    }
+
+    /// The interpolated surface height (raw units) at map point `(u, v)`; `None` off the map or
+    /// on a cut-out cell.
+    pub fn surface(&self, u: f64, v: f64) -> Option<f64> {
+        let (i, j, s, w) = self.solid_cell_at(u, v)?;
         Some(match self.options.interpolation {
             Interpolation::Bilinear => BilinearCell::new(&self.map, i, j).eval(s, w),
             Interpolation::Bicubic => BicubicCell::new(&self.map, i, j).eval_with_slope(s, w).0,
