@@ -795,25 +795,35 @@ fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, ep
 }
 
 fn add_wide(lo: u32, value: u32) {
+    if value == 0u {
+        return;
+    }
     let old = atomicAdd(&counters[lo], value);
     if old + value < old {
         atomicAdd(&counters[lo + 1u], 1u);
     }
 }
 
-// One pixel: camera ray, nearest hit, normal, shading. Writes colour + depth and normal + hit.
-fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) {
+// The workgroup's sums of the per-pixel counters (hits, shadow rays, bound and point
+// evaluations; zeroed by the kernel: the pipeline skips wgpu's workgroup zero-fill). Pixels add here and one invocation adds
+// the sums to `counters`: on a real GPU, atomics from every pixel to the same few words
+// serialise and cost more than the tracing.
+var<workgroup> group_counts: array<atomic<u32>, 4>;
+
+// One pixel: camera ray, nearest hit, normal, shading. Writes colour + depth and normal + hit;
+// true if it hit.
+fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) -> bool {
     let eps = frame.up.w;
     let miss_colour = vec4<f32>(frame.background.xyz, -1.0);
     output[2u * slot] = miss_colour;
     output[2u * slot + 1u] = vec4<f32>(0.0);
     let ray = camera_ray(px, py);
     if !ray.ok {
-        return;
+        return false;
     }
     let hit = nearest_hit(item, ray.origin, ray.dir, ray.t_near, eps);
     if hit.t < 0.0 {
-        return;
+        return false;
     }
     let p = ray.origin + ray.dir * hit.t;
     let to_viewer = -ray.dir;
@@ -838,7 +848,7 @@ fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) {
     let colour = radiance(p, shading_normal, to_viewer, m, eps);
     output[2u * slot] = vec4<f32>(colour, hit.t);
     output[2u * slot + 1u] = vec4<f32>(normal, 1.0);
-    atomicAdd(&counters[0], 1u);
+    return true;
 }
 
 // One workgroup per work item of this dispatch (`frame.mode.w` of them; a 2D grid of groups when
@@ -849,24 +859,43 @@ fn main(
     @builtin(workgroup_id) group: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
 ) {
     let k = group.y * groups.x + group.x;
+    // Uniform over the workgroup, so the barrier below stays in uniform control flow.
     if k >= frame.mode.w {
         return;
     }
+    if local_index < 4u {
+        atomicStore(&group_counts[local_index], 0u);
+    }
+    workgroupBarrier();
     let item = items[k];
     bound_evals = 0u;
     point_evals = 0u;
     shadow_rays = 0u;
     let px = item.x0 + local.x;
     let py = item.y0 + local.y;
-    if px >= item.x1 || py >= item.y1 {
-        return;
+    if px < item.x1 && py < item.y1 {
+        if render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px) {
+            atomicAdd(&group_counts[0], 1u);
+        }
+        atomicAdd(&group_counts[1], shadow_rays);
+        atomicAdd(&group_counts[2], bound_evals);
+        atomicAdd(&group_counts[3], point_evals);
     }
-    render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px);
-    if shadow_rays > 0u {
-        atomicAdd(&counters[1], shadow_rays);
+    workgroupBarrier();
+    if local_index == 0u {
+        // A workgroup's sums fit 32 bits (TILE_THREADS² pixels); the frame's totals are 64-bit pairs.
+        let hits = atomicLoad(&group_counts[0]);
+        if hits > 0u {
+            atomicAdd(&counters[0], hits);
+        }
+        let shadows = atomicLoad(&group_counts[1]);
+        if shadows > 0u {
+            atomicAdd(&counters[1], shadows);
+        }
+        add_wide(2u, atomicLoad(&group_counts[2]));
+        add_wide(4u, atomicLoad(&group_counts[3]));
     }
-    add_wide(2u, bound_evals);
-    add_wide(4u, point_evals);
 }
