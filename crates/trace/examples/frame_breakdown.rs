@@ -1,6 +1,7 @@
 //! Diagnostic: where a CPU frame's time goes (quadtree build, tracing) and how many candidates
 //! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE
-//! [THREADS] [REPETITIONS]`; `TILE=n` sets the cell size, `PER_OBJECT=1` adds per-object counts.
+//! [THREADS] [REPETITIONS]`; `TILE=n` sets the cell size, `PER_OBJECT=1` adds per-object counts,
+//! `SHADING=0` measures visibility + normals only (issue 3's speed target).
 use fray_trace::{TraceSettings, render, work_list};
 use std::time::Instant;
 
@@ -49,6 +50,7 @@ fn main() {
         tile_size: tile,
         threads: Some(threads),
         shadows: false,
+        shading: std::env::var("SHADING").map_or(true, |v| v != "0"),
         ..TraceSettings::for_scene(&scene)
     };
     let mut times = Vec::new();
