@@ -1,9 +1,10 @@
 //! Criterion benchmark of the scheduler alone: the work list of a 1024² view of the turboprop
-//! (data/scenes/turboprop.ron), with a box test per object, CSG leaf and perturbation.
+//! (data/scenes/turboprop.ron), with a box test per object, CSG leaf and perturbation; built
+//! sequentially (`build`) and on a 2-thread pool (`build_parallel`, the same list).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use fray_core::Aabb;
-use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, build};
+use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, build, build_parallel};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -72,6 +73,29 @@ fn turboprop_work_list(c: &mut Criterion) {
                 black_box(list.map(|l| l.items.len()))
             })
         });
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("a 2-thread pool");
+    for cell in [8u32, 16] {
+        group.bench_function(
+            format!("turboprop_1024x1024_cell{cell}_parallel_2threads"),
+            |bench| {
+                bench.iter(|| {
+                    let list = pool.install(|| {
+                        build_parallel(
+                            &scene.camera,
+                            (1024, 1024),
+                            &QuadtreeConfig { cell_size: cell },
+                            &root,
+                            || test,
+                        )
+                    });
+                    black_box(list.map(|l| l.items.len()))
+                })
+            },
+        );
     }
     group.finish();
 }

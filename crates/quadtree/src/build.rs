@@ -55,6 +55,164 @@ where
     Ok(out)
 }
 
+/// [`build`] on the current rayon pool: the same work list, item for item and index for index.
+///
+/// The cells above a few levels are tested in order on this thread; the subtrees below them
+/// are built in parallel, each with its own test from `make_test` (so tests may keep scratch
+/// space), and joined in depth-first order.
+pub fn build_parallel<M, F>(
+    projector: &Projector,
+    (width, height): (u32, u32),
+    config: &QuadtreeConfig,
+    root: &Candidates,
+    make_test: M,
+) -> Result<WorkList, QuadtreeError>
+where
+    M: Fn() -> F + Sync,
+    F: FnMut(&RayBundle, &Candidates, &mut Candidates),
+{
+    use rayon::prelude::*;
+    if config.cell_size == 0 {
+        return Err(QuadtreeError::ZeroCellSize);
+    }
+    if width == 0 || height == 0 {
+        return Err(QuadtreeError::EmptyImage(width, height));
+    }
+    // Enough subtrees to keep every thread busy when some are culled early: 4^depth ≥ 8 × threads.
+    let threads = rayon::current_num_threads().max(1);
+    let mut frontier = 0usize;
+    while 4usize.pow(frontier as u32) < 8 * threads && frontier < 8 {
+        frontier += 1;
+    }
+    let mut top = WorkList::default();
+    let mut tasks: Vec<Task> = Vec::new();
+    let mut plan = Plan {
+        projector,
+        size: (width, height),
+        cell_size: config.cell_size,
+        frontier,
+        test: make_test(),
+        top: &mut top,
+        tasks: &mut tasks,
+    };
+    plan.visit((0, 0, width, height), root, 0);
+    let parts: Vec<WorkList> = tasks
+        .into_par_iter()
+        .map_init(
+            || (make_test(), Vec::new()),
+            |(test, scratch), task| {
+                let mut out = WorkList::default();
+                match task {
+                    Task::Emit(cell, candidates) => out.push(cell, &candidates),
+                    Task::Subtree(cell, parent, depth) => {
+                        let mut state = State {
+                            projector,
+                            size: (width, height),
+                            cell_size: config.cell_size,
+                            test,
+                            out: &mut out,
+                            scratch,
+                        };
+                        state.visit(cell, &parent, depth);
+                    }
+                }
+                out
+            },
+        )
+        .collect();
+    let mut out = WorkList {
+        stats: top.stats,
+        ..WorkList::default()
+    };
+    for part in parts {
+        out.append(part);
+    }
+    Ok(out)
+}
+
+/// A piece of the parallel build, in depth-first order: a leaf cell found above the frontier
+/// (emitted as is) or a subtree below it (cell, its parent's candidates, depth).
+enum Task {
+    Emit((u32, u32, u32, u32), Candidates),
+    Subtree((u32, u32, u32, u32), Candidates, usize),
+}
+
+/// The sequential top of [`build_parallel`]: [`State::visit`] down to depth `frontier`, where it
+/// leaves the rest as tasks.
+struct Plan<'a, F> {
+    projector: &'a Projector,
+    size: (u32, u32),
+    cell_size: u32,
+    frontier: usize,
+    test: F,
+    /// Stats of the cells visited here (its items go into `tasks`, in order).
+    top: &'a mut WorkList,
+    tasks: &'a mut Vec<Task>,
+}
+
+impl<F> Plan<'_, F>
+where
+    F: FnMut(&RayBundle, &Candidates, &mut Candidates),
+{
+    fn visit(&mut self, cell: (u32, u32, u32, u32), parent: &Candidates, depth: usize) {
+        if depth == self.frontier {
+            self.tasks.push(Task::Subtree(cell, parent.clone(), depth));
+            return;
+        }
+        self.top.stats.cells_visited += 1;
+        let bundle = RayBundle::of_cell(self.projector, self.size, cell);
+        let mut mine = Candidates::new();
+        (self.test)(&bundle, parent, &mut mine);
+        if mine.is_empty() {
+            self.top.stats.cells_culled += 1;
+            return;
+        }
+        match children(cell, self.cell_size) {
+            None => self.tasks.push(Task::Emit(cell, mine)),
+            Some(children) => {
+                for child in children.into_iter().flatten() {
+                    self.visit(child, &mine, depth + 1);
+                }
+            }
+        }
+    }
+}
+
+/// The up to four children of `cell` in visiting order, or `None` when it is no larger than the
+/// cell size (a leaf). Splits at a multiple of the cell size so leaf tiles align to a grid.
+fn children(
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    cell_size: u32,
+) -> Option<[Option<(u32, u32, u32, u32)>; 4]> {
+    let (w, h) = (x1 - x0, y1 - y0);
+    let split_x = w > cell_size;
+    let split_y = h > cell_size;
+    if !split_x && !split_y {
+        return None;
+    }
+    let xm = if split_x {
+        x0 + half_aligned(w, cell_size)
+    } else {
+        x1
+    };
+    let ym = if split_y {
+        y0 + half_aligned(h, cell_size)
+    } else {
+        y1
+    };
+    let mut out = [None; 4];
+    let mut k = 0;
+    for (cy0, cy1) in [(y0, ym), (ym, y1)] {
+        for (cx0, cx1) in [(x0, xm), (xm, x1)] {
+            if cx0 < cx1 && cy0 < cy1 {
+                out[k] = Some((cx0, cy0, cx1, cy1));
+                k += 1;
+            }
+        }
+    }
+    Some(out)
+}
+
 struct State<'a, F> {
     projector: &'a Projector,
     size: (u32, u32),
@@ -70,7 +228,6 @@ where
     F: FnMut(&RayBundle, &Candidates, &mut Candidates),
 {
     fn visit(&mut self, cell: (u32, u32, u32, u32), parent: &Candidates, depth: usize) {
-        let (x0, y0, x1, y1) = cell;
         self.out.stats.cells_visited += 1;
         let bundle = RayBundle::of_cell(self.projector, self.size, cell);
         if self.scratch.len() <= depth {
@@ -82,28 +239,11 @@ where
         if mine.is_empty() {
             self.out.stats.cells_culled += 1;
         } else {
-            let (w, h) = (x1 - x0, y1 - y0);
-            let split_x = w > self.cell_size;
-            let split_y = h > self.cell_size;
-            if !split_x && !split_y {
-                self.out.push(cell, &mine);
-            } else {
-                // Split at a multiple of the cell size so leaf tiles align to a grid.
-                let xm = if split_x {
-                    x0 + half_aligned(w, self.cell_size)
-                } else {
-                    x1
-                };
-                let ym = if split_y {
-                    y0 + half_aligned(h, self.cell_size)
-                } else {
-                    y1
-                };
-                for (cy0, cy1) in [(y0, ym), (ym, y1)] {
-                    for (cx0, cx1) in [(x0, xm), (xm, x1)] {
-                        if cx0 < cx1 && cy0 < cy1 {
-                            self.visit((cx0, cy0, cx1, cy1), &mine, depth + 1);
-                        }
+            match children(cell, self.cell_size) {
+                None => self.out.push(cell, &mine),
+                Some(children) => {
+                    for child in children.into_iter().flatten() {
+                        self.visit(child, &mine, depth + 1);
                     }
                 }
             }
@@ -161,6 +301,72 @@ mod tests {
             assert_eq!(list.stats.items as usize, list.items.len());
             assert_eq!(list.stats.cells_culled, 0);
         }
+    }
+
+    /// A deterministic, uneven culling test: keeps each parent candidate whose hash with the
+    /// cell is not 0 mod 5 (and leaves and perturbations likewise), so subtrees differ.
+    fn patchy(b: &RayBundle, parent: &Candidates, out: &mut Candidates) {
+        let h = |k: u32| (b.x0.wrapping_mul(73) ^ b.y0.wrapping_mul(151) ^ k.wrapping_mul(31)) % 5;
+        for c in &parent.candidates {
+            if h(c.object) == 0 && b.x1 - b.x0 < 40 {
+                continue;
+            }
+            out.begin(c.object, f64::from(c.t_min) + 0.5, f64::from(c.t_max));
+            for &l in c.leaves(&parent.leaves) {
+                if h(l + 7) != 0 {
+                    out.push_leaf(l);
+                }
+            }
+            for &p in c.perturbations(&parent.perturbations) {
+                if h(p + 13) != 1 {
+                    out.push_perturbation(p);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_parallel_build_makes_the_sequential_list() {
+        let mut root = Candidates::new();
+        for object in 0..6 {
+            root.begin(object, 0.0, 100.0);
+            for l in 0..3 {
+                root.push_leaf(l);
+            }
+            for p in 0..4 {
+                root.push_perturbation(p);
+            }
+        }
+        for threads in [1, 3, 16] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            for (w, h, cell) in [
+                (300, 200, 8),
+                (64, 64, 16),
+                (7, 5, 8),
+                (1, 1, 1),
+                (1000, 3, 4),
+            ] {
+                let config = QuadtreeConfig { cell_size: cell };
+                let sequential = build(&camera(), (w, h), &config, &root, patchy).unwrap();
+                let parallel = pool
+                    .install(|| build_parallel(&camera(), (w, h), &config, &root, || patchy))
+                    .unwrap();
+                assert_eq!(
+                    parallel, sequential,
+                    "{w}×{h} cell {cell}, {threads} threads"
+                );
+            }
+        }
+        let zero = QuadtreeConfig { cell_size: 0 };
+        let e = build_parallel(&camera(), (4, 4), &zero, &root, || patchy);
+        assert_eq!(e, Err(QuadtreeError::ZeroCellSize));
+        let e = build_parallel(&camera(), (0, 4), &QuadtreeConfig::default(), &root, || {
+            patchy
+        });
+        assert_eq!(e, Err(QuadtreeError::EmptyImage(0, 4)));
     }
 
     #[test]

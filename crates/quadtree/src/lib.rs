@@ -37,7 +37,7 @@ mod error;
 mod trig;
 mod work;
 
-pub use build::{QuadtreeConfig, build};
+pub use build::{QuadtreeConfig, build, build_parallel};
 pub use bundle::RayBundle;
 pub use error::QuadtreeError;
 pub use work::{Candidate, Candidates, QuadtreeStats, WorkItem, WorkList};

@@ -166,6 +166,31 @@ impl WorkList {
     }
 
     /// Appends a tile with the cell's candidates (index ranges rebased into this list).
+    /// Appends `other`'s items after this list's, rebasing its candidate, leaf and perturbation
+    /// indices, and adds its stats: the list one sequential build over both parts would make.
+    pub(crate) fn append(&mut self, other: WorkList) {
+        let (candidate_base, leaf_base, pert_base) = (
+            self.candidates.len() as u32,
+            self.leaves.len() as u32,
+            self.perturbations.len() as u32,
+        );
+        self.items.extend(other.items.iter().map(|it| WorkItem {
+            candidate_start: it.candidate_start + candidate_base,
+            ..*it
+        }));
+        self.candidates
+            .extend(other.candidates.iter().map(|c| Candidate {
+                leaf_start: c.leaf_start + leaf_base,
+                perturbation_start: c.perturbation_start + pert_base,
+                ..*c
+            }));
+        self.leaves.extend_from_slice(&other.leaves);
+        self.perturbations.extend_from_slice(&other.perturbations);
+        self.stats.cells_visited += other.stats.cells_visited;
+        self.stats.cells_culled += other.stats.cells_culled;
+        self.stats.items += other.stats.items;
+    }
+
     pub(crate) fn push(&mut self, (x0, y0, x1, y1): (u32, u32, u32, u32), cell: &Candidates) {
         let (leaf_base, pert_base) = (self.leaves.len() as u32, self.perturbations.len() as u32);
         let mut t_min = f32::INFINITY;

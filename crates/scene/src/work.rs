@@ -10,7 +10,7 @@
 use crate::Scene;
 use fray_core::Aabb;
 use fray_geometry::ActiveSet;
-use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, WorkList, build};
+use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, WorkList, build_parallel};
 
 /// The boxes the cell test needs, gathered once per frame.
 struct ObjectBoxes {
@@ -98,63 +98,69 @@ pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtre
     for k in 0..terrains.len() {
         root.begin((first_terrain + k) as u32, 0.0, f64::INFINITY);
     }
-    let mut active = ActiveSet::new();
-    let test = |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
-        for c in &parent.candidates {
-            if let Some(t) = (c.object as usize)
-                .checked_sub(first_terrain)
-                .and_then(|k| terrains.get(k))
-            {
-                if bundle.box_range(&t.bounds).is_some() {
-                    let hull = t
-                        .columns
-                        .iter()
-                        .filter_map(|b| bundle.box_range(b))
-                        .reduce(|a, b| fray_core::Interval::new(a.lo.min(b.lo), a.hi.max(b.hi)));
-                    if let Some(range) = hull {
-                        out.begin(c.object, range.lo, range.hi);
+    // One test per worker of the parallel build_parallel, each with its own scratch set.
+    let make_test =
+        || {
+            let mut active = ActiveSet::new();
+            let boxes = &boxes;
+            let terrains = &terrains;
+            move |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
+                for c in &parent.candidates {
+                    if let Some(t) = (c.object as usize)
+                        .checked_sub(first_terrain)
+                        .and_then(|k| terrains.get(k))
+                    {
+                        if bundle.box_range(&t.bounds).is_some() {
+                            let hull = t.columns.iter().filter_map(|b| bundle.box_range(b)).reduce(
+                                |a, b| fray_core::Interval::new(a.lo.min(b.lo), a.hi.max(b.hi)),
+                            );
+                            if let Some(range) = hull {
+                                out.begin(c.object, range.lo, range.hi);
+                            }
+                        }
+                        continue;
+                    }
+                    let Some(b) = boxes.get(c.object as usize) else {
+                        continue;
+                    };
+                    let Some(t) = bundle.box_range(&b.solid) else {
+                        continue;
+                    };
+                    out.begin(c.object, t.lo, t.hi);
+                    for &l in c.leaves(&parent.leaves) {
+                        if bundle.box_range(&b.leaves[l as usize]).is_some() {
+                            out.push_leaf(l);
+                        }
+                    }
+                    for &p in c.perturbations(&parent.perturbations) {
+                        if b.perturbations[p as usize]
+                            .is_none_or(|pb| bundle.box_range(&pb).is_some())
+                        {
+                            out.push_perturbation(p);
+                        }
+                    }
+                    let solid = &scene.objects[c.object as usize].solid;
+                    let (leaves, perts) = out
+                        .candidates
+                        .last()
+                        .map(|last| {
+                            (
+                                last.leaves(&out.leaves),
+                                last.perturbations(&out.perturbations),
+                            )
+                        })
+                        .unwrap_or((&[], &[]));
+                    if !active.set(solid, leaves, perts) {
+                        out.cancel();
                     }
                 }
-                continue;
             }
-            let Some(b) = boxes.get(c.object as usize) else {
-                continue;
-            };
-            let Some(t) = bundle.box_range(&b.solid) else {
-                continue;
-            };
-            out.begin(c.object, t.lo, t.hi);
-            for &l in c.leaves(&parent.leaves) {
-                if bundle.box_range(&b.leaves[l as usize]).is_some() {
-                    out.push_leaf(l);
-                }
-            }
-            for &p in c.perturbations(&parent.perturbations) {
-                if b.perturbations[p as usize].is_none_or(|pb| bundle.box_range(&pb).is_some()) {
-                    out.push_perturbation(p);
-                }
-            }
-            let solid = &scene.objects[c.object as usize].solid;
-            let (leaves, perts) = out
-                .candidates
-                .last()
-                .map(|last| {
-                    (
-                        last.leaves(&out.leaves),
-                        last.perturbations(&out.perturbations),
-                    )
-                })
-                .unwrap_or((&[], &[]));
-            if !active.set(solid, leaves, perts) {
-                out.cancel();
-            }
-        }
-    };
-    build(
+        };
+    build_parallel(
         &scene.camera,
         (scene.width, scene.height),
         &QuadtreeConfig { cell_size },
         &root,
-        test,
+        make_test,
     )
 }
