@@ -130,11 +130,14 @@ where
     Ok(out)
 }
 
+/// A cell `(x0, y0, x1, y1)` in pixels.
+type Cell = (u32, u32, u32, u32);
+
 /// A piece of the parallel build, in depth-first order: a leaf cell found above the frontier
 /// (emitted as is) or a subtree below it (cell, its parent's candidates, depth).
 enum Task {
-    Emit((u32, u32, u32, u32), Candidates),
-    Subtree((u32, u32, u32, u32), Candidates, usize),
+    Emit(Cell, Candidates),
+    Subtree(Cell, Candidates, usize),
 }
 
 /// The sequential top of [`build_parallel`]: [`State::visit`] down to depth `frontier`, where it
@@ -180,10 +183,7 @@ where
 
 /// The up to four children of `cell` in visiting order, or `None` when it is no larger than the
 /// cell size (a leaf). Splits at a multiple of the cell size so leaf tiles align to a grid.
-fn children(
-    (x0, y0, x1, y1): (u32, u32, u32, u32),
-    cell_size: u32,
-) -> Option<[Option<(u32, u32, u32, u32)>; 4]> {
+fn children((x0, y0, x1, y1): Cell, cell_size: u32) -> Option<[Option<Cell>; 4]> {
     let (w, h) = (x1 - x0, y1 - y0);
     let split_x = w > cell_size;
     let split_y = h > cell_size;
