@@ -443,12 +443,79 @@ fn two_terrains_are_refused() {
     );
 }
 
+/// A prepared pass keeps its per-frame buffers and bind group: running it again gives the same
+/// bits and counts (stale output or counters would show), with culled bands and without. Its
+/// kernel time exists exactly when the device has timestamp queries, and is positive and within
+/// the run's wall time.
+fn a_prepared_pass_runs_again_identically() {
+    let gpu = common::gpu("a_prepared_pass_runs_again_identically");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
+    let timestamps = gpu.context().timestamp_period_ns.is_some();
+    eprintln!(
+        "a_prepared_pass_runs_again_identically: timestamp queries {}",
+        if timestamps {
+            "available"
+        } else {
+            "unavailable"
+        }
+    );
+    for name in ["csg.ron", "terrain_low.ron"] {
+        let scene = sized(fray_scene::load(&dir.join(name)).unwrap());
+        for culling in [true, false] {
+            let settings = GpuSettings {
+                culling,
+                ..GpuSettings::for_scene(&scene)
+            };
+            let pass = gpu.prepare(&scene, &settings).unwrap();
+            let start = std::time::Instant::now();
+            let first = pass.run(gpu.context()).unwrap();
+            let wall = start.elapsed();
+            let second = pass.run(gpu.context()).unwrap();
+            let bits = |v: &[[f32; 4]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(&first.colour_depth),
+                bits(&second.colour_depth),
+                "{name}"
+            );
+            assert_eq!(bits(&first.normal), bits(&second.normal), "{name}");
+            assert_eq!(
+                (
+                    first.hits,
+                    first.shadow_rays,
+                    first.bound_evaluations,
+                    first.point_evaluations
+                ),
+                (
+                    second.hits,
+                    second.shadow_rays,
+                    second.bound_evaluations,
+                    second.point_evaluations
+                ),
+                "{name}"
+            );
+            assert!(first.hits > 0, "{name}");
+            assert_eq!(first.kernel_time.is_some(), timestamps, "{name}");
+            if let Some(k) = first.kernel_time {
+                eprintln!(
+                    "{name} (culling {culling}): run {:.2} ms, GPU kernel {:.2} ms",
+                    wall.as_secs_f64() * 1e3,
+                    k.as_secs_f64() * 1e3
+                );
+                assert!(
+                    k > std::time::Duration::ZERO && k <= wall,
+                    "{name}: {k:?} vs {wall:?}"
+                );
+            }
+        }
+    }
+}
+
 /// A custom harness (libtest-mimic) so that, without an adapter, these tests are reported as
 /// ignored rather than passed.
 fn main() {
     let args = Arguments::from_args();
     let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 5] = [
+    let tests: [(&str, fn()); 6] = [
         (
             "every_data_scene_matches_the_cpu_reference",
             every_data_scene_matches_the_cpu_reference,
@@ -466,6 +533,10 @@ fn main() {
             terrain_scenes_match_the_cpu_reference,
         ),
         ("two_terrains_are_refused", two_terrains_are_refused),
+        (
+            "a_prepared_pass_runs_again_identically",
+            a_prepared_pass_runs_again_identically,
+        ),
     ];
     let trials = tests
         .into_iter()
