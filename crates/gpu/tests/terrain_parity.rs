@@ -12,9 +12,10 @@
 //! Cell-edge pixels: bilinear patches are only C0 across cell lines, so the normal jumps there
 //! (by 0.45 on terrain_high). A hit whose position lies within f32 rounding of a cell line may
 //! be found, in f32, on the neighbouring cell's patch and shaded with that patch's normal: where
-//! the driver contracts `a·b + c` to an FMA (NVIDIA) and lavapipe does not, the rounding — and
-//! so the cell that wins — differs (measured on an H100: one pixel group off by 0.448 on
-//! terrain_high bilinear; 0 on lavapipe). Such a pixel is accepted only when (see
+//! the driver contracts `a·b + c` to an FMA (likely on NVIDIA) and llvmpipe does not, the
+//! rounding — and so the cell that wins — differs (an H100 gave a normal off by 0.448 on
+//! terrain_high bilinear, the size of the jump across a creased line there; llvmpipe 2e-5).
+//! Such a pixel is accepted only when (see
 //! [`check_normal`]) the CPU hit lies within the f32 tolerance of a cell line — per map axis
 //! `8 ε_f32 (|o| + |d| t)`, the bound terrain.wgsl itself widens its footprints by, plus the
 //! map-space distance `|d| · |t_gpu − t_cpu|` between the two hits — **and** the GPU normal
