@@ -224,8 +224,13 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         } else {
             String::new()
         };
+        // The GPU's kernel time, where the device measured it (timestamp queries).
+        let kernel = s
+            .kernel_time
+            .map(|k| format!(", GPU kernels {:.1} ms", k.as_secs_f64() * 1e3))
+            .unwrap_or_default();
         println!(
-            "{name} → {}: {}×{} in {:.1} ms ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{terrain}, ε = {:.3e}; ran: {}",
+            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{terrain}, ε = {:.3e}; ran: {}",
             output.display(),
             frame.colour.width(),
             frame.colour.height(),

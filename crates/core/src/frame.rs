@@ -54,6 +54,9 @@ pub struct RenderStats {
     pub passes: Vec<String>,
     /// Wall time of the render call.
     pub elapsed: Duration,
+    /// GPU time of the kernels alone (timestamp queries around the compute passes), when the
+    /// backend measured it: `None` on the CPU and on devices without timestamp queries.
+    pub kernel_time: Option<Duration>,
 }
 
 impl RenderStats {

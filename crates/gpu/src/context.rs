@@ -13,6 +13,10 @@ pub struct GpuContext {
     /// The wgpu backend in use, e.g. `"Vulkan"`.
     pub backend: String,
     pub limits: wgpu::Limits,
+    /// Nanoseconds per timestamp tick when the device was opened with
+    /// [`wgpu::Features::TIMESTAMP_QUERY`] (requested only where the adapter offers it); `None`
+    /// without it, and passes then report no kernel time.
+    pub timestamp_period_ns: Option<f64>,
     /// The first GPU error no error scope caught, or a device loss, since it was last taken:
     /// wgpu's default handler would panic on it; fray turns it into a [`GpuError`] instead.
     uncaptured: Arc<Mutex<Option<String>>>,
@@ -43,9 +47,12 @@ impl GpuContext {
         let adapter = adapter(&instance).await?;
         let info = adapter.get_info();
         let limits = adapter.limits();
+        // Timestamps around the passes' dispatches (their GPU time), where the adapter has them.
+        let features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("fray"),
+                required_features: features,
                 required_limits: limits.clone(),
                 ..Default::default()
             })
@@ -58,12 +65,18 @@ impl GpuContext {
         device.set_device_lost_callback(move |reason, message| {
             record(&sink, format!("device lost ({reason:?}): {message}"))
         });
+        let period = f64::from(queue.get_timestamp_period());
+        let timestamp_period_ns = (features.contains(wgpu::Features::TIMESTAMP_QUERY)
+            && period.is_finite()
+            && period > 0.0)
+            .then_some(period);
         Ok(Self {
             device,
             queue,
             adapter_name: info.name,
             backend: format!("{:?}", info.backend),
             limits,
+            timestamp_period_ns,
             uncaptured,
         })
     }

@@ -1,16 +1,21 @@
 //! The free-form pass: one compute dispatch per band of rows over the band's quadtree work items
 //! (one workgroup per item) that casts, shades and writes each pixel of the items' tiles (colour +
-//! depth, normal), then reads the band back. Owns its pipeline, scene and work-list buffers.
+//! depth, normal), then reads the band back. Owns its pipeline, scene and work-list buffers, and
+//! the per-frame buffers and bind group, allocated once (a prepared pass has a fixed work list
+//! and image size): a run writes the parameters, dispatches, copies and maps. Where the device
+//! has timestamp queries, each band's compute pass is timed on the GPU.
 
 use crate::bindings::{entry, storage};
 use crate::params::{self, FrameParams};
-use crate::readback::read_back;
+use crate::readback::{map_read, read_back};
 use crate::shader::{self, ArraySizes, Specialisation};
 use crate::work::{GpuWork, TILE};
 use crate::{GpuContext, GpuError};
 use fray_geometry::gpu_layout::GpuSolids;
 use fray_quadtree::{QuadtreeStats, WorkItem};
 use fray_scene::Scene;
+use std::sync::Mutex;
+use std::time::Duration;
 use wgpu::util::DeviceExt;
 
 const PASS: &str = "free-form";
@@ -34,24 +39,105 @@ pub struct PassOutput {
     pub shadow_rays: u64,
     pub bound_evaluations: u64,
     pub point_evaluations: u64,
+    /// GPU time of the compute passes (timestamps at the start and end of each band's pass,
+    /// summed), when the device has timestamp queries; `None` without them. The rest of a run
+    /// (uploads, clearing, copies, mapping, repacking) is host and transfer time.
+    pub kernel_time: Option<Duration>,
 }
 
 /// The free-form pass for one scene: pipeline specialised for it, scene buffers uploaded.
 #[derive(Debug)]
 pub struct FreeFormPass {
     pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
     params: FrameParams,
     params_buffer: wgpu::Buffer,
-    scene_buffers: [wgpu::Buffer; 6],
-    /// Candidates, active leaves, active perturbations, candidate programs (bindings 10–13).
-    work_buffers: [wgpu::Buffer; 4],
     work: GpuWork,
     counters: wgpu::Buffer,
-    /// The terrain's parameter block, max pyramid and samples (bindings 14–16), when the scene
-    /// has one.
-    terrain_buffers: Option<[wgpu::Buffer; 3]>,
     specialisation: Specialisation,
+    /// The per-frame buffers and the bind group (locked by a run: one run at a time uses
+    /// them). The bind group keeps the scene buffers (bindings 1–6), the work list's
+    /// (candidates, active leaves, active perturbations, candidate programs: 10–13) and the
+    /// terrain's (parameter block, max pyramid, samples: 14–16) alive.
+    frame: Mutex<FrameResources>,
+}
+
+/// What a run needs beyond the scene: allocated once per pass.
+#[derive(Debug)]
+struct FrameResources {
+    /// `(first row, rows)` of each dispatch.
+    bands: Vec<(u32, u32)>,
+    /// The band's work items (binding 9), sized for the band with the most.
+    items: wgpu::Buffer,
+    /// The items were uploaded at construction (one band): a run does not write them.
+    items_resident: bool,
+    /// The band's pixels (binding 7) and their host-mappable copy.
+    output: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    counters_readback: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    timestamps: Option<Timestamps>,
+}
+
+/// Two timestamps (start and end of a band's compute pass), resolved and read back per band.
+#[derive(Debug)]
+struct Timestamps {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    period_ns: f64,
+}
+
+const TIMESTAMP_BYTES: u64 = 2 * wgpu::QUERY_SIZE as u64;
+
+impl Timestamps {
+    fn new(ctx: &GpuContext) -> Option<Self> {
+        let period_ns = ctx.timestamp_period_ns?;
+        let device = &ctx.device;
+        Some(Self {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("free-form timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("free-form timestamps resolve"),
+                size: TIMESTAMP_BYTES,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("free-form timestamps readback"),
+                size: TIMESTAMP_BYTES,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            period_ns,
+        })
+    }
+
+    /// The pass's timestamp writes (start → 0, end → 1).
+    fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        }
+    }
+
+    /// Resolves both timestamps and copies them to the readback buffer.
+    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.set, 0..2, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, TIMESTAMP_BYTES);
+    }
+
+    /// The time between the two timestamps of the last submitted pass.
+    fn read(&self, device: &wgpu::Device) -> Result<Duration, GpuError> {
+        let t: Vec<u64> = read_back(device, &self.readback, TIMESTAMP_BYTES, PASS)?;
+        let ticks = t[1].saturating_sub(t[0]);
+        Ok(Duration::from_secs_f64(
+            ticks as f64 * self.period_ns * 1e-9,
+        ))
+    }
 }
 
 /// The terrain's buffers for the free-form module: its parameter block relative to `reference`,
@@ -249,17 +335,27 @@ impl FreeFormPass {
                 | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let frame = FrameResources::new(
+            ctx,
+            &work,
+            (params.size[0], params.size[1]),
+            &layout,
+            &bind_group_buffers(
+                &params_buffer,
+                &scene_buffers,
+                &counters,
+                &work_buffers,
+                terrain.as_ref(),
+            ),
+        )?;
         Ok(Self {
             pipeline,
-            layout,
             params,
             params_buffer,
-            scene_buffers,
-            work_buffers,
             work,
             counters,
-            terrain_buffers: terrain,
             specialisation,
+            frame: Mutex::new(frame),
         })
     }
 
@@ -289,7 +385,144 @@ impl FreeFormPass {
 
     /// Renders every pixel and reads the results back.
     pub fn run(&self, ctx: &GpuContext) -> Result<PassOutput, GpuError> {
-        let (width, height) = (self.params.size[0], self.params.size[1]);
+        let frame = match self.frame.lock() {
+            Ok(f) => f,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        let width = self.params.size[0];
+        let device = &ctx.device;
+        ctx.queue
+            .write_buffer(&self.counters, 0, &[0u8; COUNTERS * 4]);
+        let pixels = (u64::from(width) * u64::from(self.params.size[1])) as usize;
+        let mut out = PassOutput {
+            colour_depth: Vec::with_capacity(pixels),
+            normal: Vec::with_capacity(pixels),
+            kernel_time: frame.timestamps.as_ref().map(|_| Duration::ZERO),
+            ..PassOutput::default()
+        };
+        let max_groups = ctx.limits.max_compute_workgroups_per_dimension.max(1);
+        for (i, &(y0, rows)) in frame.bands.iter().enumerate() {
+            let band_items = self.work.band(y0, y0 + rows);
+            let n = band_items.len() as u32;
+            let bytes = u64::from(rows) * u64::from(width) * BYTES_PER_PIXEL;
+            let last = i + 1 == frame.bands.len();
+            if n == 0 && !last {
+                // Every tile of the band was culled: nothing to run, nothing hit.
+                let pixels = (u64::from(rows) * u64::from(width)) as usize;
+                out.colour_depth
+                    .extend(std::iter::repeat_n([0.0; 4], pixels));
+                out.normal.extend(std::iter::repeat_n([0.0; 4], pixels));
+                continue;
+            }
+            let mut params = self.params;
+            params.size[2] = y0;
+            params.mode[2] = rows;
+            params.mode[3] = n;
+            ctx.queue
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&params));
+            if n > 0 && !frame.items_resident {
+                ctx.queue
+                    .write_buffer(&frame.items, 0, bytemuck::cast_slice(band_items));
+            }
+            let mut encoder =
+                device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            // Pixels no item covers stay zero (a miss).
+            encoder.clear_buffer(&frame.output, 0, Some(bytes));
+            let timed = frame.timestamps.as_ref().filter(|_| n > 0);
+            if n > 0 {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("free-form"),
+                    timestamp_writes: timed.map(Timestamps::writes),
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &frame.bind_group, &[]);
+                let x = n.min(max_groups);
+                pass.dispatch_workgroups(x, n.div_ceil(x), 1);
+            }
+            if let Some(t) = timed {
+                t.resolve(&mut encoder);
+            }
+            encoder.copy_buffer_to_buffer(&frame.output, 0, &frame.readback, 0, bytes);
+            if last {
+                encoder.copy_buffer_to_buffer(
+                    &self.counters,
+                    0,
+                    &frame.counters_readback,
+                    0,
+                    (COUNTERS * 4) as u64,
+                );
+            }
+            ctx.queue.submit([encoder.finish()]);
+            map_read(device, &frame.readback, bytes, PASS, |data| {
+                unpack(data, &mut out.colour_depth, &mut out.normal)
+            })?;
+            if let (Some(t), Some(total)) = (timed, out.kernel_time.as_mut()) {
+                *total += t.read(device)?;
+            }
+            if last {
+                let c: Vec<u32> = read_back(
+                    device,
+                    &frame.counters_readback,
+                    (COUNTERS * 4) as u64,
+                    PASS,
+                )?;
+                let wide = |lo: usize| u64::from(c[lo]) | (u64::from(c[lo + 1]) << 32);
+                out.hits = u64::from(c[0]);
+                out.shadow_rays = u64::from(c[1]);
+                out.bound_evaluations = wide(2);
+                out.point_evaluations = wide(4);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Appends the band's pixels, read in place from the mapped `data` (pairs of `vec4<f32>`:
+/// colour + depth, normal + hit), to `colour_depth` and `normal` in one pass.
+fn unpack(data: &[u8], colour_depth: &mut Vec<[f32; 4]>, normal: &mut Vec<[f32; 4]>) {
+    type Pixel = [[f32; 4]; 2];
+    let copied: Vec<Pixel>;
+    let pixels: &[Pixel] = match bytemuck::try_cast_slice(data) {
+        Ok(p) => p,
+        // A mapping is at least 8-byte aligned, in practice page aligned; copy if it is not
+        // aligned for f32.
+        Err(_) => {
+            copied = bytemuck::pod_collect_to_vec(data);
+            &copied
+        }
+    };
+    let mut both = (std::mem::take(colour_depth), std::mem::take(normal));
+    both.extend(pixels.iter().map(|&[c, n]| (c, n)));
+    (*colour_depth, *normal) = both;
+}
+
+/// The bind group's buffers except the per-frame ones (output, work items): bindings 0–6, 8,
+/// 10–13 and, with a terrain, 14–16.
+fn bind_group_buffers<'a>(
+    params: &'a wgpu::Buffer,
+    scene: &'a [wgpu::Buffer; 6],
+    counters: &'a wgpu::Buffer,
+    work: &'a [wgpu::Buffer; 4],
+    terrain: Option<&'a [wgpu::Buffer; 3]>,
+) -> Vec<(u32, &'a wgpu::Buffer)> {
+    let mut buffers = vec![(0, params)];
+    buffers.extend((1..).zip(scene));
+    buffers.push((8, counters));
+    buffers.extend((10..).zip(work));
+    buffers.extend((shader::FREEFORM_TERRAIN_BINDING..).zip(terrain.into_iter().flatten()));
+    buffers
+}
+
+impl FrameResources {
+    /// The bands of a `width × height` image on this device, the buffers for the largest, and
+    /// the bind group of `fixed` (binding, buffer) pairs plus the output (7) and items (9).
+    fn new(
+        ctx: &GpuContext,
+        work: &GpuWork,
+        (width, height): (u32, u32),
+        layout: &wgpu::BindGroupLayout,
+        fixed: &[(u32, &wgpu::Buffer)],
+    ) -> Result<Self, GpuError> {
         let tile_rows_bytes = u64::from(width) * BYTES_PER_PIXEL * u64::from(TILE);
         let buffer_limit = ctx
             .limits
@@ -303,14 +536,14 @@ impl FreeFormPass {
             });
         }
         let device = &ctx.device;
-        let band = Self::band_rows(ctx, width, height);
+        let band = FreeFormPass::band_rows(ctx, width, height);
         let bands: Vec<(u32, u32)> = (0..height)
             .step_by(band as usize)
             .map(|y0| (y0, band.min(height - y0)))
             .collect();
         let most_items = bands
             .iter()
-            .map(|&(y0, rows)| self.work.band(y0, y0 + rows).len())
+            .map(|&(y0, rows)| work.band(y0, y0 + rows).len())
             .max()
             .unwrap_or(0)
             .max(1);
@@ -320,6 +553,18 @@ impl FreeFormPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        // One band: its items never change, upload them now.
+        let items_resident = match bands.as_slice() {
+            [(y0, rows)] => {
+                let band_items = work.band(*y0, y0 + rows);
+                if !band_items.is_empty() {
+                    ctx.queue
+                        .write_buffer(&items, 0, bytemuck::cast_slice(band_items));
+                }
+                true
+            }
+            _ => false,
+        };
         let band_bytes = u64::from(band) * u64::from(width) * BYTES_PER_PIXEL;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("free-form output"),
@@ -341,118 +586,29 @@ impl FreeFormPass {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: self.params_buffer.as_entire_binding(),
-        }];
-        for (i, b) in self.scene_buffers.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 1 + i as u32,
-                resource: b.as_entire_binding(),
-            });
-        }
-        entries.push(wgpu::BindGroupEntry {
-            binding: 7,
-            resource: output.as_entire_binding(),
-        });
-        entries.push(wgpu::BindGroupEntry {
-            binding: 8,
-            resource: self.counters.as_entire_binding(),
-        });
-        entries.push(wgpu::BindGroupEntry {
-            binding: 9,
-            resource: items.as_entire_binding(),
-        });
-        for (i, b) in self.work_buffers.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 10 + i as u32,
-                resource: b.as_entire_binding(),
-            });
-        }
-        for (i, b) in self.terrain_buffers.iter().flatten().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: shader::FREEFORM_TERRAIN_BINDING + i as u32,
-                resource: b.as_entire_binding(),
-            });
-        }
+        let mut entries: Vec<wgpu::BindGroupEntry> = fixed
+            .iter()
+            .chain([(7, &output), (9, &items)].iter())
+            .map(|&(binding, buffer)| wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        entries.sort_by_key(|e| e.binding);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("free-form"),
-            layout: &self.layout,
+            layout,
             entries: &entries,
         });
-        ctx.queue
-            .write_buffer(&self.counters, 0, &[0u8; COUNTERS * 4]);
-
-        let pixels = (u64::from(width) * u64::from(height)) as usize;
-        let mut out = PassOutput {
-            colour_depth: Vec::with_capacity(pixels),
-            normal: Vec::with_capacity(pixels),
-            ..PassOutput::default()
-        };
-        let max_groups = ctx.limits.max_compute_workgroups_per_dimension.max(1);
-        for (i, &(y0, rows)) in bands.iter().enumerate() {
-            let band_items = self.work.band(y0, y0 + rows);
-            let n = band_items.len() as u32;
-            let bytes = u64::from(rows) * u64::from(width) * BYTES_PER_PIXEL;
-            let last = i + 1 == bands.len();
-            if n == 0 && !last {
-                // Every tile of the band was culled: nothing to run, nothing hit.
-                let pixels = (u64::from(rows) * u64::from(width)) as usize;
-                out.colour_depth
-                    .extend(std::iter::repeat_n([0.0; 4], pixels));
-                out.normal.extend(std::iter::repeat_n([0.0; 4], pixels));
-                continue;
-            }
-            let mut params = self.params;
-            params.size[2] = y0;
-            params.mode[2] = rows;
-            params.mode[3] = n;
-            ctx.queue
-                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&params));
-            if n > 0 {
-                ctx.queue
-                    .write_buffer(&items, 0, bytemuck::cast_slice(band_items));
-            }
-            let mut encoder =
-                device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            // Pixels no item covers stay zero (a miss).
-            encoder.clear_buffer(&output, 0, Some(bytes));
-            if n > 0 {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("free-form"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                let x = n.min(max_groups);
-                pass.dispatch_workgroups(x, n.div_ceil(x), 1);
-            }
-            encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
-            if last {
-                encoder.copy_buffer_to_buffer(
-                    &self.counters,
-                    0,
-                    &counters_readback,
-                    0,
-                    (COUNTERS * 4) as u64,
-                );
-            }
-            ctx.queue.submit([encoder.finish()]);
-            let data: Vec<[f32; 4]> = read_back(device, &readback, bytes, PASS)?;
-            for pair in data.chunks_exact(2) {
-                out.colour_depth.push(pair[0]);
-                out.normal.push(pair[1]);
-            }
-            if last {
-                let c: Vec<u32> =
-                    read_back(device, &counters_readback, (COUNTERS * 4) as u64, PASS)?;
-                let wide = |lo: usize| u64::from(c[lo]) | (u64::from(c[lo + 1]) << 32);
-                out.hits = u64::from(c[0]);
-                out.shadow_rays = u64::from(c[1]);
-                out.bound_evaluations = wide(2);
-                out.point_evaluations = wide(4);
-            }
-        }
-        Ok(out)
+        Ok(Self {
+            bands,
+            items,
+            items_resident,
+            output,
+            readback,
+            counters_readback,
+            bind_group,
+            timestamps: Timestamps::new(ctx),
+        })
     }
 }

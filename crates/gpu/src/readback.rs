@@ -1,17 +1,18 @@
-//! Reading a GPU buffer back to the host: map, wait, copy out, unmap — with every failure a
-//! [`GpuError`] naming the pass.
+//! Reading a GPU buffer back to the host: map, wait, read in place (or copy out), unmap — with
+//! every failure a [`GpuError`] naming the pass.
 
 use crate::GpuError;
 use bytemuck::Pod;
 
-/// Maps `buffer[..bytes]`, waits, copies it out as `T`s and unmaps. A failed poll is a lost
-/// device; a failed map is an error of `pass`.
-pub(crate) fn read_back<T: Pod>(
+/// Maps `buffer[..bytes]`, waits, hands the mapped bytes to `read` and unmaps (also when `read`
+/// cannot get the view). A failed poll is a lost device; a failed map is an error of `pass`.
+pub(crate) fn map_read<R>(
     device: &wgpu::Device,
     buffer: &wgpu::Buffer,
     bytes: u64,
     pass: &'static str,
-) -> Result<Vec<T>, GpuError> {
+    read: impl FnOnce(&[u8]) -> R,
+) -> Result<R, GpuError> {
     let slice = buffer.slice(..bytes);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -30,13 +31,29 @@ pub(crate) fn read_back<T: Pod>(
         }
         Err(_) => return Err(GpuError::DeviceLost("readback never completed".into())),
     }
-    let data = {
-        let view = slice.get_mapped_range().map_err(|e| GpuError::Dispatch {
+    let result = match slice.get_mapped_range() {
+        Ok(view) => Ok(read(&view)),
+        Err(e) => Err(GpuError::Dispatch {
             pass,
             reason: e.to_string(),
-        })?;
-        bytemuck::pod_collect_to_vec::<u8, T>(&view)
+        }),
     };
     buffer.unmap();
-    Ok(data)
+    result
+}
+
+/// Maps `buffer[..bytes]`, waits, copies it out as `T`s and unmaps (see [`map_read`]).
+pub(crate) fn read_back<T: Pod>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    bytes: u64,
+    pass: &'static str,
+) -> Result<Vec<T>, GpuError> {
+    map_read(
+        device,
+        buffer,
+        bytes,
+        pass,
+        bytemuck::pod_collect_to_vec::<u8, T>,
+    )
 }

@@ -160,6 +160,7 @@ impl GpuRenderer {
             epsilon: gpu_epsilon(scene, settings.epsilon),
             passes,
             elapsed: start.elapsed(),
+            kernel_time: out.kernel_time,
             ..RenderStats::default()
         };
         if let Some(work) = work {
