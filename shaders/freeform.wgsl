@@ -713,7 +713,7 @@ fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) ->
     }
     if HAS_TERRAIN {
         // The terrain over [lo, best so far]: nearer hits only, a tie keeps the free form.
-        let th = cast_terrain(o, d, lo, select(BIG, best.t, best.t >= 0.0));
+        let th = cast_terrain(o, d, lo, select(BIG, best.t, best.t >= 0.0), true);
         if th.x >= 0.0 && (best.t < 0.0 || th.x < best.t) {
             best.t = th.x;
             best.terrain = true;
@@ -729,7 +729,7 @@ fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
             return true;
         }
     }
-    if HAS_TERRAIN && cast_terrain(o, d, 0.0, distance).x >= 0.0 {
+    if HAS_TERRAIN && cast_terrain(o, d, 0.0, distance, false).x >= 0.0 {
         return true;
     }
     return false;

@@ -15,5 +15,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     }
     let a = rays[2u * k];
     let b = rays[2u * k + 1u];
-    hits[k] = cast_terrain(a.xyz, b.xyz, a.w, b.w);
+    hits[k] = cast_terrain(a.xyz, b.xyz, a.w, b.w, true);
 }
