@@ -39,7 +39,9 @@ const ILLINOIS_STEPS: u32 = 100u;
 @group(0) @binding(5) var<storage, read> lights: array<GpuLight>;
 @group(0) @binding(6) var<storage, read> materials: array<GpuMaterial>;
 @group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, 8>;
+// Frame totals: hits, shadow rays, then (lo, hi) 64-bit pairs of bound evaluations, point
+// evaluations, terrain rays, segments, cells, stops and stop levels.
+@group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, 16>;
 // The work list: this dispatch's items, and the frame's candidates, active leaves (solid-local),
 // active perturbations (object-wide) and per-candidate (first word, length) in `program`.
 @group(0) @binding(9) var<storage, read> items: array<WorkItem>;
@@ -805,10 +807,12 @@ fn add_wide(lo: u32, value: u32) {
 }
 
 // The workgroup's sums of the per-pixel counters (hits, shadow rays, bound and point
-// evaluations; zeroed by the kernel: the pipeline skips wgpu's workgroup zero-fill). Pixels add here and one invocation adds
-// the sums to `counters`: on a real GPU, atomics from every pixel to the same few words
-// serialise and cost more than the tracing.
-var<workgroup> group_counts: array<atomic<u32>, 4>;
+// evaluations, then terrain.wgsl's camera-ray counters: rays, segments, cells, stops, stop
+// levels; zeroed by the kernel: the pipeline skips wgpu's workgroup zero-fill). Pixels add here
+// and one invocation adds the sums to `counters`: on a real GPU, atomics from every pixel to
+// the same few words serialise and cost more than the tracing.
+var<workgroup> group_counts: array<atomic<u32>, GROUP_COUNTERS>;
+const GROUP_COUNTERS: u32 = 9u;
 
 // One pixel: camera ray, nearest hit, normal, shading. Writes colour + depth and normal + hit;
 // true if it hit.
@@ -866,7 +870,7 @@ fn main(
     if k >= frame.mode.w {
         return;
     }
-    if local_index < 4u {
+    if local_index < GROUP_COUNTERS {
         atomicStore(&group_counts[local_index], 0u);
     }
     workgroupBarrier();
@@ -883,6 +887,13 @@ fn main(
         atomicAdd(&group_counts[1], shadow_rays);
         atomicAdd(&group_counts[2], bound_evals);
         atomicAdd(&group_counts[3], point_evals);
+        if HAS_TERRAIN {
+            atomicAdd(&group_counts[4], terrain_rays);
+            atomicAdd(&group_counts[5], terrain_segments);
+            atomicAdd(&group_counts[6], terrain_cells);
+            atomicAdd(&group_counts[7], terrain_stops);
+            atomicAdd(&group_counts[8], terrain_stop_levels);
+        }
     }
     workgroupBarrier();
     if local_index == 0u {
@@ -897,5 +908,10 @@ fn main(
         }
         add_wide(2u, atomicLoad(&group_counts[2]));
         add_wide(4u, atomicLoad(&group_counts[3]));
+        if HAS_TERRAIN {
+            for (var k = 4u; k < GROUP_COUNTERS; k++) {
+                add_wide(2u * k - 2u, atomicLoad(&group_counts[k]));
+            }
+        }
     }
 }

@@ -16,6 +16,16 @@
 // `cast_terrain` for camera and shadow rays.
 
 const STACK: u32 = 48u;
+
+// The current invocation's terrain work on camera rays (`pixel_lod`), as fray-trace and
+// fray_terrain's TerrainStats count it: rays cast at the terrain, segments popped, finest cells intersected, segments stopped
+// at their level, and the sum of those levels' distances above the finest. Shadow rays are not
+// counted (the CPU does not count them either).
+var<private> terrain_rays: u32;
+var<private> terrain_segments: u32;
+var<private> terrain_cells: u32;
+var<private> terrain_stops: u32;
+var<private> terrain_stop_levels: u32;
 const F32_EPS: f32 = 1.1920929e-7;
 
 fn pyr(level: u32, a: u32, b: u32) -> f32 {
@@ -338,7 +348,8 @@ fn bicubic_hit(o: vec3<f32>, d: vec3<f32>, i: u32, j: u32, c0: f32, c1: f32, ta:
 }
 
 // LOD hit: entry into the nearest max column of level `level` among cells ra × rb.
-fn column_hit(o: vec3<f32>, d: vec3<f32>, level: u32, n: u32, ra: vec2<i32>, rb: vec2<i32>, c0: f32, c1: f32, ta: f32, tb: f32) -> vec4<f32> {
+// `counted` (0 or 1) adds the columns tested to `terrain_cells`.
+fn column_hit(o: vec3<f32>, d: vec3<f32>, level: u32, n: u32, ra: vec2<i32>, rb: vec2<i32>, c0: f32, c1: f32, ta: f32, tb: f32, counted: u32) -> vec4<f32> {
     let size = f32(1u << (n - level));
     var best = vec4<f32>(-1.0, 0.0, 0.0, 0.0);
     for (var b = rb.x; b <= rb.y; b++) {
@@ -347,6 +358,7 @@ fn column_hit(o: vec3<f32>, d: vec3<f32>, level: u32, n: u32, ra: vec2<i32>, rb:
             if (top <= -3.0e38) {
                 continue;
             }
+            terrain_cells += counted;
             let lo = vec3<f32>(f32(a) * size, f32(b) * size, P.heights.x);
             let hi = vec3<f32>(min(f32(a + 1) * size, f32(P.grid.x)), min(f32(b + 1) * size, f32(P.grid.y)), top);
             let c = clip(o, d, lo, hi, c0, c1);
@@ -367,6 +379,8 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_l
     let d = vec3<f32>(dot(dir, P.axis_u.xyz) / P.scale.x, dot(dir, P.axis_v.xyz) / P.scale.y, dot(dir, P.axis_up.xyz) / P.scale.z);
     let box_lo = vec3<f32>(0.0, 0.0, P.heights.x);
     let box_hi = vec3<f32>(f32(P.grid.x), f32(P.grid.y), P.heights.y);
+    let counted = u32(pixel_lod);
+    terrain_rays += counted;
     let c = clip(o, d, box_lo, box_hi, t_lo, t_hi);
     if (c.x > c.y) {
         return miss;
@@ -382,6 +396,7 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_l
         }
         len -= 1u;
         let seg = stack[len];
+        terrain_segments += counted;
         let pa = o + d * seg.x;
         let pb = o + d * seg.y;
         let u0 = min(pa.x, pb.x) - err.x;
@@ -417,6 +432,8 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_l
             continue;
         }
         if (level == stop) {
+            terrain_stops += counted;
+            terrain_stop_levels += counted * (n - stop);
             var best = miss;
             if (stop == n) {
                 for (var b = rb.x; b <= rb.y; b++) {
@@ -424,6 +441,7 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_l
                         if (r_min > pyr(n, u32(a), u32(b))) {
                             continue;
                         }
+                        terrain_cells += counted;
                         let end = select(seg.y, best.x, best.x >= 0.0);
                         var h: vec4<f32>;
                         if (P.sizes.w == 1u) {
@@ -437,7 +455,7 @@ fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_l
                     }
                 }
             } else {
-                best = column_hit(o, d, level, n, ra, rb, c.x, c.y, seg.x, seg.y);
+                best = column_hit(o, d, level, n, ra, rb, c.x, c.y, seg.x, seg.y, counted);
                 if (best.x >= 0.0) {
                     // A flat max-column face: shade with the surface beneath (as the CPU does).
                     let q = o + d * best.x;

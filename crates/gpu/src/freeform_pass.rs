@@ -21,7 +21,7 @@ use wgpu::util::DeviceExt;
 const PASS: &str = "free-form";
 /// Bytes written per pixel: two `vec4<f32>` (colour + depth, normal + hit flag).
 const BYTES_PER_PIXEL: u64 = 32;
-const COUNTERS: usize = 8;
+const COUNTERS: usize = 16;
 /// Storage buffers the pass binds (scene 6, output, counters, work list 5).
 const STORAGE_BUFFERS: u32 = 13;
 /// Upper bound of one band's output buffer (smaller bands keep readback memory modest).
@@ -39,6 +39,10 @@ pub struct PassOutput {
     pub shadow_rays: u64,
     pub bound_evaluations: u64,
     pub point_evaluations: u64,
+    /// The terrain's work on camera rays, counted as `fray_terrain::TerrainStats` counts it
+    /// (zero without a terrain).
+    pub terrain_rays: u64,
+    pub terrain: fray_terrain::TerrainStats,
     /// GPU time of the compute passes (timestamps at the start and end of each band's pass,
     /// summed), when the device has timestamp queries; `None` without them. The rest of a run
     /// (uploads, clearing, copies, mapping, repacking) is host and transfer time.
@@ -471,6 +475,13 @@ impl FreeFormPass {
                 out.shadow_rays = u64::from(c[1]);
                 out.bound_evaluations = wide(2);
                 out.point_evaluations = wide(4);
+                out.terrain_rays = wide(6);
+                out.terrain = fray_terrain::TerrainStats {
+                    segments: wide(8),
+                    cells: wide(10),
+                    stops: wide(12),
+                    stop_levels_above_finest: wide(14),
+                };
             }
         }
         Ok(out)

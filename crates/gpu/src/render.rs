@@ -161,6 +161,11 @@ impl GpuRenderer {
             passes,
             elapsed: start.elapsed(),
             kernel_time: out.kernel_time,
+            terrain_rays: out.terrain_rays,
+            terrain_segments: out.terrain.segments,
+            terrain_cells: out.terrain.cells,
+            terrain_stops: out.terrain.stops,
+            terrain_stop_levels: out.terrain.stop_levels_above_finest,
             ..RenderStats::default()
         };
         if let Some(work) = work {

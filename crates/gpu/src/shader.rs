@@ -22,7 +22,12 @@ pub const SHADER_FILES: [(&str, &str); 3] = [
 
 /// The free-form module's terrain hook for a scene without terrain: `cast_terrain` always misses
 /// (and `HAS_TERRAIN` is false), so no terrain code or binding is compiled.
-pub const NO_TERRAIN_WGSL: &str = "\n// No terrain in this scene.\n\
+pub const NO_TERRAIN_WGSL: &str = "\n// No terrain in this scene (its counters stay 0).\n\
+var<private> terrain_rays: u32;\n\
+var<private> terrain_segments: u32;\n\
+var<private> terrain_cells: u32;\n\
+var<private> terrain_stops: u32;\n\
+var<private> terrain_stop_levels: u32;\n\
 fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_lod: bool) -> vec4<f32> {\n\
     return vec4<f32>(-1.0, 0.0, 0.0, 0.0);\n\
 }\n";
