@@ -9,6 +9,7 @@ use crate::bindings::{entry, storage};
 use crate::params::{self, FrameParams};
 use crate::readback::{map_read, read_back};
 use crate::shader::{self, ArraySizes, Specialisation};
+use crate::timestamps::Timestamps;
 use crate::work::{GpuWork, TILE};
 use crate::{GpuContext, GpuError};
 use fray_geometry::gpu_layout::GpuSolids;
@@ -80,68 +81,6 @@ struct FrameResources {
     counters_readback: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     timestamps: Option<Timestamps>,
-}
-
-/// Two timestamps (start and end of a band's compute pass), resolved and read back per band.
-#[derive(Debug)]
-struct Timestamps {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    period_ns: f64,
-}
-
-const TIMESTAMP_BYTES: u64 = 2 * wgpu::QUERY_SIZE as u64;
-
-impl Timestamps {
-    fn new(ctx: &GpuContext) -> Option<Self> {
-        let period_ns = ctx.timestamp_period_ns?;
-        let device = &ctx.device;
-        Some(Self {
-            set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("free-form timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            }),
-            resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("free-form timestamps resolve"),
-                size: TIMESTAMP_BYTES,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("free-form timestamps readback"),
-                size: TIMESTAMP_BYTES,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            period_ns,
-        })
-    }
-
-    /// The pass's timestamp writes (start → 0, end → 1).
-    fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
-        wgpu::ComputePassTimestampWrites {
-            query_set: &self.set,
-            beginning_of_pass_write_index: Some(0),
-            end_of_pass_write_index: Some(1),
-        }
-    }
-
-    /// Resolves both timestamps and copies them to the readback buffer.
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.set, 0..2, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, TIMESTAMP_BYTES);
-    }
-
-    /// The time between the two timestamps of the last submitted pass.
-    fn read(&self, device: &wgpu::Device) -> Result<Duration, GpuError> {
-        let t: Vec<u64> = read_back(device, &self.readback, TIMESTAMP_BYTES, PASS)?;
-        let ticks = t[1].saturating_sub(t[0]);
-        Ok(Duration::from_secs_f64(
-            ticks as f64 * self.period_ns * 1e-9,
-        ))
-    }
 }
 
 /// The terrain's buffers for the free-form module: its parameter block relative to `reference`,

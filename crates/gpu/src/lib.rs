@@ -25,6 +25,7 @@ mod readback;
 mod render;
 pub mod shader;
 pub mod terrain_pass;
+mod timestamps;
 pub mod work;
 
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
