@@ -7,7 +7,7 @@
 
 use crate::bindings::{entry, storage};
 use crate::params::{self, FrameParams};
-use crate::readback::{map_read, read_back};
+use crate::readback::{map_read, read_back, readback_buffer};
 use crate::shader::{self, ArraySizes, Specialisation};
 use crate::timestamps::Timestamps;
 use crate::work::{GpuWork, TILE};
@@ -524,18 +524,8 @@ impl FrameResources {
                 | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("free-form readback"),
-            size: band_bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let counters_readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("counters readback"),
-            size: (COUNTERS * 4) as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = readback_buffer(device, "free-form readback", band_bytes);
+        let counters_readback = readback_buffer(device, "counters readback", (COUNTERS * 4) as u64);
         let mut entries: Vec<wgpu::BindGroupEntry> = fixed
             .iter()
             .chain([(7, &output), (9, &items)].iter())

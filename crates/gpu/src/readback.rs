@@ -4,6 +4,16 @@
 use crate::GpuError;
 use bytemuck::Pod;
 
+/// A host-readable buffer of `size` bytes that copies land in (`MAP_READ | COPY_DST`).
+pub(crate) fn readback_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// Maps `buffer[..bytes]`, waits, hands the mapped bytes to `read` and unmaps (also when `read`
 /// cannot get the view). A failed poll is a lost device; a failed map is an error of `pass`.
 pub(crate) fn map_read<R>(

@@ -6,7 +6,7 @@
 //! free-form module (see `shader::freeform_source`).
 
 use crate::bindings::{entry, storage};
-use crate::readback::read_back;
+use crate::readback::{read_back, readback_buffer};
 use crate::{GpuContext, GpuError};
 use fray_terrain::Terrain;
 use fray_terrain::gpu_layout::{self, GpuTerrainParams};
@@ -124,12 +124,7 @@ impl TerrainPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("terrain readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = readback_buffer(device, "terrain readback", bytes);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(PASS),
             layout: &self.layout,

@@ -3,7 +3,7 @@
 
 use crate::GpuContext;
 use crate::GpuError;
-use crate::readback::read_back;
+use crate::readback::{read_back, readback_buffer};
 use std::time::Duration;
 
 /// The pass name in errors.
@@ -36,12 +36,7 @@ impl Timestamps {
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("free-form timestamps readback"),
-                size: TIMESTAMP_BYTES,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            readback: readback_buffer(device, "free-form timestamps readback", TIMESTAMP_BYTES),
             period_ns,
         })
     }

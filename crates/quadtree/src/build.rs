@@ -35,12 +35,7 @@ pub fn build<F>(
 where
     F: FnMut(&RayBundle, &Candidates, &mut Candidates),
 {
-    if config.cell_size == 0 {
-        return Err(QuadtreeError::ZeroCellSize);
-    }
-    if width == 0 || height == 0 {
-        return Err(QuadtreeError::EmptyImage(width, height));
-    }
+    check(config, width, height)?;
     let mut out = WorkList::default();
     let mut scratch: Vec<Candidates> = Vec::new();
     let mut state = State {
@@ -50,6 +45,7 @@ where
         test: &mut test,
         out: &mut out,
         scratch: &mut scratch,
+        frontier: None,
     };
     state.visit((0, 0, width, height), root, 0);
     Ok(out)
@@ -72,30 +68,27 @@ where
     F: FnMut(&RayBundle, &Candidates, &mut Candidates),
 {
     use rayon::prelude::*;
-    if config.cell_size == 0 {
-        return Err(QuadtreeError::ZeroCellSize);
-    }
-    if width == 0 || height == 0 {
-        return Err(QuadtreeError::EmptyImage(width, height));
-    }
+    check(config, width, height)?;
     // Enough subtrees to keep every thread busy when some are culled early: 4^depth ≥ 8 × threads.
     let threads = rayon::current_num_threads().max(1);
     let mut frontier = 0usize;
     while 4usize.pow(frontier as u32) < 8 * threads && frontier < 8 {
         frontier += 1;
     }
+    // The top levels: their stats go into `top`, their leaves and subtrees into `tasks`.
     let mut top = WorkList::default();
     let mut tasks: Vec<Task> = Vec::new();
-    let mut plan = Plan {
+    let mut test = make_test();
+    let mut state = State {
         projector,
         size: (width, height),
         cell_size: config.cell_size,
-        frontier,
-        test: make_test(),
-        top: &mut top,
-        tasks: &mut tasks,
+        test: &mut test,
+        out: &mut top,
+        scratch: &mut Vec::new(),
+        frontier: Some((frontier, &mut tasks)),
     };
-    plan.visit((0, 0, width, height), root, 0);
+    state.visit((0, 0, width, height), root, 0);
     let parts: Vec<WorkList> = tasks
         .into_par_iter()
         .map_init(
@@ -112,6 +105,7 @@ where
                             test,
                             out: &mut out,
                             scratch,
+                            frontier: None,
                         };
                         state.visit(cell, &parent, depth);
                     }
@@ -130,55 +124,25 @@ where
     Ok(out)
 }
 
+/// The configuration and image size errors both builds report.
+fn check(config: &QuadtreeConfig, width: u32, height: u32) -> Result<(), QuadtreeError> {
+    if config.cell_size == 0 {
+        return Err(QuadtreeError::ZeroCellSize);
+    }
+    if width == 0 || height == 0 {
+        return Err(QuadtreeError::EmptyImage(width, height));
+    }
+    Ok(())
+}
+
 /// A cell `(x0, y0, x1, y1)` in pixels.
 type Cell = (u32, u32, u32, u32);
 
 /// A piece of the parallel build, in depth-first order: a leaf cell found above the frontier
-/// (emitted as is) or a subtree below it (cell, its parent's candidates, depth).
+/// (emitted as is) or a subtree at it (cell, its parent's candidates, depth).
 enum Task {
     Emit(Cell, Candidates),
     Subtree(Cell, Candidates, usize),
-}
-
-/// The sequential top of [`build_parallel`]: [`State::visit`] down to depth `frontier`, where it
-/// leaves the rest as tasks.
-struct Plan<'a, F> {
-    projector: &'a Projector,
-    size: (u32, u32),
-    cell_size: u32,
-    frontier: usize,
-    test: F,
-    /// Stats of the cells visited here (its items go into `tasks`, in order).
-    top: &'a mut WorkList,
-    tasks: &'a mut Vec<Task>,
-}
-
-impl<F> Plan<'_, F>
-where
-    F: FnMut(&RayBundle, &Candidates, &mut Candidates),
-{
-    fn visit(&mut self, cell: (u32, u32, u32, u32), parent: &Candidates, depth: usize) {
-        if depth == self.frontier {
-            self.tasks.push(Task::Subtree(cell, parent.clone(), depth));
-            return;
-        }
-        self.top.stats.cells_visited += 1;
-        let bundle = RayBundle::of_cell(self.projector, self.size, cell);
-        let mut mine = Candidates::new();
-        (self.test)(&bundle, parent, &mut mine);
-        if mine.is_empty() {
-            self.top.stats.cells_culled += 1;
-            return;
-        }
-        match children(cell, self.cell_size) {
-            None => self.tasks.push(Task::Emit(cell, mine)),
-            Some(children) => {
-                for child in children.into_iter().flatten() {
-                    self.visit(child, &mine, depth + 1);
-                }
-            }
-        }
-    }
 }
 
 /// The up to four children of `cell` in visiting order, or `None` when it is no larger than the
@@ -221,13 +185,22 @@ struct State<'a, F> {
     out: &'a mut WorkList,
     /// One candidate list per depth, reused.
     scratch: &'a mut Vec<Candidates>,
+    /// For the top of [`build_parallel`]: the depth at which subtrees are left as tasks, and
+    /// the task list, which also takes the leaf cells found above it (in order).
+    frontier: Option<(usize, &'a mut Vec<Task>)>,
 }
 
 impl<F> State<'_, F>
 where
     F: FnMut(&RayBundle, &Candidates, &mut Candidates),
 {
-    fn visit(&mut self, cell: (u32, u32, u32, u32), parent: &Candidates, depth: usize) {
+    fn visit(&mut self, cell: Cell, parent: &Candidates, depth: usize) {
+        if let Some((frontier, tasks)) = &mut self.frontier
+            && depth == *frontier
+        {
+            tasks.push(Task::Subtree(cell, parent.clone(), depth));
+            return;
+        }
         self.out.stats.cells_visited += 1;
         let bundle = RayBundle::of_cell(self.projector, self.size, cell);
         if self.scratch.len() <= depth {
@@ -239,9 +212,10 @@ where
         if mine.is_empty() {
             self.out.stats.cells_culled += 1;
         } else {
-            match children(cell, self.cell_size) {
-                None => self.out.push(cell, &mine),
-                Some(children) => {
+            match (children(cell, self.cell_size), &mut self.frontier) {
+                (None, None) => self.out.push(cell, &mine),
+                (None, Some((_, tasks))) => tasks.push(Task::Emit(cell, mine.clone())),
+                (Some(children), _) => {
                     for child in children.into_iter().flatten() {
                         self.visit(child, &mine, depth + 1);
                     }
