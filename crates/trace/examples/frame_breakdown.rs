@@ -1,7 +1,9 @@
 //! Diagnostic: where a CPU frame's time goes (quadtree build, tracing) and how many candidates
 //! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE
 //! [THREADS] [REPETITIONS]`; `TILE=n` sets the cell size, `PER_OBJECT=1` adds per-object counts,
-//! `SHADING=0` measures visibility + normals only (issue 3's speed target).
+//! `SHADING=0` measures visibility + normals only (issue 3's speed target). For the instruction
+//! profile behind docs/cpu-profile.md: `SHADING=0 valgrind --tool=callgrind
+//! target/release/examples/frame_breakdown data/scenes/csg.ron 1 1`.
 use fray_trace::{TraceSettings, render, work_list};
 use std::time::Instant;
 
