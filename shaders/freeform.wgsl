@@ -691,13 +691,19 @@ fn all_parts(si: u32) -> Parts {
 }
 
 // The nearest hit over the candidates of `item` (objects in increasing order, each with its
-// active parts; on a tie the earlier object keeps the hit).
+// active parts; on a tie the earlier object keeps the hit), then the terrain if the item lists it.
 fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) -> Hit {
     var best: Hit;
     best.t = NO_HIT;
     var hi = BIG;
+    var terrain_listed = false;
     for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
         let cand = candidates[c];
+        if cand.object >= frame.size.w {
+            // The terrain (an id past the solids): cast after the free forms.
+            terrain_listed = true;
+            continue;
+        }
         var parts: Parts;
         parts.all = false;
         parts.leaf_start = cand.leaf_start;
@@ -713,7 +719,7 @@ fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) ->
             best.solid = si;
         }
     }
-    if HAS_TERRAIN {
+    if HAS_TERRAIN && terrain_listed {
         // The terrain over [lo, best so far]: nearer hits only, a tie keeps the free form.
         let th = cast_terrain(o, d, lo, select(BIG, best.t, best.t >= 0.0), true);
         if th.x >= 0.0 && (best.t < 0.0 || th.x < best.t) {

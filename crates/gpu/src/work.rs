@@ -38,11 +38,11 @@ pub struct GpuWork {
 }
 
 impl GpuWork {
-    /// The culled work list of `scene` (`solids`: the scene's objects flattened in order). Only
-    /// free-form candidates are listed (the scheduler's list also names terrains, with ids past
-    /// the objects: the shader casts the terrain on every pixel of the items it runs); items with
-    /// neither a free-form nor a terrain candidate are dropped, and the stats count the items
-    /// this pass runs.
+    /// The culled work list of `scene` (`solids`: the scene's objects flattened in order). Free
+    /// forms are listed with their pruned programs; a terrain the scheduler lists (id past the
+    /// objects) stays in the list with an empty program, and the shader casts the terrain only
+    /// on the pixels of items that list it, as fray-trace does. Items left with no candidate are
+    /// dropped, and the stats count the items this pass runs.
     pub fn culled(scene: &Scene, solids: &GpuSolids) -> Result<Self, QuadtreeError> {
         let list = fray_scene::work_list(scene, TILE)?;
         let mut work = Self {
@@ -53,9 +53,11 @@ impl GpuWork {
         let mut active = ActiveSet::new();
         for item in &list.items {
             let candidate_start = work.candidates.len() as u32;
-            let mut terrain = false;
             for c in list.candidates_of(item) {
-                terrain |= c.object as usize >= scene.objects.len();
+                if c.object as usize >= scene.objects.len() {
+                    work.push_terrain(c.object);
+                    continue;
+                }
                 let (Some(object), Some(flat)) = (
                     scene.objects.get(c.object as usize),
                     solids.solids.get(c.object as usize),
@@ -85,7 +87,7 @@ impl GpuWork {
                 work.perturbations.extend_from_slice(perturbations);
             }
             let candidate_count = work.candidates.len() as u32 - candidate_start;
-            if candidate_count > 0 || terrain {
+            if candidate_count > 0 {
                 work.items.push(WorkItem {
                     candidate_start,
                     candidate_count,
@@ -123,7 +125,10 @@ impl GpuWork {
             work.perturbations.extend(0..perturbations);
             work.programs.push([flat.info[2], flat.info[3]]);
         }
-        if work.candidates.is_empty() && scene.terrains.is_empty() {
+        for k in 0..scene.terrains.len() {
+            work.push_terrain((scene.objects.len() + k) as u32);
+        }
+        if work.candidates.is_empty() {
             return work;
         }
         for y0 in (0..scene.height).step_by(TILE as usize) {
@@ -141,6 +146,22 @@ impl GpuWork {
             }
         }
         work
+    }
+
+    /// Lists terrain `object` (an id past the scene's objects): no leaves, no perturbations,
+    /// an empty program.
+    fn push_terrain(&mut self, object: u32) {
+        self.candidates.push(Candidate {
+            object,
+            leaf_start: self.leaves.len() as u32,
+            leaf_count: 0,
+            perturbation_start: self.perturbations.len() as u32,
+            perturbation_count: 0,
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+            _pad: 0,
+        });
+        self.programs.push([0, 0]);
     }
 
     /// The items whose tiles start in rows `[y0, y1)` (a run: items are sorted by first row).
@@ -293,9 +314,9 @@ mod tests {
     }
 
     #[test]
-    fn only_free_form_candidates_reach_the_gpu() {
-        // The scheduler's list also names the terrain (id past the objects): the pass lists only
-        // free forms but keeps the terrain's tiles.
+    fn terrain_candidates_reach_the_gpu_where_listed() {
+        // The scheduler's list names the terrain (id past the objects) where it may be hit: the
+        // pass keeps it there, with an empty program, and the same items.
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../../data/scenes/terrain_low.ron"
@@ -303,25 +324,42 @@ mod tests {
         let mut s = fray_scene::load(std::path::Path::new(path)).unwrap();
         (s.width, s.height) = (64, 36);
         let list = fray_scene::work_list(&s, TILE).unwrap();
-        assert!(
-            list.candidates
-                .iter()
-                .any(|c| c.object as usize >= s.objects.len())
-        );
         let w = GpuWork::culled(&s, &flat(&s)).unwrap();
-        assert!(
-            w.candidates
-                .iter()
-                .all(|c| (c.object as usize) < s.objects.len())
-        );
-        // Tiles where only the terrain may be hit are kept (the shader casts the terrain there).
-        assert!(w.items.iter().any(|i| i.candidate_count == 0));
-        let kept = list
+        assert_eq!(w.candidates.len(), w.programs.len());
+        let terrain = s.objects.len() as u32;
+        let listed = |cands: &[Candidate]| cands.iter().any(|c| c.object == terrain);
+        let kept: Vec<&WorkItem> = list
             .items
             .iter()
             .filter(|it| !list.candidates_of(it).is_empty())
-            .count();
-        assert_eq!(w.items.len(), kept);
+            .collect();
+        assert_eq!(w.items.len(), kept.len());
+        let mut by_tile = w.items.clone();
+        by_tile.sort_by_key(|it| (it.y0, it.x0));
+        let mut expected = kept.clone();
+        expected.sort_by_key(|it| (it.y0, it.x0));
+        for (g, c) in by_tile.iter().zip(expected) {
+            assert_eq!((g.x0, g.y0), (c.x0, c.y0));
+            let gpu = &w.candidates[g.candidate_start as usize..][..g.candidate_count as usize];
+            assert_eq!(listed(gpu), listed(list.candidates_of(c)));
+            let range =
+                g.candidate_start as usize..(g.candidate_start + g.candidate_count) as usize;
+            for k in range.filter(|&k| w.candidates[k].object == terrain) {
+                assert_eq!(w.programs[k], [0, 0]);
+            }
+        }
+        // Some tiles list the terrain alone.
+        assert!(w.items.iter().any(|i| {
+            let c = &w.candidates[i.candidate_start as usize..][..i.candidate_count as usize];
+            c.len() == 1 && c[0].object == terrain
+        }));
         assert_eq!(w.stats.unwrap().items as usize, w.items.len());
+        // Without culling every tile lists every object and the terrain.
+        let all = GpuWork::everything(&s, &flat(&s));
+        assert!(
+            all.items
+                .iter()
+                .all(|i| i.candidate_count as usize == s.objects.len() + 1)
+        );
     }
 }
