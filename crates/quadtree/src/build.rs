@@ -1,5 +1,6 @@
 //! The subdivision: split the image rectangle into a quadtree, ask the caller's conservative test
-//! which candidates each cell's ray bundle may meet, drop cells with none, emit leaf cells.
+//! which candidates each cell's ray bundle may meet, drop cells with none, emit leaf cells — on one
+//! thread (`build`) or with the subtrees on the rayon pool (`build_parallel`, the same list).
 
 use crate::{Candidates, QuadtreeError, RayBundle, WorkList};
 use fray_core::Projector;
