@@ -1,7 +1,8 @@
 //! Diagnostic: where a CPU frame's time goes (quadtree build, tracing) and how many candidates
 //! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE
 //! [THREADS] [REPETITIONS]`; `TILE=n` sets the cell size, `PER_OBJECT=1` adds per-object counts,
-//! `SHADING=0` measures visibility + normals only (issue 3's speed target). For the instruction
+//! `SHADING=0` measures visibility + normals only (issue 3's speed target), `SHADOWS=1` adds
+//! shadow rays to the shaded frame. For the instruction
 //! profile behind docs/cpu-profile.md: `SHADING=0 valgrind --tool=callgrind
 //! target/release/examples/frame_breakdown data/scenes/csg.ron 1 1`.
 use fray_trace::{TraceSettings, render, work_list};
@@ -51,7 +52,7 @@ fn main() {
     let settings = TraceSettings {
         tile_size: tile,
         threads: Some(threads),
-        shadows: false,
+        shadows: std::env::var("SHADOWS").is_ok_and(|v| v == "1"),
         shading: std::env::var("SHADING").map_or(true, |v| v != "0"),
         ..TraceSettings::for_scene(&scene)
     };
