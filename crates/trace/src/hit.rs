@@ -129,6 +129,25 @@ fn nearest_over<'a>(
     })
 }
 
+/// [`occluded`] testing only the listed objects (increasing indices) and the terrains: the same
+/// answer whenever the objects left out cannot be hit by the ray (as `shadow_cull` ensures).
+pub fn occluded_among(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    objects: &[u32],
+    stats: &mut CastStats,
+) -> bool {
+    objects.iter().any(|&k| {
+        scene
+            .objects
+            .get(k as usize)
+            .is_some_and(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
+    }) || terrain_occludes(scene, ray, range, eps)
+}
+
 /// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.
 pub fn occluded(
     scene: &Scene,

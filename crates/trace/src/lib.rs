@@ -29,11 +29,14 @@ mod hit;
 mod render;
 mod settings;
 mod shade;
+mod shadow_cull;
 mod terrain_hit;
 
 /// The work list (moved to `fray-scene`, which both backends share), re-exported.
 pub use fray_scene::work_list;
-pub use hit::{SceneHit, nearest_hit, nearest_hit_among, nearest_hit_lod, occluded};
+pub use hit::{
+    SceneHit, nearest_hit, nearest_hit_among, nearest_hit_lod, occluded, occluded_among,
+};
 pub use render::{Progress, render};
 pub use settings::{TraceError, TraceSettings};
 pub use shade::{ShadeContext, SurfacePoint};

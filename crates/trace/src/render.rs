@@ -1,11 +1,13 @@
 //! The CPU frame loop: tiles in parallel (rayon), one primary ray per pixel centre, shading, and
 //! the frame's statistics. The result does not depend on the thread count.
 
+use crate::SceneHit;
 use crate::hit::nearest_hit_lod;
 use crate::shade::{ShadeContext, SurfacePoint};
+use crate::shadow_cull;
 use crate::terrain_hit::TerrainCast;
 use crate::{TraceError, TraceSettings};
-use fray_core::{Frame, Image, Interval, RenderStats, Rgb};
+use fray_core::{CameraRay, Frame, Image, Interval, RenderStats, Rgb};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::{Scene, work_list};
 use glam::{DVec3, Vec3};
@@ -267,51 +269,63 @@ fn render_tile(
         epsilon: settings.epsilon,
         shadow_rays: 0,
         cast: CastStats::default(),
+        occluders: None,
     };
+    // First every pixel's camera ray and nearest hit, then (with culling) the objects the
+    // tile's shadow rays can meet, then the shading.
+    let mut hits: Vec<(Option<CameraRay>, Option<SceneHit>)> = Vec::with_capacity(n);
     for py in y0..y0 + h {
         for px in x0..x0 + w {
-            let (c, d, nrm) = shade_pixel(
-                scene,
-                settings,
-                caster,
-                &mut shade,
-                (&mut tile.cast, &mut tile.terrain),
-                (px, py),
-                candidates,
-            );
-            if d.is_finite() {
-                tile.hits += 1;
-            }
-            tile.colour.push(c);
-            tile.depth.push(d);
-            tile.normals.push(nrm);
+            let camera_ray = scene.camera.pixel_ray(px, py, scene.width, scene.height);
+            let hit = camera_ray.as_ref().and_then(|c| {
+                let range = Interval::new(c.t_near, f64::INFINITY);
+                let stats = (&mut tile.cast, &mut tile.terrain);
+                nearest_hit_lod(
+                    scene,
+                    caster,
+                    &c.ray,
+                    range,
+                    settings.epsilon,
+                    candidates,
+                    stats.0,
+                    stats.1,
+                )
+            });
+            hits.push((camera_ray, hit));
         }
+    }
+    if shade.shadows && settings.culling && !scene.lights.is_empty() {
+        let mut reach = 0.0f64;
+        let origins = shadow_cull::bounding_box(hits.iter().filter_map(|(c, hit)| {
+            let (point, _) = surface_point(c.as_ref()?, hit.as_ref()?);
+            reach = reach.max(shade.shadow_offset(&point));
+            Some(shade.shadow_origin(&point))
+        }));
+        shade.occluders = Some(shadow_cull::occluders(scene, origins, reach));
+    }
+    for (camera_ray, hit) in &hits {
+        let (c, d, nrm) = match (camera_ray, hit) {
+            (Some(camera_ray), Some(hit)) => {
+                shade_hit(scene, settings, caster, &mut shade, camera_ray, hit)
+            }
+            _ => (scene.background, f64::INFINITY, Vec3::ZERO),
+        };
+        if d.is_finite() {
+            tile.hits += 1;
+        }
+        tile.colour.push(c);
+        tile.depth.push(d);
+        tile.normals.push(nrm);
     }
     tile.shadow_rays = shade.shadow_rays;
     tile.cast += shade.cast;
     tile
 }
 
-fn shade_pixel(
-    scene: &Scene,
-    settings: &TraceSettings,
-    caster: &mut RayCaster,
-    shade: &mut ShadeContext<'_>,
-    (stats, terrain): (&mut CastStats, &mut TerrainCast),
-    (px, py): (u32, u32),
-    candidates: Option<&[(u32, ActiveSet)]>,
-) -> (Rgb, f64, Vec3) {
-    let miss = (scene.background, f64::INFINITY, Vec3::ZERO);
-    let Some(camera_ray) = scene.camera.pixel_ray(px, py, scene.width, scene.height) else {
-        return miss;
-    };
+/// The shading frame of a camera ray's hit: the surface point (normal facing the viewer) and
+/// the outward normal the frame stores.
+fn surface_point(camera_ray: &CameraRay, hit: &SceneHit) -> (SurfacePoint, DVec3) {
     let ray = camera_ray.ray;
-    let range = Interval::new(camera_ray.t_near, f64::INFINITY);
-    let eps = settings.epsilon;
-    let hit = nearest_hit_lod(scene, caster, &ray, range, eps, candidates, stats, terrain);
-    let Some(hit) = hit else {
-        return miss;
-    };
     let position = ray.at(hit.t);
     let to_viewer = -ray.dir;
     let normal = if hit.t <= camera_ray.t_near {
@@ -320,15 +334,33 @@ fn shade_pixel(
     } else {
         hit.normal
     };
-    if !settings.shading {
-        let n = normal.as_vec3();
-        return (Vec3::splat(0.5) + 0.5 * n, hit.t, n);
-    }
     let shading_normal = if normal.dot(to_viewer) < 0.0 {
         -normal
     } else {
         normal
     };
+    let point = SurfacePoint {
+        position,
+        normal: shading_normal,
+        to_viewer,
+    };
+    (point, normal)
+}
+
+/// The colour, depth and normal of a pixel whose camera ray hit `hit`.
+fn shade_hit(
+    scene: &Scene,
+    settings: &TraceSettings,
+    caster: &mut RayCaster,
+    shade: &mut ShadeContext<'_>,
+    camera_ray: &CameraRay,
+    hit: &SceneHit,
+) -> (Rgb, f64, Vec3) {
+    let (point, normal) = surface_point(camera_ray, hit);
+    if !settings.shading {
+        let n = normal.as_vec3();
+        return (Vec3::splat(0.5) + 0.5 * n, hit.t, n);
+    }
     // Borrowed, not cloned: a clone allocates the material's name for every hit pixel.
     let material = crate::terrain_hit::material_of(scene, hit.object, hit.leaf)
         .and_then(|m| scene.materials.get(m as usize));
@@ -339,11 +371,6 @@ fn shade_pixel(
             fallback = fray_scene::Material::default();
             &fallback
         }
-    };
-    let point = SurfacePoint {
-        position,
-        normal: shading_normal,
-        to_viewer,
     };
     let radiance: DVec3 = shade.radiance(caster, &point, material);
     (radiance.as_vec3(), hit.t, normal.as_vec3())

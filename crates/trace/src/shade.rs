@@ -1,6 +1,6 @@
 //! Local shading: ambient + Lambert (albedo/π) + normalised Phong, with hard shadows.
 
-use crate::hit::occluded;
+use crate::hit::{occluded, occluded_among};
 use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster};
 use fray_scene::{Light, Material, Scene};
@@ -24,6 +24,9 @@ pub struct ShadeContext<'a> {
     pub epsilon: f64,
     pub shadow_rays: u64,
     pub cast: CastStats,
+    /// Per light (indexed like `scene.lights`), the only objects its shadow rays can meet (from
+    /// `shadow_cull::occluders` for the current tile); `None` tests every object.
+    pub occluders: Option<Vec<Vec<u32>>>,
 }
 
 impl ShadeContext<'_> {
@@ -40,7 +43,7 @@ impl ShadeContext<'_> {
         let specular = material.specular.as_dvec3();
         let specular_on = specular != DVec3::ZERO;
         let lobe_norm = (material.shininess + 2.0) / (2.0 * std::f64::consts::PI);
-        for light in &self.scene.lights {
+        for (index, light) in self.scene.lights.iter().enumerate() {
             let (to_light, irradiance, distance) = match *light {
                 Light::Sun {
                     direction,
@@ -63,7 +66,7 @@ impl ShadeContext<'_> {
             if cos <= 0.0 {
                 continue;
             }
-            if self.shadows && self.in_shadow(caster, point, to_light, distance) {
+            if self.shadows && self.in_shadow(caster, point, index, to_light, distance) {
                 continue;
             }
             let mut brdf = diffuse;
@@ -77,29 +80,36 @@ impl ShadeContext<'_> {
         total
     }
 
+    /// Where the shadow rays of `point` start: off the surface along the normal by far more
+    /// than the hit error (≤ ε), so a shadow ray does not find the surface it starts on.
+    pub fn shadow_origin(&self, point: &SurfacePoint) -> DVec3 {
+        point.position + point.normal * self.shadow_offset(point)
+    }
+
+    /// The distance of [`ShadeContext::shadow_origin`] from the surface point.
+    pub fn shadow_offset(&self, point: &SurfacePoint) -> f64 {
+        1e3 * self.epsilon + 1e-12 * point.position.abs().max_element()
+    }
+
     fn in_shadow(
         &mut self,
         caster: &mut RayCaster,
         point: &SurfacePoint,
+        light: usize,
         to_light: DVec3,
         distance: f64,
     ) -> bool {
-        // Leave the surface along the normal by far more than the hit error (≤ ε), so the shadow
-        // ray does not find the surface it starts on.
-        let offset = 1e3 * self.epsilon + 1e-12 * point.position.abs().max_element();
-        let origin = point.position + point.normal * offset;
-        let Some(ray) = Ray::new(origin, to_light) else {
+        let Some(ray) = Ray::new(self.shadow_origin(point), to_light) else {
             return false;
         };
         self.shadow_rays += 1;
         let range = Interval::new(0.0, distance);
-        occluded(
-            self.scene,
-            caster,
-            &ray,
-            range,
-            self.epsilon,
-            &mut self.cast,
-        )
+        let (scene, eps) = (self.scene, self.epsilon);
+        match self.occluders.as_ref().and_then(|lists| lists.get(light)) {
+            Some(objects) => {
+                occluded_among(scene, caster, &ray, range, eps, objects, &mut self.cast)
+            }
+            None => occluded(scene, caster, &ray, range, eps, &mut self.cast),
+        }
     }
 }

@@ -95,6 +95,30 @@ fn every_data_scene_is_identical_with_and_without_culling() {
         s.height = 60;
         s.width = (60.0 * aspect).round() as u32;
         assert_lossless(&s, &path.display().to_string());
+        // Point lights too (shadow rays converge on them; the tile culling keeps what their
+        // segments can meet): one above the scene, one low among its objects.
+        let centre = s
+            .objects
+            .iter()
+            .fold(None, |acc: Option<fray_core::Aabb>, o| {
+                let b = o.solid.bounds();
+                Some(acc.map_or(b, |a| a.union(&b)))
+            });
+        if let Some(b) = centre {
+            let (c, size) = (0.5 * (b.min + b.max), (b.max - b.min).length());
+            s.lights = vec![
+                fray_scene::Light::Point {
+                    position: c + glam::DVec3::new(0.2, 0.6, -0.3) * size,
+                    intensity: glam::Vec3::splat(50.0),
+                },
+                fray_scene::Light::Point {
+                    position: c + glam::DVec3::new(-0.05, 0.02, 0.04) * size,
+                    intensity: glam::Vec3::splat(5.0),
+                },
+            ];
+            s.features.shadows = true;
+            assert_lossless(&s, &format!("{} with point lights", path.display()));
+        }
     }
 }
 
