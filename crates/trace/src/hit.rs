@@ -47,9 +47,6 @@ pub fn nearest_hit_lod(
         None => {
             let all = (0..scene.objects.len()).map(|i| (i, None));
             let best = nearest_over(scene, caster, ray, range, eps, all, stats);
-            if scene.terrains.is_empty() {
-                return best;
-            }
             let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
             nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
         }
@@ -59,7 +56,7 @@ pub fn nearest_hit_lod(
                 .map(|(index, active)| (*index as usize, Some(active)));
             let best = nearest_over(scene, caster, ray, range, eps, listed, stats);
             if scene.terrains.is_empty() {
-                return best; // no terrain pass to run
+                return best; // no terrain pass: skip walking the list again
             }
             // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
             let terrains = candidates.iter().map(|(index, _)| *index as usize);

@@ -279,22 +279,18 @@ fn render_tile(
             let camera_ray = scene.camera.pixel_ray(px, py, scene.width, scene.height);
             let hit = camera_ray.as_ref().and_then(|c| {
                 let range = Interval::new(c.t_near, f64::INFINITY);
-                let stats = (&mut tile.cast, &mut tile.terrain);
+                let (stats, terrain) = (&mut tile.cast, &mut tile.terrain);
+                let eps = settings.epsilon;
                 nearest_hit_lod(
-                    scene,
-                    caster,
-                    &c.ray,
-                    range,
-                    settings.epsilon,
-                    candidates,
-                    stats.0,
-                    stats.1,
+                    scene, caster, &c.ray, range, eps, candidates, stats, terrain,
                 )
             });
             hits.push((camera_ray, hit));
         }
     }
     if shade.shadows && settings.culling && !scene.lights.is_empty() {
+        // The surface points again (cheap, and only here): storing them for every pixel would
+        // cost the visibility-only frame more than recomputing costs the shaded one.
         let mut reach = 0.0f64;
         let origins = shadow_cull::bounding_box(hits.iter().filter_map(|(c, hit)| {
             let (point, _) = surface_point(c.as_ref()?, hit.as_ref()?);
