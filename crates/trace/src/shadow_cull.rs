@@ -20,7 +20,7 @@ pub(crate) fn occluders(scene: &Scene, origins: Option<Aabb>, reach: f64) -> Vec
         return vec![Vec::new(); scene.lights.len()];
     };
     let scale = origins.min.abs().max(origins.max.abs()).max_element();
-    let centre = 0.5 * (origins.min + origins.max);
+    let centre = origins.center();
     let half = 0.5 * (origins.max - origins.min);
     scene
         .lights
@@ -50,7 +50,7 @@ pub(crate) fn occluders(scene: &Scene, origins: Option<Aabb>, reach: f64) -> Vec
                         let hull = origins
                             .union(&Aabb::new(position, position))
                             .expanded(margin);
-                        overlaps(&hull, bounds)
+                        !hull.intersection(bounds).is_empty()
                     }
                 }
             };
@@ -61,18 +61,11 @@ pub(crate) fn occluders(scene: &Scene, origins: Option<Aabb>, reach: f64) -> Vec
         .collect()
 }
 
-/// Whether two boxes share a point.
-fn overlaps(a: &Aabb, b: &Aabb) -> bool {
-    a.min.cmple(b.max).all() && b.min.cmple(a.max).all()
-}
-
 /// The box of `points`, `None` for none.
 pub(crate) fn bounding_box(points: impl Iterator<Item = DVec3>) -> Option<Aabb> {
     points.fold(None, |acc, p| {
-        Some(match acc {
-            None => Aabb::new(p, p),
-            Some(b) => Aabb::new(b.min.min(p), b.max.max(p)),
-        })
+        let point = Aabb::new(p, p);
+        Some(acc.map_or(point, |b: Aabb| b.union(&point)))
     })
 }
 
