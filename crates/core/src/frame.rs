@@ -32,6 +32,9 @@ pub struct RenderStats {
     pub bound_evaluations: u64,
     /// Point evaluations of a function (root refinement, sign checks).
     pub point_evaluations: u64,
+    /// Free-form casts answered in closed form (every leaf on the ray a plain quadric) instead
+    /// of by the halving search; 0 on the GPU, which always searches.
+    pub closed_form_casts: u64,
     /// The ray-casting tolerance ε that was used, in world units.
     pub epsilon: f64,
     /// Quadtree cells whose ray bundle was tested (0 when no culling ran).

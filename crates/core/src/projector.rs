@@ -241,12 +241,15 @@ pub enum Projector {
 impl Projector {
     /// The pair `(C, P)` for the image point `(x, y)` in pixel units (pixel centres are at
     /// `+0.5`) of a `width × height` image.
+    #[inline]
     pub fn pair(&self, x: f64, y: f64, width: u32, height: u32) -> (DVec3, DVec3) {
         let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
-        // Normalised device coordinates: sx ∈ [−aspect, aspect], sy ∈ [−1, 1], y up.
+        // Normalised device coordinates: sx ∈ [−aspect, aspect], sy ∈ [−1, 1], y up. Written
+        // with the reciprocals of the image size, which a loop over pixels computes once.
         let aspect = w / h;
-        let sx = (2.0 * x / w - 1.0) * aspect;
-        let sy = 1.0 - 2.0 * y / h;
+        let u = x * (2.0 / w) - 1.0;
+        let sx = u * aspect;
+        let sy = 1.0 - y * (2.0 / h);
         match self {
             Projector::Pinhole(p) => {
                 let b = &p.basis;
@@ -262,7 +265,7 @@ impl Projector {
             }
             Projector::Sphere(s) => {
                 let b = &s.basis;
-                let theta = 0.5 * s.fov_x * (2.0 * x / w - 1.0);
+                let theta = 0.5 * s.fov_x * u;
                 let phi = 0.5 * s.fov_y * sy;
                 let dir = b.forward * (phi.cos() * theta.cos())
                     + b.right * (phi.cos() * theta.sin())
@@ -276,6 +279,7 @@ impl Projector {
 
     /// The camera ray through the image point `(x, y)`; `None` only for a degenerate pair
     /// (which validated projectors do not produce).
+    #[inline]
     pub fn ray(&self, x: f64, y: f64, width: u32, height: u32) -> Option<CameraRay> {
         let (c, p) = self.pair(x, y, width, height);
         let d = p - c;
@@ -285,11 +289,13 @@ impl Projector {
                 return Ray::new(c, par.basis.forward).map(|ray| CameraRay { ray, t_near: 0.0 });
             }
         }
+        // The length once: it is both `t_near` and what `Ray::new` would divide by.
         let t_near = d.length();
-        Ray::new(c, d).map(|ray| CameraRay { ray, t_near })
+        Ray::with_length(c, d, t_near).map(|ray| CameraRay { ray, t_near })
     }
 
     /// The ray through the centre of pixel `(px, py)`.
+    #[inline]
     pub fn pixel_ray(&self, px: u32, py: u32, width: u32, height: u32) -> Option<CameraRay> {
         self.ray(f64::from(px) + 0.5, f64::from(py) + 0.5, width, height)
     }

@@ -13,10 +13,16 @@ impl Ray {
     /// A ray from `origin` along `dir`; `dir` is normalised here. Returns `None` for a zero or
     /// non-finite direction, so a degenerate camera can never produce NaN points.
     pub fn new(origin: DVec3, dir: DVec3) -> Option<Self> {
-        let len = dir.length();
+        Self::with_length(origin, dir, dir.length())
+    }
+
+    /// [`Ray::new`] given `len = dir.length()`, for callers that need the length too.
+    #[inline]
+    pub(crate) fn with_length(origin: DVec3, dir: DVec3, len: f64) -> Option<Self> {
+        // One division for the three components.
         (len.is_finite() && len > 0.0 && origin.is_finite()).then(|| Self {
             origin,
-            dir: dir / len,
+            dir: dir * (1.0 / len),
         })
     }
 

@@ -18,6 +18,7 @@
 //! Contract: the returned `t` is the first point of the range (up to `ε`) where `F′ ≥ 0`; it is
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
 
+use crate::closed_form::{Certified, SpanSet, certify, program_set};
 use crate::{ActiveSet, CsgOp, RayQuadratic, Solid};
 use fray_core::root::illinois;
 use fray_core::{Interval, Ray};
@@ -30,12 +31,16 @@ pub struct CastStats {
     pub bound_evaluations: u64,
     /// Point evaluations: sign checks and root refinement.
     pub point_evaluations: u64,
+    /// Casts answered in closed form (every leaf on the ray a plain quadric; see
+    /// [`CastMethod::ClosedForm`]) rather than by the halving search.
+    pub closed_form_casts: u64,
 }
 
 impl std::ops::AddAssign for CastStats {
     fn add_assign(&mut self, o: Self) {
         self.bound_evaluations += o.bound_evaluations;
         self.point_evaluations += o.point_evaluations;
+        self.closed_form_casts += o.closed_form_casts;
     }
 }
 
@@ -110,19 +115,53 @@ fn quadratic_bound(q: &RayQuadratic, t: Interval) -> Bound {
 /// stack array instead of the heap.
 const INLINE_STACK: usize = 4;
 
+/// How a [`RayCaster`] answers rays on which every leaf it meets is a plain quadric (no
+/// perturbation reaches the ray). Rays that meet a perturbation are always searched.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CastMethod {
+    /// Each leaf's inside from its quadratic's roots, combined by the CSG program as sets of
+    /// `t`, and the first point certified by two point evaluations (the module `closed_form`);
+    /// the halving search where rounding leaves it uncertain. The same contract as the search,
+    /// at a fraction of its cost.
+    #[default]
+    ClosedForm,
+    /// The halving search everywhere: the method the closed form is checked against, and what
+    /// the GPU runs.
+    Halving,
+}
+
 /// Reusable per-thread scratch space for casting rays; holds no scene data between calls.
 #[derive(Debug, Default)]
 pub struct RayCaster {
+    method: CastMethod,
     leaves: Vec<LeafOnRay>,
     perturbations: Vec<(f64, RayQuadratic)>,
     bounds: Vec<Bound>,
     values: Vec<(f64, u32)>,
     segments: Vec<(f64, f64)>,
+    sets: Vec<SpanSet>,
+    /// The last ray direction and its reciprocal: a pixel's ray is cast against each of its
+    /// candidates in turn, and the three divisions sit at the head of every cast's chain.
+    inverse: (DVec3, DVec3),
 }
 
 impl RayCaster {
+    /// A caster with the default [`CastMethod::ClosedForm`].
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A caster that answers plain rays by `method`.
+    pub fn with_method(method: CastMethod) -> Self {
+        Self {
+            method,
+            ..Self::default()
+        }
+    }
+
+    /// How this caster answers rays that meet only plain quadrics.
+    pub fn method(&self) -> CastMethod {
+        self.method
     }
 
     /// The first `t` in `range` where `solid` is non-negative, to within `eps` (world units).
@@ -161,7 +200,7 @@ impl RayCaster {
         active: Option<&ActiveSet>,
         stats: &mut CastStats,
     ) -> Option<f64> {
-        let inv_dir = DVec3::ONE / ray.dir;
+        let inv_dir = self.inverse_of(ray.dir);
         let range = solid.bounds().clip_ray_with_inverse(ray, inv_dir, range)?;
         let program = active.map_or(solid.program(), ActiveSet::program);
         // The common case — one leaf and no perturbation — needs no scratch space and no program:
@@ -176,7 +215,7 @@ impl RayCaster {
             } else {
                 leaf.bounds().clip_ray_with_inverse(ray, inv_dir, range)?
             };
-            let f = PlainLeaf {
+            let mut f = PlainLeaf {
                 leaf: LeafOnRay {
                     present: Some(present),
                     clips: leaf.clips(),
@@ -185,12 +224,21 @@ impl RayCaster {
                 },
                 stats,
             };
+            if self.method == CastMethod::ClosedForm {
+                let first = SpanSet::first_of_leaf(&f.leaf.base, present, range);
+                if let Some(first) = first
+                    && let Certified::Hit(hit) = certify(first, range, eps, |t| f.value(t))
+                {
+                    f.stats.closed_form_casts += 1;
+                    return hit;
+                }
+            }
             return search(f, &mut self.segments, range, eps);
         }
         if !self.prepare(solid, ray, inv_dir, range, active) {
             return None;
         }
-        let f = ProgramOnRay {
+        let mut f = ProgramOnRay {
             leaves: &self.leaves,
             perturbations: &self.perturbations,
             program,
@@ -199,7 +247,36 @@ impl RayCaster {
             stats,
             decided: [(f64::NAN, u32::MAX); 2],
         };
+        if self.method == CastMethod::ClosedForm && self.perturbations.is_empty() {
+            // Every leaf on this ray is a plain quadric. Leaves absent from the ray have empty
+            // sets, exactly as a pruned program folds them out, so culling keeps the bits.
+            let leaves = &self.leaves;
+            let leaf_set = |i: u32| match leaves.get(i as usize) {
+                Some(LeafOnRay {
+                    present: Some(present),
+                    base,
+                    ..
+                }) => SpanSet::of_leaf(base, *present),
+                _ => Some(SpanSet::EMPTY),
+            };
+            if let Some(set) = program_set(program, leaf_set, &mut self.sets)
+                && let Certified::Hit(hit) =
+                    certify(set.first_in(range), range, eps, |t| f.value(t))
+            {
+                f.stats.closed_form_casts += 1;
+                return hit;
+            }
+        }
         search(f, &mut self.segments, range, eps)
+    }
+
+    /// `1 / dir`, componentwise (the same bits as dividing afresh).
+    #[inline]
+    fn inverse_of(&mut self, dir: DVec3) -> DVec3 {
+        if self.inverse.0 != dir {
+            self.inverse = (dir, DVec3::ONE / dir);
+        }
+        self.inverse.1
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's

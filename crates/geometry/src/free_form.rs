@@ -130,6 +130,7 @@ impl FreeForm {
     /// indices). Bit-identical to it when every perturbation left out is zero at `p` (`Q(p) ≤ 0`):
     /// the left-out terms are `+0`, whose only effect on a sum is turning a `−0` into `+0`, which
     /// one `+ 0.0` at the end reproduces.
+    #[inline]
     pub fn eval_with_gradient_subset(&self, p: DVec3, subset: &[u32]) -> (f64, DVec3) {
         let terms = || {
             subset

@@ -29,6 +29,7 @@
 
 mod active;
 mod cast;
+mod closed_form;
 mod csg;
 mod error;
 mod free_form;
@@ -38,7 +39,7 @@ mod quadric;
 mod ray_quadratic;
 
 pub use active::ActiveSet;
-pub use cast::{CastStats, RayCaster};
+pub use cast::{CastMethod, CastStats, RayCaster};
 pub use csg::{CsgOp, Shape, Solid};
 pub use error::GeometryError;
 pub use free_form::FreeForm;

@@ -1,4 +1,5 @@
-//! Accuracy of the binary-search ray caster on plain quadrics against the closed-form hit.
+//! Accuracy of the ray caster on plain quadrics against the closed-form hit, for both ways it
+//! answers plain rays ([`CastMethod`]): the binary search, and the certified closed form.
 //!
 //! The bound proved here (DESIGN.md, "Fast and accurate, both measured"): with the renderer's
 //! default `ε = 1e-10 × diagonal`, the depth that [`RayCaster::cast`] returns differs from the
@@ -12,7 +13,7 @@
 
 use fray_core::{Interval, Ray};
 use fray_geometry::{
-    CastStats, FreeForm, Perturbation, Quadric, RayCaster, RayQuadratic, Sheets, Solid,
+    CastMethod, CastStats, FreeForm, Perturbation, Quadric, RayCaster, RayQuadratic, Sheets, Solid,
 };
 use glam::{DAffine3, DQuat, DVec3, EulerRot};
 
@@ -20,6 +21,9 @@ mod common;
 use common::rng::Rng;
 
 const RAYS_PER_KIND: usize = 100_000;
+/// Every test runs with both ways of answering plain rays: the halving search (the method, and
+/// what the GPU runs) and the certified closed form the CPU uses by default.
+const METHODS: [CastMethod; 2] = [CastMethod::Halving, CastMethod::ClosedForm];
 /// The renderer's default ε, relative to the scene diagonal.
 const EPS_REL: f64 = 1e-10;
 /// The depth bound proved, relative to the scene diagonal.
@@ -181,9 +185,16 @@ fn grazing_ray(ff: &FreeForm, rng: &mut Rng, scale: f64) -> Option<Ray> {
 }
 
 /// ≥ `n` random rays (a quarter of them grazing) against one quadric kind.
-fn run_kind(name: &str, ff: &FreeForm, scale: f64, n: usize, seed: u64) -> Tally {
+fn run_kind(
+    name: &str,
+    ff: &FreeForm,
+    scale: f64,
+    n: usize,
+    seed: u64,
+    method: CastMethod,
+) -> Tally {
     let solid = Solid::from_free_form(ff.clone());
-    let mut caster = RayCaster::new();
+    let mut caster = RayCaster::with_method(method);
     let mut rng = Rng(seed);
     let mut tally = Tally::default();
     let b = ff.bounds();
@@ -216,7 +227,7 @@ fn run_kind(name: &str, ff: &FreeForm, scale: f64, n: usize, seed: u64) -> Tally
         tally.hits * 10 >= tally.rays,
         "{name}: too few hits to measure anything"
     );
-    tally.report(name);
+    tally.report(&format!("{name} ({method:?})"));
     tally
 }
 
@@ -275,9 +286,15 @@ fn kinds() -> Vec<(&'static str, FreeForm, f64)> {
 
 #[test]
 fn plain_quadrics_match_the_closed_form_to_1e_9_of_the_diagonal() {
+    for method in METHODS {
+        plain_quadrics_match_the_closed_form_to_1e_9_of_the_diagonal_with(method);
+    }
+}
+
+fn plain_quadrics_match_the_closed_form_to_1e_9_of_the_diagonal_with(method: CastMethod) {
     for (i, (name, ff, scale)) in kinds().into_iter().enumerate() {
         assert!(ff.clips() || ff.bounds().diagonal() < 10.0, "{name}");
-        run_kind(name, &ff, scale, RAYS_PER_KIND, 0xF4A7 + i as u64);
+        run_kind(name, &ff, scale, RAYS_PER_KIND, 0xF4A7 + i as u64, method);
     }
 }
 
@@ -288,6 +305,12 @@ fn plain_quadrics_match_the_closed_form_to_1e_9_of_the_diagonal() {
 /// explained by moving the surface by ε.
 #[test]
 fn tangent_rays_never_give_nan_or_a_far_hit() {
+    for method in METHODS {
+        tangent_rays_never_give_nan_or_a_far_hit_with(method);
+    }
+}
+
+fn tangent_rays_never_give_nan_or_a_far_hit_with(method: CastMethod) {
     let c = DVec3::new(0.3, -0.2, 0.7);
     let rot = DQuat::from_euler(EulerRot::XYZ, 0.4, -0.9, 1.3);
     let radii = DVec3::new(2.0, 1.0, 0.5);
@@ -345,7 +368,7 @@ fn tangent_rays_never_give_nan_or_a_far_hit() {
         let diag = solid.bounds().diagonal();
         let eps = EPS_REL * diag;
         let bound = (2.0 * radius_of_curvature * (eps + 1e-13 * size)).sqrt() + eps;
-        let mut caster = RayCaster::new();
+        let mut caster = RayCaster::with_method(method);
         let (mut tested, mut hits, mut worst) = (0, 0, 0.0f64);
         while tested < 20_000 {
             let b = ff.bounds();
@@ -407,6 +430,12 @@ fn tangent_rays_never_give_nan_or_a_far_hit() {
 /// a hit off the surface by more than ε along the normal.
 #[test]
 fn rays_along_generator_lines_are_stable() {
+    for method in METHODS {
+        rays_along_generator_lines_are_stable_with(method);
+    }
+}
+
+fn rays_along_generator_lines_are_stable_with(method: CastMethod) {
     let c = DVec3::new(0.3, -0.2, 0.7);
     let axis = DQuat::from_euler(EulerRot::XYZ, 0.4, -0.9, 1.3) * DVec3::Y;
     let perp = axis.any_orthonormal_vector();
@@ -423,7 +452,13 @@ fn rays_along_generator_lines_are_stable() {
         for s in [-5.0, -1.0, 0.0, 1.0, 5.0] {
             for sign in [1.0, -1.0] {
                 let ray = Ray::new(on_surface + dir * s, dir * sign).unwrap();
-                let hit = solid.cast(&ray, full_range(), eps);
+                let hit = RayCaster::with_method(method).cast(
+                    &solid,
+                    &ray,
+                    full_range(),
+                    eps,
+                    &mut CastStats::default(),
+                );
                 if let Some(t) = hit {
                     assert!(!t.is_nan() && t >= 0.0, "{name}: t = {t}");
                     let p = ray.at(t);
@@ -446,13 +481,19 @@ fn rays_along_generator_lines_are_stable() {
 /// lies on the sphere to within `1e-9 × diagonal` (an independent check of the closed form).
 #[test]
 fn far_from_the_origin_keeps_relative_accuracy() {
+    for method in METHODS {
+        far_from_the_origin_keeps_relative_accuracy_with(method);
+    }
+}
+
+fn far_from_the_origin_keeps_relative_accuracy_with(method: CastMethod) {
     for (k, distance) in [1e6, 1e7].into_iter().enumerate() {
         let centre = DVec3::new(0.6, 0.48, -0.64) * distance;
         let ff = FreeForm::new(Quadric::sphere(centre, 1.0), vec![], None).unwrap();
         let solid = Solid::from_free_form(ff.clone());
         let diag = solid.bounds().diagonal();
         let mut rng = Rng(100 + k as u64);
-        let mut caster = RayCaster::new();
+        let mut caster = RayCaster::with_method(method);
         let mut tally = Tally::default();
         let mut max_radial = 0.0f64;
         while tally.rays < 20_000 {
@@ -492,6 +533,12 @@ fn far_from_the_origin_keeps_relative_accuracy() {
 /// hold unchanged.
 #[test]
 fn huge_and_tiny_objects_keep_relative_accuracy() {
+    for method in METHODS {
+        huge_and_tiny_objects_keep_relative_accuracy_with(method);
+    }
+}
+
+fn huge_and_tiny_objects_keep_relative_accuracy_with(method: CastMethod) {
     let rot = DAffine3::from_rotation_translation(
         DQuat::from_euler(EulerRot::XYZ, 0.4, -0.9, 1.3),
         DVec3::ZERO,
@@ -510,9 +557,30 @@ fn huge_and_tiny_objects_keep_relative_accuracy() {
             Some(cube(c, 2.0 * size)),
         )
         .unwrap();
-        run_kind(&format!("sphere r = {size:e}"), &sphere, size, 20_000, 11);
-        run_kind(&format!("ellipsoid {size:e}"), &ell, size, 20_000, 12);
-        run_kind(&format!("cylinder r = {size:e}"), &cyl, size, 20_000, 13);
+        run_kind(
+            &format!("sphere r = {size:e}"),
+            &sphere,
+            size,
+            20_000,
+            11,
+            method,
+        );
+        run_kind(
+            &format!("ellipsoid {size:e}"),
+            &ell,
+            size,
+            20_000,
+            12,
+            method,
+        );
+        run_kind(
+            &format!("cylinder r = {size:e}"),
+            &cyl,
+            size,
+            20_000,
+            13,
+            method,
+        );
     }
 }
 
@@ -520,6 +588,12 @@ fn huge_and_tiny_objects_keep_relative_accuracy() {
 /// slab test and the quadratic's coefficients see exact zeros.
 #[test]
 fn rays_along_axes() {
+    for method in METHODS {
+        rays_along_axes_with(method);
+    }
+}
+
+fn rays_along_axes_with(method: CastMethod) {
     let mut dirs = Vec::new();
     for axis in 0..3 {
         for sign in [1.0, -1.0] {
@@ -534,7 +608,7 @@ fn rays_along_axes() {
     let mut rng = Rng(99);
     for (name, ff, _) in kinds() {
         let solid = Solid::from_free_form(ff.clone());
-        let mut caster = RayCaster::new();
+        let mut caster = RayCaster::with_method(method);
         let mut tally = Tally::default();
         let b = ff.bounds();
         for i in 0..12_000 {
@@ -557,6 +631,12 @@ fn rays_along_axes() {
 /// form of the bare quadric is still the reference, to the same `1e-9 × diagonal`.
 #[test]
 fn degenerate_perturbations_match_the_bare_quadric() {
+    for method in METHODS {
+        degenerate_perturbations_match_the_bare_quadric_with(method);
+    }
+}
+
+fn degenerate_perturbations_match_the_bare_quadric_with(method: CastMethod) {
     let c = DVec3::new(0.3, -0.2, 0.7);
     let base = Quadric::sphere(c, 1.0);
     let bare = FreeForm::new(base, vec![], None).unwrap();
@@ -597,7 +677,7 @@ fn degenerate_perturbations_match_the_bare_quadric() {
         let diag = bare.bounds().diagonal();
         let eps = EPS_REL * diag;
         let mut rng = Rng(5);
-        let mut caster = RayCaster::new();
+        let mut caster = RayCaster::with_method(method);
         let mut tally = Tally::default();
         let mut stats = CastStats::default();
         while tally.rays < 20_000 {

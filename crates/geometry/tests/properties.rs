@@ -21,7 +21,9 @@
 //! ~10², so over `ε` it changes by < 1e-7 · ε — the 9-point window absorbs it.
 
 use fray_core::{Interval, Ray};
-use fray_geometry::{CastStats, FreeForm, Perturbation, Quadric, RayCaster, Shape, Solid};
+use fray_geometry::{
+    CastMethod, CastStats, FreeForm, Perturbation, Quadric, RayCaster, Shape, Solid,
+};
 use glam::{DAffine3, DQuat, DVec3, EulerRot};
 use proptest::prelude::*;
 
@@ -70,10 +72,29 @@ fn free_form() -> impl Strategy<Value = FreeForm> {
         .prop_map(|(base, perts)| FreeForm::new(base, perts, None).expect("ellipsoids are bounded"))
 }
 
+/// A plain ellipsoid (no perturbation), half the time clipped by a box that may cut it, so its
+/// faces are surface too.
+fn plain_free_form() -> impl Strategy<Value = FreeForm> {
+    (
+        ellipsoid((-0.5, 0.5), (0.5, 1.5)),
+        vec3(-0.8, 0.8),
+        vec3(0.3, 1.6),
+        any::<bool>(),
+    )
+        .prop_map(|(base, centre, half, clip)| {
+            let bounds = clip.then(|| fray_core::Aabb::from_center_half(centre, half));
+            FreeForm::new(base, vec![], bounds).expect("ellipsoids are bounded")
+        })
+}
+
 /// CSG trees of depth ≤ 3 over free forms.
 fn shape() -> impl Strategy<Value = Shape> {
-    free_form()
-        .prop_map(Shape::FreeForm)
+    tree_of(free_form())
+}
+
+/// CSG trees of depth ≤ 3 over `leaf`.
+fn tree_of(leaf: impl Strategy<Value = FreeForm> + 'static) -> impl Strategy<Value = Shape> {
+    leaf.prop_map(Shape::FreeForm)
         .prop_recursive(3, 12, 3, |inner| {
             prop_oneof![
                 prop::collection::vec(inner.clone(), 2..=3).prop_map(Shape::Union),
@@ -186,9 +207,14 @@ fn check(
 
 /// Casts `RAYS_PER_CASE` rays at `solid`: 60 % random, 25 % grazing its surface, 15 % tangent to
 /// a perturbation's support boundary (when it has perturbations on any leaf).
-fn cast_many(solid: &Solid, seed: u64, tally: &mut Tally) -> Result<(), TestCaseError> {
+fn cast_many(
+    solid: &Solid,
+    seed: u64,
+    tally: &mut Tally,
+    method: CastMethod,
+) -> Result<(), TestCaseError> {
     let mut rng = Rng(seed);
-    let mut caster = RayCaster::new();
+    let mut caster = RayCaster::with_method(method);
     let supports: Vec<Quadric> = solid
         .leaves()
         .iter()
@@ -295,13 +321,19 @@ struct Tally {
 
 /// Runs `cases` proptest cases of `strategy`, each casting `RAYS_PER_CASE` rays, and prints the
 /// tally (run with `--nocapture` to see it).
-fn run<S: Strategy>(name: &str, cases: u32, strategy: S, to_solid: impl Fn(S::Value) -> Solid) {
+fn run<S: Strategy>(
+    name: &str,
+    method: CastMethod,
+    cases: u32,
+    strategy: S,
+    to_solid: impl Fn(S::Value) -> Solid,
+) {
     let mut runner = proptest::test_runner::TestRunner::new(config(cases));
     let tally = std::cell::RefCell::new(Tally::default());
     let result = runner.run(&(strategy, any::<u64>()), |(value, seed)| {
         let solid = to_solid(value);
         let mut local = Tally::default();
-        cast_many(&solid, seed, &mut local)?;
+        cast_many(&solid, seed, &mut local, method)?;
         let mut t = tally.borrow_mut();
         for k in 0..3 {
             t.rays[k] += local.rays[k];
@@ -317,7 +349,7 @@ fn run<S: Strategy>(name: &str, cases: u32, strategy: S, to_solid: impl Fn(S::Va
     let t = tally.into_inner();
     let total: usize = t.rays.iter().sum();
     eprintln!(
-        "{name}: {total} rays (random {}, grazing {}, support-tangent {}), hits {:?}, reference (sampled) hits {}, \
+        "{name} ({method:?}): {total} rays (random {}, grazing {}, support-tangent {}), hits {:?}, reference (sampled) hits {}, \
          mean {:.1} bound + {:.1} point evaluations per cast",
         t.rays[0],
         t.rays[1],
@@ -330,23 +362,43 @@ fn run<S: Strategy>(name: &str, cases: u32, strategy: S, to_solid: impl Fn(S::Va
     assert!(total >= cases as usize * RAYS_PER_CASE);
 }
 
-/// Perturbed ellipsoids: 600 cases × 100 rays.
+/// Perturbed ellipsoids: 600 cases × 100 rays (rays that miss every support are answered in
+/// closed form, the rest by the search).
 #[test]
 fn perturbed_free_forms_find_the_first_surface() {
     run(
         "perturbed free forms",
+        CastMethod::ClosedForm,
         600,
         free_form(),
         Solid::from_free_form,
     );
 }
 
-/// CSG trees of depth ≤ 3 of perturbed ellipsoids: 600 cases × 100 rays.
+/// CSG trees of depth ≤ 3 of perturbed ellipsoids: 600 cases × 100 rays, searched and with
+/// the closed form where a ray meets only plain leaves.
 #[test]
 fn csg_trees_find_the_first_surface() {
-    run("CSG trees", 600, shape(), |s| {
-        Solid::new(s).expect("operand counts are valid")
-    });
+    for method in [CastMethod::Halving, CastMethod::ClosedForm] {
+        run("CSG trees", method, 600, shape(), |s| {
+            Solid::new(s).expect("operand counts are valid")
+        });
+    }
+}
+
+/// CSG trees of depth ≤ 3 of plain, partly box-clipped ellipsoids: 600 cases × 100 rays, by the
+/// search and by the closed form (which answers every ray here that its sets can hold).
+#[test]
+fn plain_csg_trees_find_the_first_surface() {
+    for method in [CastMethod::Halving, CastMethod::ClosedForm] {
+        run(
+            "plain CSG trees",
+            method,
+            600,
+            tree_of(plain_free_form()),
+            |s| Solid::new(s).expect("operand counts are valid"),
+        );
+    }
 }
 
 /// A fixed, hand-made case that touches the support boundary tangentially along an axis: the

@@ -2,10 +2,11 @@
 //! each pixel's ray tests. `cargo run --release -p fray-trace --example frame_breakdown -- SCENE
 //! [THREADS] [REPETITIONS]`; `TILE=n` sets the cell size, `PER_OBJECT=1` adds per-object counts,
 //! `SHADING=0` measures visibility + normals only (issue 3's speed target), `SHADOWS=1` adds
-//! shadow rays to the shaded frame. For the instruction
+//! shadow rays to the shaded frame, `FRESH=1` allocates a new frame each time instead of
+//! rendering into the last one. For the instruction
 //! profile behind docs/cpu-profile.md: `SHADING=0 valgrind --tool=callgrind
 //! target/release/examples/frame_breakdown data/scenes/csg.ron 1 1`.
-use fray_trace::{TraceSettings, render, work_list};
+use fray_trace::{TraceSettings, render, render_into, work_list};
 use std::time::Instant;
 
 fn main() {
@@ -56,10 +57,18 @@ fn main() {
         shading: std::env::var("SHADING").map_or(true, |v| v != "0"),
         ..TraceSettings::for_scene(&scene)
     };
+    // Frame after frame into the same buffers, as an animation would (`FRESH=1`: a new frame
+    // each time, which adds the kernel's cost of supplying the pages).
+    let fresh = std::env::var("FRESH").is_ok_and(|v| v == "1");
+    let mut frame = render(&scene, &settings, None).expect("render");
     let mut times = Vec::new();
     for _ in 0..reps {
-        let f = render(&scene, &settings, None).expect("render");
-        times.push(f.stats.elapsed.as_secs_f64() * 1e3);
+        if fresh {
+            frame = render(&scene, &settings, None).expect("render");
+        } else {
+            render_into(&scene, &settings, None, &mut frame).expect("render");
+        }
+        times.push(frame.stats.elapsed.as_secs_f64() * 1e3);
     }
     times.sort_by(f64::total_cmp);
     println!(

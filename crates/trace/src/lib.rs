@@ -37,7 +37,7 @@ pub use fray_scene::work_list;
 pub use hit::{
     SceneHit, nearest_hit, nearest_hit_among, nearest_hit_lod, occluded, occluded_among,
 };
-pub use render::{Progress, render};
+pub use render::{Progress, render, render_into};
 pub use settings::{TraceError, TraceSettings};
 pub use shade::{ShadeContext, SurfacePoint};
 pub use terrain_hit::TerrainCast;

@@ -9,6 +9,7 @@ use crate::terrain_hit::TerrainCast;
 use crate::{TraceError, TraceSettings};
 use fray_core::{CameraRay, Frame, Image, Interval, RenderStats, Rgb};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
+use fray_quadtree::WorkList;
 use fray_scene::{Scene, work_list};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -18,19 +19,31 @@ use std::time::Instant;
 /// Called after each finished tile with (pixels done, pixels in total).
 pub type Progress<'a> = &'a (dyn Fn(u64, u64) + Sync);
 
-/// One tile's pixels and counters.
-struct TileResult {
-    x0: u32,
-    y0: u32,
-    w: u32,
-    h: u32,
-    colour: Vec<Rgb>,
-    depth: Vec<f64>,
-    normals: Vec<Vec3>,
+/// A band's counters, summed over its tiles.
+#[derive(Default)]
+struct Counters {
     hits: u64,
     shadow_rays: u64,
     cast: CastStats,
-    terrain: TerrainCast,
+    terrain_rays: u64,
+    terrain: fray_terrain::TerrainStats,
+}
+
+/// One thread's reusable scratch space: nothing in it outlives a tile.
+struct Scratch {
+    caster: RayCaster,
+    /// The current tile's candidates, with their active sets (reused: sets keep their buffers).
+    candidates: Vec<(u32, ActiveSet)>,
+    hits: Vec<(Option<CameraRay>, Option<SceneHit>)>,
+}
+
+/// A band of whole image rows, written in place by one task: its slices of the three images.
+struct BandImages<'a> {
+    y0: u32,
+    width: u32,
+    colour: &'a mut [Rgb],
+    depth: &'a mut [f64],
+    normals: &'a mut [Vec3],
 }
 
 /// Renders `scene` on the CPU.
@@ -39,6 +52,27 @@ pub fn render(
     settings: &TraceSettings,
     progress: Option<Progress<'_>>,
 ) -> Result<Frame, TraceError> {
+    let mut frame = Frame {
+        colour: Image::filled(0, 0, Rgb::ZERO),
+        depth: Image::filled(0, 0, 0.0),
+        normals: Image::filled(0, 0, Vec3::ZERO),
+        stats: RenderStats::default(),
+    };
+    render_into(scene, settings, progress, &mut frame)?;
+    Ok(frame)
+}
+
+/// [`render`] into `frame`, reusing its image buffers when they already have the scene's size:
+/// a loop that renders frame after frame (an animation, a flight) then allocates no images.
+/// A fresh 1024² frame spends about a tenth of its time having the kernel supply and zero the
+/// 32 MB of new pages. Every pixel and the stats are overwritten; on an error `frame` is left
+/// as it was.
+pub fn render_into(
+    scene: &Scene,
+    settings: &TraceSettings,
+    progress: Option<Progress<'_>>,
+    frame: &mut Frame,
+) -> Result<(), TraceError> {
     if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
         return Err(TraceError::BadEpsilon(settings.epsilon));
     }
@@ -92,37 +126,97 @@ pub fn render(
             .collect();
         (tiles, None)
     };
-    let results: Vec<TileResult> = pool.install(|| {
-        tiles
-            .par_iter()
-            .map_init(RayCaster::new, |caster, t| {
-                let candidates: Option<Vec<(u32, ActiveSet)>> = match (t.item, list.as_ref()) {
-                    (Some(k), Some(list)) => Some(
-                        list.candidates_of(&list.items[k])
-                            .iter()
-                            .map(|c| {
-                                let mut a = ActiveSet::new();
-                                // Terrain candidates (ids after the objects) have no solid.
-                                if let Some(object) = scene.objects.get(c.object as usize) {
-                                    a.set(
-                                        &object.solid,
-                                        c.leaves(&list.leaves),
-                                        c.perturbations(&list.perturbations),
-                                    );
-                                }
-                                (c.object, a)
-                            })
-                            .collect(),
-                    ),
-                    _ => None,
-                };
-                let tile = render_tile(scene, settings, caster, t.rect, candidates.as_deref());
-                if let Some(report) = progress {
-                    let n = u64::from(tile.w) * u64::from(tile.h);
-                    report(done.fetch_add(n, Ordering::Relaxed) + n, total);
-                }
-                tile
-            })
+    // The images are written in place, a band of `tile_size` rows per task (a tile that
+    // straddles bands is rendered in parts): no per-tile buffers to allocate, fill and copy,
+    // which cost a 1024² frame as much as a fifth of its tracing in page faults and copies.
+    let band_rows = ts as usize;
+    let bands = tiles_by_band(&tiles, height, ts);
+    let n = width as usize * height as usize;
+    let sized = |w: u32, h: u32| w == width && h == height;
+    if !(sized(frame.colour.width(), frame.colour.height())
+        && sized(frame.depth.width(), frame.depth.height())
+        && sized(frame.normals.width(), frame.normals.height()))
+    {
+        // New buffers, their pages touched in parallel (each band task fills its own rows).
+        let (colour, depth, normals) = pool.install(|| {
+            (
+                (0..n)
+                    .into_par_iter()
+                    .map(|_| Rgb::ZERO)
+                    .collect::<Vec<_>>(),
+                (0..n).into_par_iter().map(|_| 0.0).collect::<Vec<_>>(),
+                (0..n)
+                    .into_par_iter()
+                    .map(|_| Vec3::ZERO)
+                    .collect::<Vec<_>>(),
+            )
+        });
+        // The lengths are width × height by construction, so the fallbacks are never taken.
+        frame.colour = Image::from_pixels(width, height, colour)
+            .unwrap_or_else(|| Image::filled(width, height, Rgb::ZERO));
+        frame.depth = Image::from_pixels(width, height, depth)
+            .unwrap_or_else(|| Image::filled(width, height, 0.0));
+        frame.normals = Image::from_pixels(width, height, normals)
+            .unwrap_or_else(|| Image::filled(width, height, Vec3::ZERO));
+    }
+    let w = width as usize;
+    let counters: Vec<Counters> = pool.install(|| {
+        frame
+            .colour
+            .pixels_mut()
+            .par_chunks_mut(w * band_rows)
+            .zip(frame.depth.pixels_mut().par_chunks_mut(w * band_rows))
+            .zip(frame.normals.pixels_mut().par_chunks_mut(w * band_rows))
+            .zip(bands.par_iter())
+            .enumerate()
+            .map_init(
+                || Scratch {
+                    caster: RayCaster::new(),
+                    candidates: Vec::new(),
+                    hits: Vec::new(),
+                },
+                |scratch, (k, (((colour, depth), normals), band))| {
+                    // Background where no tile (or no surface) is.
+                    colour.fill(scene.background);
+                    depth.fill(f64::INFINITY);
+                    normals.fill(Vec3::ZERO);
+                    let y0 = k as u32 * ts;
+                    let mut out = BandImages {
+                        y0,
+                        width,
+                        colour,
+                        depth,
+                        normals,
+                    };
+                    let y1 = (y0 + ts).min(height);
+                    let mut counters = Counters::default();
+                    for &ti in band {
+                        let t = &tiles[ti as usize];
+                        let (x0, ty0, x1, ty1) = t.rect;
+                        let rect = (x0, ty0.max(y0), x1, ty1.min(y1));
+                        let listed = match (t.item, list.as_ref()) {
+                            (Some(k), Some(list)) => {
+                                Some(active_sets(scene, list, k, &mut scratch.candidates))
+                            }
+                            _ => None,
+                        };
+                        render_tile(
+                            scene,
+                            settings,
+                            scratch,
+                            rect,
+                            listed,
+                            &mut out,
+                            &mut counters,
+                        );
+                        if let Some(report) = progress {
+                            let n = u64::from(rect.2 - rect.0) * u64::from(rect.3 - rect.1);
+                            report(done.fetch_add(n, Ordering::Relaxed) + n, total);
+                        }
+                    }
+                    counters
+                },
+            )
             .collect()
     });
 
@@ -130,8 +224,6 @@ pub fn render(
         // Culled tiles are done too (background).
         report(total, total);
     }
-    let (colour, depth, normals) =
-        pool.install(|| assemble(width, height, scene.background, &results));
     let mut stats = RenderStats {
         backend: "cpu".into(),
         threads: pool.current_num_threads(),
@@ -144,16 +236,17 @@ pub fn render(
         stats.cells_culled = list.stats.cells_culled;
         stats.work_items = list.stats.items;
     }
-    for t in &results {
+    for t in &counters {
         stats.hits += t.hits;
         stats.shadow_rays += t.shadow_rays;
         stats.bound_evaluations += t.cast.bound_evaluations;
         stats.point_evaluations += t.cast.point_evaluations;
-        stats.terrain_rays += t.terrain.rays;
-        stats.terrain_segments += t.terrain.stats.segments;
-        stats.terrain_cells += t.terrain.stats.cells;
-        stats.terrain_stops += t.terrain.stats.stops;
-        stats.terrain_stop_levels += t.terrain.stats.stop_levels_above_finest;
+        stats.closed_form_casts += t.cast.closed_form_casts;
+        stats.terrain_rays += t.terrain_rays;
+        stats.terrain_segments += t.terrain.segments;
+        stats.terrain_cells += t.terrain.cells;
+        stats.terrain_stops += t.terrain.stops;
+        stats.terrain_stop_levels += t.terrain.stop_levels_above_finest;
     }
     if list.is_some() {
         stats.passes.push("quadtree".into());
@@ -172,65 +265,46 @@ pub fn render(
             .retain(|p| !matches!(p.as_str(), "shadows" | "sun" | "point-lights"));
     }
     stats.elapsed = start.elapsed();
-    Ok(Frame {
-        colour,
-        depth,
-        normals,
-        stats,
-    })
+    frame.stats = stats;
+    Ok(())
 }
 
-/// The frame's images from the tiles' pixels: background where no tile is. Row by row in
-/// parallel (a serial copy of a 1024² frame's 32 MB costs as much as a tenth of its tracing).
-fn assemble(
-    width: u32,
-    height: u32,
-    background: Rgb,
-    tiles: &[TileResult],
-) -> (Image<Rgb>, Image<f64>, Image<Vec3>) {
-    let (w, n) = (width as usize, width as usize * height as usize);
-    // Which tiles cover each row.
-    let mut rows: Vec<Vec<u32>> = vec![Vec::new(); height as usize];
+/// For each band of `rows` image rows, the tiles that overlap it.
+fn tiles_by_band(tiles: &[Tile], height: u32, rows: u32) -> Vec<Vec<u32>> {
+    let mut bands: Vec<Vec<u32>> = vec![Vec::new(); height.div_ceil(rows) as usize];
     for (k, t) in tiles.iter().enumerate() {
-        for y in t.y0..t.y0 + t.h {
-            if let Some(row) = rows.get_mut(y as usize) {
-                row.push(k as u32);
+        let (_, y0, _, y1) = t.rect;
+        if y1 <= y0 {
+            continue;
+        }
+        for band in (y0 / rows)..=((y1 - 1) / rows) {
+            if let Some(b) = bands.get_mut(band as usize) {
+                b.push(k as u32);
             }
         }
     }
-    let mut colour: Vec<Rgb> = (0..n).into_par_iter().map(|_| background).collect();
-    let mut depth: Vec<f64> = (0..n).into_par_iter().map(|_| f64::INFINITY).collect();
-    let mut normals: Vec<Vec3> = (0..n).into_par_iter().map(|_| Vec3::ZERO).collect();
-    colour
-        .par_chunks_mut(w)
-        .zip(depth.par_chunks_mut(w))
-        .zip(normals.par_chunks_mut(w))
-        .zip(rows.par_iter())
-        .enumerate()
-        .for_each(|(y, (((c, d), nrm), covering))| {
-            for &k in covering {
-                let t = &tiles[k as usize];
-                let (x0, x1) = (t.x0 as usize, (t.x0 + t.w) as usize);
-                let from = (y - t.y0 as usize) * t.w as usize;
-                let to = from + t.w as usize;
-                c[x0..x1].copy_from_slice(&t.colour[from..to]);
-                d[x0..x1].copy_from_slice(&t.depth[from..to]);
-                nrm[x0..x1].copy_from_slice(&t.normals[from..to]);
-            }
-        });
-    // The lengths are width × height by construction, so the fallback is never taken.
-    match (
-        Image::from_pixels(width, height, colour),
-        Image::from_pixels(width, height, depth),
-        Image::from_pixels(width, height, normals),
-    ) {
-        (Some(c), Some(d), Some(nrm)) => (c, d, nrm),
-        _ => (
-            Image::filled(width, height, background),
-            Image::filled(width, height, f64::INFINITY),
-            Image::filled(width, height, Vec3::ZERO),
-        ),
+    bands
+}
+
+/// Work item `k`'s candidates with their active sets, into the front of `out` (whose sets are
+/// reused, so their buffers are too); returns how many.
+fn active_sets(scene: &Scene, list: &WorkList, k: usize, out: &mut Vec<(u32, ActiveSet)>) -> usize {
+    let listed = list.candidates_of(&list.items[k]);
+    if out.len() < listed.len() {
+        out.resize_with(listed.len(), || (0, ActiveSet::new()));
     }
+    for (c, (object, active)) in listed.iter().zip(out.iter_mut()) {
+        *object = c.object;
+        // Terrain candidates (ids after the objects) have no solid.
+        if let Some(o) = scene.objects.get(c.object as usize) {
+            active.set(
+                &o.solid,
+                c.leaves(&list.leaves),
+                c.perturbations(&list.perturbations),
+            );
+        }
+    }
+    listed.len()
 }
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` and its work item, if culled.
@@ -239,30 +313,25 @@ struct Tile {
     item: Option<usize>,
 }
 
+/// Renders the pixels of `rect` into `out`: with culling, `listed` is how many of
+/// `scratch.candidates` are the tile's candidate objects; `None` tests every object.
 fn render_tile(
     scene: &Scene,
     settings: &TraceSettings,
-    caster: &mut RayCaster,
+    scratch: &mut Scratch,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
-    candidates: Option<&[(u32, ActiveSet)]>,
-) -> TileResult {
-    let (w, h) = (x1 - x0, y1 - y0);
-    let n = (w * h) as usize;
-    let mut tile = TileResult {
-        x0,
-        y0,
-        w,
-        h,
-        colour: Vec::with_capacity(n),
-        depth: Vec::with_capacity(n),
-        normals: Vec::with_capacity(n),
-        hits: 0,
-        shadow_rays: 0,
-        cast: CastStats::default(),
-        terrain: TerrainCast::with_footprint(
-            scene.camera.pixel_footprint(scene.width, scene.height),
-        ),
-    };
+    listed: Option<usize>,
+    out: &mut BandImages<'_>,
+    counters: &mut Counters,
+) {
+    let Scratch {
+        caster,
+        candidates,
+        hits,
+    } = scratch;
+    let candidates = listed.map(|n| &candidates[..n]);
+    let mut terrain =
+        TerrainCast::with_footprint(scene.camera.pixel_footprint(scene.width, scene.height));
     let mut shade = ShadeContext {
         scene,
         shadows: settings.shading && settings.shadows && scene.features.shadows,
@@ -273,16 +342,23 @@ fn render_tile(
     };
     // First every pixel's camera ray and nearest hit, then (with culling) the objects the
     // tile's shadow rays can meet, then the shading.
-    let mut hits: Vec<(Option<CameraRay>, Option<SceneHit>)> = Vec::with_capacity(n);
-    for py in y0..y0 + h {
-        for px in x0..x0 + w {
+    hits.clear();
+    for py in y0..y1 {
+        for px in x0..x1 {
             let camera_ray = scene.camera.pixel_ray(px, py, scene.width, scene.height);
             let hit = camera_ray.as_ref().and_then(|c| {
                 let range = Interval::new(c.t_near, f64::INFINITY);
-                let (stats, terrain) = (&mut tile.cast, &mut tile.terrain);
                 let eps = settings.epsilon;
+                let stats = &mut counters.cast;
                 nearest_hit_lod(
-                    scene, caster, &c.ray, range, eps, candidates, stats, terrain,
+                    scene,
+                    caster,
+                    &c.ray,
+                    range,
+                    eps,
+                    candidates,
+                    stats,
+                    &mut terrain,
                 )
             });
             hits.push((camera_ray, hit));
@@ -299,23 +375,27 @@ fn render_tile(
         }));
         shade.occluders = Some(shadow_cull::occluders(scene, origins, reach));
     }
-    for (camera_ray, hit) in &hits {
-        let (c, d, nrm) = match (camera_ray, hit) {
-            (Some(camera_ray), Some(hit)) => {
-                shade_hit(scene, settings, caster, &mut shade, camera_ray, hit)
+    let w = (x1 - x0) as usize;
+    for (row, py) in (y0..y1).enumerate() {
+        let at = (py - out.y0) as usize * out.width as usize + x0 as usize;
+        let pixels = hits[row * w..(row + 1) * w].iter();
+        let colour = out.colour[at..at + w].iter_mut();
+        let depth = out.depth[at..at + w].iter_mut();
+        let normals = out.normals[at..at + w].iter_mut();
+        for ((((camera_ray, hit), c), d), nrm) in pixels.zip(colour).zip(depth).zip(normals) {
+            if let (Some(camera_ray), Some(hit)) = (camera_ray, hit) {
+                let (rgb, t, n) = shade_hit(scene, settings, caster, &mut shade, camera_ray, hit);
+                if t.is_finite() {
+                    counters.hits += 1;
+                }
+                (*c, *d, *nrm) = (rgb, t, n);
             }
-            _ => (scene.background, f64::INFINITY, Vec3::ZERO),
-        };
-        if d.is_finite() {
-            tile.hits += 1;
         }
-        tile.colour.push(c);
-        tile.depth.push(d);
-        tile.normals.push(nrm);
     }
-    tile.shadow_rays = shade.shadow_rays;
-    tile.cast += shade.cast;
-    tile
+    counters.shadow_rays += shade.shadow_rays;
+    counters.cast += shade.cast;
+    counters.terrain_rays += terrain.rays;
+    counters.terrain += terrain.stats;
 }
 
 /// The shading frame of a camera ray's hit: the surface point (normal facing the viewer) and

@@ -1,0 +1,551 @@
+//! The closed-form first hit of a CSG program whose leaves are all plain quadrics on the ray.
+//!
+//! Each leaf's inside (`q(t) ≥ 0` within the part of the ray its box lets through) is at most
+//! two intervals of `t`, from the quadratic's roots. The program combines them as sets — max is
+//! union, min intersection, negation the complement — and the hit is the first point of the
+//! result in the range. Two point evaluations of `F′` certify it as the search's predictions are
+//! certified (`F′(r) ≥ 0 > F′(r − ε)`), so the answer keeps the caster's contract; where rounding
+//! leaves it uncertain, or a set outgrows its fixed capacity, the caller falls back to the
+//! halving search.
+//!
+//! Why: on plain quadrics the halving search spends two or three bounds and four or five point
+//! evaluations to land on the same closed-form root that its `finish` certifies; a root and a
+//! set operation per leaf cost a fraction of that. Everything here is exact selection between
+//! the same floats (roots, box faces), so a pruned program (culling) and the full one give the
+//! same bits, as the search does.
+
+use crate::{CsgOp, RayQuadratic};
+use fray_core::Interval;
+
+/// The most disjoint intervals a set holds; a program whose sets outgrow it is searched instead.
+/// Four is what any two-leaf program needs (two spans per leaf; a complement adds one).
+const CAPACITY: usize = 4;
+
+/// A union of disjoint closed intervals of `t`, sorted.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SpanSet {
+    len: usize,
+    spans: [(f64, f64); CAPACITY],
+}
+
+impl SpanSet {
+    pub(crate) const EMPTY: SpanSet = SpanSet {
+        len: 0,
+        spans: [(0.0, 0.0); CAPACITY],
+    };
+    #[cfg(test)]
+    const EVERYTHING: SpanSet = SpanSet::one(f64::NEG_INFINITY, f64::INFINITY);
+
+    const fn one(lo: f64, hi: f64) -> Self {
+        let mut s = Self::EMPTY;
+        s.spans[0] = (lo, hi);
+        s.len = 1;
+        s
+    }
+
+    #[inline]
+    fn spans(&self) -> &[(f64, f64)] {
+        &self.spans[..self.len]
+    }
+
+    /// Appends a span after every span held (merging one that touches the last); `false` when
+    /// full.
+    #[inline]
+    fn push(&mut self, lo: f64, hi: f64) -> bool {
+        if let Some(last) = self.len.checked_sub(1).map(|k| &mut self.spans[k])
+            && lo <= last.1
+        {
+            if hi > last.1 {
+                last.1 = hi;
+            }
+            return true;
+        }
+        if self.len == CAPACITY {
+            return false;
+        }
+        self.spans[self.len] = (lo, hi);
+        self.len += 1;
+        true
+    }
+
+    /// Where `q ≥ 0` within `present` (the leaf's part of the ray): at most two spans. `None` if
+    /// the roots are not finite numbers (overflow), so the caller searches instead.
+    #[inline]
+    pub(crate) fn of_leaf(q: &RayQuadratic, present: Interval) -> Option<Self> {
+        let inside = |lo: f64, hi: f64| {
+            let (lo, hi) = (lo.max(present.lo), hi.min(present.hi));
+            if lo <= hi {
+                Self::one(lo, hi)
+            } else {
+                Self::EMPTY
+            }
+        };
+        let (a, b, c) = (q.a, q.b, q.c);
+        if a == 0.0 {
+            return Some(if b > 0.0 {
+                inside(-c / b, f64::INFINITY)
+            } else if b < 0.0 {
+                inside(f64::NEG_INFINITY, -c / b)
+            } else if c >= 0.0 {
+                inside(f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                Self::EMPTY
+            });
+        }
+        let disc = b * b - 4.0 * a * c;
+        if disc.is_nan() || disc.is_infinite() {
+            return None;
+        }
+        if disc < 0.0 {
+            // No root: q has a's sign everywhere.
+            return Some(if a > 0.0 {
+                inside(f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                Self::EMPTY
+            });
+        }
+        // The cancellation-free roots, as in `RayQuadratic::first_nonnegative`.
+        let half = -0.5 * (b + b.signum() * disc.sqrt());
+        let (r0, r1) = if half == 0.0 {
+            (0.0, 0.0)
+        } else {
+            (half / a, c / half)
+        };
+        let (r0, r1) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
+        if r0.is_nan() || r1.is_nan() {
+            return None;
+        }
+        if a < 0.0 {
+            return Some(inside(r0, r1));
+        }
+        // Outside the roots: two spans, either of which the box may cut away.
+        let mut s = inside(f64::NEG_INFINITY, r0);
+        let after = inside(r1, f64::INFINITY);
+        if after.len == 1 {
+            s.push(after.spans[0].0, after.spans[0].1);
+        }
+        Some(s)
+    }
+
+    /// `Self::of_leaf(q, present)?.first_in(range)` without building the set, for a program
+    /// that is one leaf: the same selection among the same floats, so the same bits (tested).
+    /// `present` must lie within `range`, as a leaf's part of the ray does.
+    #[inline]
+    pub(crate) fn first_of_leaf(
+        q: &RayQuadratic,
+        present: Interval,
+        range: Interval,
+    ) -> Option<Option<f64>> {
+        // The span [lo, hi] of the set (before the box), cut to the box; its first point.
+        let first = |lo: f64, hi: f64| {
+            let (lo, hi) = (lo.max(present.lo), hi.min(present.hi));
+            (lo <= hi && hi >= range.lo)
+                .then(|| lo.max(range.lo))
+                .filter(|&t| t <= range.hi)
+        };
+        let (a, b, c) = (q.a, q.b, q.c);
+        if a == 0.0 {
+            return Some(if b > 0.0 {
+                first(-c / b, f64::INFINITY)
+            } else if b < 0.0 {
+                first(f64::NEG_INFINITY, -c / b)
+            } else if c >= 0.0 {
+                first(f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                None
+            });
+        }
+        let disc = b * b - 4.0 * a * c;
+        if disc.is_nan() || disc.is_infinite() {
+            return None;
+        }
+        if disc < 0.0 {
+            return Some(if a > 0.0 {
+                first(f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                None
+            });
+        }
+        let half = -0.5 * (b + b.signum() * disc.sqrt());
+        let (r0, r1) = if half == 0.0 {
+            (0.0, 0.0)
+        } else {
+            (half / a, c / half)
+        };
+        let (r0, r1) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
+        if r0.is_nan() || r1.is_nan() {
+            return None;
+        }
+        if a < 0.0 {
+            return Some(first(r0, r1));
+        }
+        // Outside the roots. Where the box keeps both spans and they touch (a double root),
+        // the set merges them into one span, whose first point is the earlier span's.
+        Some(first(f64::NEG_INFINITY, r0).or_else(|| first(r1, f64::INFINITY)))
+    }
+
+    /// `self ∪ other`; `None` if it does not fit.
+    #[inline]
+    fn union(&self, other: &Self) -> Option<Self> {
+        let (mut i, mut j) = (0, 0);
+        let (a, b) = (self.spans(), other.spans());
+        let mut out = Self::EMPTY;
+        while i < a.len() || j < b.len() {
+            let next = if j == b.len() || (i < a.len() && a[i].0 <= b[j].0) {
+                i += 1;
+                a[i - 1]
+            } else {
+                j += 1;
+                b[j - 1]
+            };
+            if !out.push(next.0, next.1) {
+                return None;
+            }
+        }
+        Some(out)
+    }
+
+    /// `self ∩ other` (never larger than the two together, so it always fits).
+    #[inline]
+    fn intersection(&self, other: &Self) -> Self {
+        let (mut i, mut j) = (0, 0);
+        let (a, b) = (self.spans(), other.spans());
+        let mut out = Self::EMPTY;
+        while i < a.len() && j < b.len() {
+            let lo = a[i].0.max(b[j].0);
+            let hi = a[i].1.min(b[j].1);
+            if lo <= hi {
+                out.push(lo, hi);
+            }
+            if a[i].1 < b[j].1 {
+                i += 1;
+            } else {
+                j += 1;
+            }
+        }
+        out
+    }
+
+    /// The closure of the complement (boundaries belong to both: the certification decides
+    /// which side a boundary point is on); `None` if it does not fit.
+    #[inline]
+    fn complement(&self) -> Option<Self> {
+        let mut out = Self::EMPTY;
+        let mut from = f64::NEG_INFINITY;
+        for &(lo, hi) in self.spans() {
+            if lo > from && !out.push(from, lo) {
+                return None;
+            }
+            from = hi;
+        }
+        if from < f64::INFINITY && !out.push(from, f64::INFINITY) {
+            return None;
+        }
+        Some(out)
+    }
+
+    /// The first point of the set in `range`.
+    #[inline]
+    pub(crate) fn first_in(&self, range: Interval) -> Option<f64> {
+        self.spans()
+            .iter()
+            .find(|s| s.1 >= range.lo)
+            .map(|s| s.0.max(range.lo))
+            .filter(|&t| t <= range.hi)
+    }
+}
+
+/// Where the program is non-negative, from its leaves' sets (`leaf_set(i)`, `None` to give up);
+/// `stack` is scratch space. `None` when a set outgrows [`CAPACITY`] or a leaf gives up.
+pub(crate) fn program_set(
+    program: &[CsgOp],
+    mut leaf_set: impl FnMut(u32) -> Option<SpanSet>,
+    stack: &mut Vec<SpanSet>,
+) -> Option<SpanSet> {
+    // The two-leaf programs of a union, intersection or difference, without a stack.
+    match *program {
+        [CsgOp::Leaf(i)] => return leaf_set(i),
+        [
+            CsgOp::Leaf(i),
+            CsgOp::Leaf(j),
+            op @ (CsgOp::Max | CsgOp::Min),
+        ] => {
+            let (a, b) = (leaf_set(i)?, leaf_set(j)?);
+            return if op == CsgOp::Max {
+                a.union(&b)
+            } else {
+                Some(a.intersection(&b))
+            };
+        }
+        [
+            CsgOp::Leaf(i),
+            CsgOp::Leaf(j),
+            CsgOp::Neg,
+            op @ (CsgOp::Max | CsgOp::Min),
+        ] => {
+            let (a, b) = (leaf_set(i)?, leaf_set(j)?.complement()?);
+            return if op == CsgOp::Max {
+                a.union(&b)
+            } else {
+                Some(a.intersection(&b))
+            };
+        }
+        _ => {}
+    }
+    stack.clear();
+    for op in program {
+        match *op {
+            CsgOp::Leaf(i) => stack.push(leaf_set(i)?),
+            CsgOp::Neg => {
+                let top = stack.pop().unwrap_or(SpanSet::EMPTY);
+                stack.push(top.complement()?);
+            }
+            CsgOp::Max | CsgOp::Min => {
+                if stack.len() < 2 {
+                    continue; // never compiled; keep the operand (as the search does)
+                }
+                let b = stack.pop().unwrap_or(SpanSet::EMPTY);
+                let a = stack.pop().unwrap_or(SpanSet::EMPTY);
+                stack.push(if *op == CsgOp::Max {
+                    a.union(&b)?
+                } else {
+                    a.intersection(&b)
+                });
+            }
+        }
+    }
+    Some(stack.pop().unwrap_or(SpanSet::EMPTY))
+}
+
+/// The outcome of certifying a closed-form hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Certified {
+    /// The first point of the range where `F′ ≥ 0`, within ε (or no hit at all).
+    Hit(Option<f64>),
+    /// Rounding put the prediction where the point evaluations disagree: search instead.
+    Unsure,
+}
+
+/// Certifies `first` (the set's first point in `range`) with point values of `F′`: at the start
+/// of the range `F′ ≥ 0` suffices; past it, `F′(r) ≥ 0 > F′(max(r − ε, range.lo))` puts the root
+/// in the last ε. A root that rounding put just before the surface (`F′(r) < 0`) is nudged past
+/// the rounding (or, failing that, to `r + ε/2`) when `F′` is non-negative there. A miss needs
+/// no evaluation.
+#[inline]
+pub(crate) fn certify(
+    first: Option<f64>,
+    range: Interval,
+    eps: f64,
+    mut value: impl FnMut(f64) -> f64,
+) -> Certified {
+    let Some(r) = first else {
+        return Certified::Hit(None);
+    };
+    let fr = value(r);
+    if r <= range.lo {
+        return if fr >= 0.0 {
+            Certified::Hit(Some(r))
+        } else {
+            Certified::Unsure
+        };
+    }
+    if fr >= 0.0 {
+        let before = (r - eps).max(range.lo);
+        return if value(before) < 0.0 {
+            Certified::Hit(Some(r))
+        } else {
+            Certified::Unsure
+        };
+    }
+    // F′(r) < 0: the crossing is after r, by the rounding of the root if the prediction is
+    // right. Step past that rounding (a few dozen ulps), and only then by ε/2.
+    for step in [(r.abs() * ROOT_ROUNDING).min(0.5 * eps), 0.5 * eps] {
+        let nudged = r + step;
+        if nudged > r && nudged <= range.hi && value(nudged) >= 0.0 {
+            return Certified::Hit(Some(nudged));
+        }
+    }
+    Certified::Unsure
+}
+
+/// How far past a computed root (relative to it) the surface may still lie from the rounding
+/// of the root and of the point evaluation: about fifty ulps.
+const ROOT_ROUNDING: f64 = 1e-14;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set(spans: &[(f64, f64)]) -> SpanSet {
+        let mut s = SpanSet::EMPTY;
+        for &(lo, hi) in spans {
+            assert!(s.push(lo, hi));
+        }
+        s
+    }
+
+    #[test]
+    fn set_operations_match_pointwise_membership() {
+        let a = set(&[(0.0, 1.0), (2.0, 3.0), (5.0, 8.0)]);
+        let b = set(&[(0.5, 2.5), (7.0, 9.0)]);
+        let u = a.union(&b).unwrap();
+        let i = a.intersection(&b);
+        let ca = a.complement().unwrap();
+        let member = |s: &SpanSet, t: f64| s.spans().iter().any(|&(lo, hi)| lo <= t && t <= hi);
+        // Sample off the boundaries, where membership is unambiguous.
+        for k in 0..200 {
+            let t = -1.05 + 0.0537 * f64::from(k);
+            assert_eq!(
+                member(&u, t),
+                member(&a, t) || member(&b, t),
+                "union at {t}"
+            );
+            assert_eq!(member(&i, t), member(&a, t) && member(&b, t), "∩ at {t}");
+            assert_eq!(member(&ca, t), !member(&a, t), "complement at {t}");
+        }
+        assert_eq!(u.spans(), &[(0.0, 3.0), (5.0, 9.0)]);
+        assert_eq!(i.spans(), &[(0.5, 1.0), (2.0, 2.5), (7.0, 8.0)]);
+        assert_eq!(
+            ca.spans(),
+            &[
+                (f64::NEG_INFINITY, 0.0),
+                (1.0, 2.0),
+                (3.0, 5.0),
+                (8.0, f64::INFINITY)
+            ]
+        );
+        assert_eq!(
+            SpanSet::EMPTY.complement().unwrap().spans(),
+            SpanSet::EVERYTHING.spans()
+        );
+        assert_eq!(SpanSet::EVERYTHING.complement().unwrap().len, 0);
+    }
+
+    #[test]
+    fn a_set_that_outgrows_its_capacity_gives_up() {
+        let comb = |offset: f64| {
+            let mut s = SpanSet::EMPTY;
+            for k in 0..CAPACITY {
+                assert!(s.push(offset + 4.0 * k as f64, offset + 4.0 * k as f64 + 1.0));
+            }
+            s
+        };
+        assert!(comb(0.0).union(&comb(2.0)).is_none());
+        assert!(comb(0.0).complement().is_none());
+    }
+
+    #[test]
+    fn leaf_sets_follow_the_roots_and_the_box() {
+        let all = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
+        // −(t − 1)(t − 3): inside between the roots.
+        let cap = RayQuadratic {
+            a: -1.0,
+            b: 4.0,
+            c: -3.0,
+        };
+        assert_eq!(SpanSet::of_leaf(&cap, all).unwrap().spans(), &[(1.0, 3.0)]);
+        assert_eq!(
+            SpanSet::of_leaf(&cap, Interval::new(2.0, 2.5))
+                .unwrap()
+                .spans(),
+            &[(2.0, 2.5)]
+        );
+        // (t − 1)(t − 3): outside the roots; a box over the first root keeps one span.
+        let cup = RayQuadratic {
+            a: 1.0,
+            b: -4.0,
+            c: 3.0,
+        };
+        let s = SpanSet::of_leaf(&cup, all).unwrap();
+        assert_eq!(s.spans(), &[(f64::NEG_INFINITY, 1.0), (3.0, f64::INFINITY)]);
+        let s = SpanSet::of_leaf(&cup, Interval::new(0.0, 2.0)).unwrap();
+        assert_eq!(s.spans(), &[(0.0, 1.0)]);
+        // Linear, constant, and rootless cases.
+        let line = RayQuadratic {
+            a: 0.0,
+            b: -2.0,
+            c: 4.0,
+        };
+        assert_eq!(
+            SpanSet::of_leaf(&line, all).unwrap().spans(),
+            &[(f64::NEG_INFINITY, 2.0)]
+        );
+        let negative = RayQuadratic {
+            a: -1.0,
+            b: 0.0,
+            c: -1.0,
+        };
+        assert_eq!(SpanSet::of_leaf(&negative, all).unwrap().len, 0);
+        let positive = RayQuadratic {
+            a: 0.0,
+            b: 0.0,
+            c: 1.0,
+        };
+        assert_eq!(SpanSet::of_leaf(&positive, all).unwrap().len, 1);
+        // Overflowing coefficients give up rather than invent roots.
+        let huge = RayQuadratic {
+            a: 1e300,
+            b: 1e300,
+            c: -1e300,
+        };
+        assert!(SpanSet::of_leaf(&huge, all).is_none());
+    }
+
+    /// The one-leaf shortcut picks the same bits as building the leaf's set, on random, edge
+    /// and degenerate quadratics and boxes.
+    #[test]
+    fn the_one_leaf_shortcut_equals_the_set() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            // Small integers and their halves make roots, faces and ties coincide often.
+            ((state % 17) as f64 - 8.0) * if state & 1 == 0 { 1.0 } else { 0.5 }
+        };
+        for _ in 0..20_000 {
+            let q = RayQuadratic {
+                a: next(),
+                b: next(),
+                c: next(),
+            };
+            let (r0, r1) = (next(), next());
+            let range = Interval::new(r0.min(r1), r0.max(r1));
+            let (p0, p1) = (next(), next());
+            let present = Interval::new(
+                p0.min(p1).clamp(range.lo, range.hi),
+                p0.max(p1).clamp(range.lo, range.hi),
+            );
+            let set = SpanSet::of_leaf(&q, present).map(|s| s.first_in(range));
+            let direct = SpanSet::first_of_leaf(&q, present, range);
+            let bits = |x: Option<Option<f64>>| x.map(|o| o.map(f64::to_bits));
+            assert_eq!(bits(set), bits(direct), "{q:?} {present:?} {range:?}");
+        }
+    }
+
+    #[test]
+    fn certification_accepts_nudges_and_refuses() {
+        let range = Interval::new(0.0, 10.0);
+        let root = 2.0;
+        let f = |t: f64| t - root;
+        assert_eq!(
+            certify(Some(2.0), range, 1e-6, f),
+            Certified::Hit(Some(2.0))
+        );
+        // Just before the root: nudged into the last ε.
+        let just_before = 2.0 - 1e-9;
+        match certify(Some(just_before), range, 1e-6, f) {
+            Certified::Hit(Some(t)) => assert!(t >= root && t - root <= 1e-6),
+            other => panic!("{other:?}"),
+        }
+        // Far past the root, or far before it: refused.
+        assert_eq!(certify(Some(3.0), range, 1e-6, f), Certified::Unsure);
+        assert_eq!(certify(Some(1.0), range, 1e-6, f), Certified::Unsure);
+        // At the range's start only the value there counts.
+        assert_eq!(
+            certify(Some(0.0), range, 1e-6, |_| 1.0),
+            Certified::Hit(Some(0.0))
+        );
+        assert_eq!(certify(None, range, 1e-6, f), Certified::Hit(None));
+    }
+}
