@@ -63,6 +63,10 @@ struct RenderArgs {
     /// Turn the CPU quadtree culling off (same image, more work; for comparisons).
     #[arg(long)]
     no_culling: bool,
+    /// CPU: search every ray by halving, as the GPU does, instead of answering rays that meet
+    /// only plain quadrics in closed form (same image to within ε; for comparisons).
+    #[arg(long)]
+    no_closed_form: bool,
     /// Exposure multiplier applied before tone mapping (PNG only).
     #[arg(long, default_value_t = 1.0)]
     exposure: f32,
@@ -173,6 +177,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         threads: args.threads,
         shadows: args.no_shadows.then_some(false),
         culling: args.no_culling.then_some(false),
+        closed_form: args.no_closed_form.then_some(false),
     });
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);
@@ -224,13 +229,19 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         } else {
             String::new()
         };
+        // How many casts the CPU answered in closed form rather than by search.
+        let closed = if s.closed_form_casts > 0 {
+            format!(" ({} casts in closed form)", s.closed_form_casts)
+        } else {
+            String::new()
+        };
         // The GPU's kernel time, where the device measured it (timestamp queries).
         let kernel = s
             .kernel_time
             .map(|k| format!(", GPU kernels {:.1} ms", k.as_secs_f64() * 1e3))
             .unwrap_or_default();
         println!(
-            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{terrain}, ε = {:.3e}; ran: {}",
+            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}, ε = {:.3e}; ran: {}",
             output.display(),
             frame.colour.width(),
             frame.colour.height(),

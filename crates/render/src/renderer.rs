@@ -50,6 +50,9 @@ pub struct RenderOptions {
     pub shadows: Option<bool>,
     /// Quadtree culling on either backend (default on; the image is identical either way).
     pub culling: Option<bool>,
+    /// CPU only: answer rays that meet only plain quadrics in closed form (default on); off, the
+    /// CPU searches every ray by halving, as the GPU does (the same image to within ε).
+    pub closed_form: Option<bool>,
 }
 
 /// Why a render failed.
@@ -113,6 +116,13 @@ impl Renderer {
         let cpu = |settings: &TraceSettings| fray_trace::render(&scene, settings, progress);
         if let Some(c) = self.options.culling {
             settings.culling = c;
+        }
+        if let Some(closed) = self.options.closed_form {
+            settings.method = if closed {
+                fray_trace::CastMethod::ClosedForm
+            } else {
+                fray_trace::CastMethod::Halving
+            };
         }
         if self.options.backend == Backend::Auto {
             match fray_gpu::probe_adapter() {

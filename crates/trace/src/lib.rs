@@ -32,6 +32,8 @@ mod shade;
 mod shadow_cull;
 mod terrain_hit;
 
+/// How the caster answers plain rays ([`TraceSettings::method`]), re-exported.
+pub use fray_geometry::CastMethod;
 /// The work list (moved to `fray-scene`, which both backends share), re-exported.
 pub use fray_scene::work_list;
 pub use hit::{

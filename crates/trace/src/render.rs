@@ -171,7 +171,7 @@ pub fn render_into(
             .enumerate()
             .map_init(
                 || Scratch {
-                    caster: RayCaster::new(),
+                    caster: RayCaster::with_method(settings.method),
                     candidates: Vec::new(),
                     hits: Vec::new(),
                 },
@@ -252,6 +252,9 @@ pub fn render_into(
         stats.passes.push("quadtree".into());
     }
     stats.passes.push("primary".into());
+    if stats.closed_form_casts > 0 {
+        stats.passes.push("closed-form".into());
+    }
     stats
         .passes
         .extend(scene.features.names().iter().map(|s| s.to_string()));

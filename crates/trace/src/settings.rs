@@ -1,5 +1,7 @@
 //! Settings of the CPU backend.
 
+use fray_geometry::CastMethod;
+
 /// How the CPU backend renders. Scene settings feed the defaults; the caller may override.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TraceSettings {
@@ -19,6 +21,9 @@ pub struct TraceSettings {
     /// normals, with the colour showing the normal as `0.5 + 0.5 n` — which is what "primary
     /// visibility + normals" timings measure.
     pub shading: bool,
+    /// How rays that meet only plain quadrics are answered: the certified closed form (the
+    /// default) or the halving search everywhere, as the GPU does.
+    pub method: CastMethod,
 }
 
 impl TraceSettings {
@@ -31,6 +36,7 @@ impl TraceSettings {
             tile_size: 16,
             culling: true,
             shading: true,
+            method: CastMethod::ClosedForm,
         }
     }
 }

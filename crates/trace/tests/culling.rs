@@ -1,8 +1,9 @@
 //! Culling is lossless: every scene renders to identical colour, depth and normal images with
-//! the quadtree scheduler on and off (all projector kinds, CSG, many perturbations).
+//! the quadtree scheduler on and off (all projector kinds, CSG, many perturbations), with plain
+//! rays answered by the search and by the closed form alike.
 
 use fray_core::RenderStats;
-use fray_trace::{TraceSettings, render};
+use fray_trace::{CastMethod, TraceSettings, render};
 use std::path::Path;
 
 fn scene(src: &str) -> fray_scene::Scene {
@@ -41,9 +42,31 @@ fn bumpy(n: u32, camera: &str) -> String {
     )
 }
 
+/// Both ways of answering plain rays, the default (closed form) last.
+const METHODS: [CastMethod; 2] = [CastMethod::Halving, CastMethod::ClosedForm];
+
+/// Culling on and off give the same bits, whichever [`CastMethod`] answers plain rays; returns
+/// the stats (unculled, culled) of the default method.
 fn assert_lossless(scene: &fray_scene::Scene, what: &str) -> (RenderStats, RenderStats) {
+    let mut stats = None;
+    for method in METHODS {
+        stats = Some(assert_lossless_with(
+            scene,
+            &format!("{what} ({method:?})"),
+            method,
+        ));
+    }
+    stats.unwrap_or_default()
+}
+
+fn assert_lossless_with(
+    scene: &fray_scene::Scene,
+    what: &str,
+    method: CastMethod,
+) -> (RenderStats, RenderStats) {
     let mut settings = TraceSettings::for_scene(scene);
     settings.threads = Some(2);
+    settings.method = method;
     settings.culling = false;
     let plain = render(scene, &settings, None).unwrap_or_else(|e| panic!("{what}: {e}"));
     settings.culling = true;
