@@ -314,7 +314,9 @@ impl RayCaster {
     }
 
     /// Restricts every leaf (every active one, given a subset) to the ray; false if no leaf can
-    /// be reached.
+    /// be reached. Inlined so that `inv_dir` stays in registers: passed by pointer, it is
+    /// spilled and reloaded in different widths, which stalls store forwarding on every cast.
+    #[inline(always)]
     fn prepare(
         &mut self,
         solid: &Solid,

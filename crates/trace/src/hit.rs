@@ -4,6 +4,7 @@ use crate::terrain_hit::{TerrainCast, nearer_terrain_hit, terrain_occludes};
 use fray_core::{Interval, Ray};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::Scene;
+use glam::DVec3;
 
 /// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit, and
 /// the outward unit normal there. `object ≥ scene.objects.len()` is terrain
@@ -43,6 +44,32 @@ pub fn nearest_hit_lod(
     stats: &mut CastStats,
     terrain: &mut TerrainCast,
 ) -> Option<SceneHit> {
+    let mut hit = nearest_hit_deferred(scene, caster, ray, range, eps, candidates, stats, terrain);
+    if let Some(h) = hit.as_mut() {
+        finish_surface(scene, ray, candidates, h);
+    }
+    hit
+}
+
+/// [`nearest_hit_lod`] with a free-form hit's surface (normal and leaf) left for
+/// [`finish_surface`]: the frame loop finds every hit of a tile first and then their normals,
+/// so that the normals' long chains of dependent arithmetic (point, gradient, square root,
+/// division) overlap from pixel to pixel instead of each waiting on its own cast. Inlined, so
+/// that the hit is written straight into its pixel's slot (a hit returned through a stack
+/// temporary is reloaded in other widths than it was stored in, which stalls store
+/// forwarding once per pixel).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn nearest_hit_deferred(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    candidates: Option<&[(u32, ActiveSet)]>,
+    stats: &mut CastStats,
+    terrain: &mut TerrainCast,
+) -> Option<SceneHit> {
     match candidates {
         None => {
             let all = (0..scene.objects.len()).map(|i| (i, None));
@@ -65,6 +92,37 @@ pub fn nearest_hit_lod(
     }
 }
 
+/// Marks a free-form hit whose surface [`finish_surface`] has yet to compute.
+const SURFACE_PENDING: u32 = u32::MAX;
+
+/// Completes a hit from [`nearest_hit_deferred`]: a free-form hit gets the normal and the leaf of
+/// its solid at the hit point (evaluated with the candidate's active subset, when culling);
+/// terrain hits come complete.
+#[inline]
+pub(crate) fn finish_surface(
+    scene: &Scene,
+    ray: &Ray,
+    candidates: Option<&[(u32, ActiveSet)]>,
+    hit: &mut SceneHit,
+) {
+    if hit.leaf != SURFACE_PENDING {
+        return;
+    }
+    let Some(object) = scene.objects.get(hit.object as usize) else {
+        return;
+    };
+    let active = candidates.and_then(|c| {
+        c.iter()
+            .find(|(index, _)| *index == hit.object)
+            .map(|(_, active)| active)
+    });
+    let p = ray.at(hit.t);
+    (hit.normal, hit.leaf) = match active {
+        Some(active) => object.solid.surface_at_with(p, -ray.dir, active),
+        None => object.solid.surface_at(p, -ray.dir),
+    };
+}
+
 /// [`nearest_hit`] over a subset: only the listed objects (increasing indices), each cast with
 /// its [`ActiveSet`]. The same hit as [`nearest_hit`] when the subset is conservative for the ray
 /// (objects left out cannot be hit, sets hold what the ray may need) — what a quadtree work item
@@ -84,7 +142,9 @@ pub fn nearest_hit_among(
 }
 
 /// The nearest hit over `candidates` (object index, and the active subset or `None` for all of
-/// it). On a tie the earlier object keeps the hit: each later search ends at the best so far.
+/// it), its surface pending. On a tie the earlier object keeps the hit: each later search ends
+/// at the best so far. Inlined for the reason [`nearest_hit_deferred`] is.
+#[inline(always)]
 fn nearest_over<'a>(
     scene: &Scene,
     caster: &mut RayCaster,
@@ -112,17 +172,12 @@ fn nearest_over<'a>(
             best = Some((t, index, active));
         }
     }
-    let (t, index, active) = best?;
-    let solid = &scene.objects[index].solid;
-    let (normal, leaf) = match active {
-        Some(active) => solid.surface_at_with(ray.at(t), -ray.dir, active),
-        None => solid.surface_at(ray.at(t), -ray.dir),
-    };
+    let (t, index, _) = best?;
     Some(SceneHit {
         t,
         object: index as u32,
-        leaf,
-        normal,
+        leaf: SURFACE_PENDING,
+        normal: DVec3::ZERO,
     })
 }
 

@@ -2,7 +2,7 @@
 //! the frame's statistics. The result does not depend on the thread count.
 
 use crate::SceneHit;
-use crate::hit::nearest_hit_lod;
+use crate::hit::{finish_surface, nearest_hit_deferred};
 use crate::shade::{ShadeContext, SurfacePoint};
 use crate::shadow_cull;
 use crate::terrain_hit::TerrainCast;
@@ -345,26 +345,37 @@ fn render_tile(
     };
     // First every pixel's camera ray and nearest hit, then (with culling) the objects the
     // tile's shadow rays can meet, then the shading.
+    // The camera rays in a pass of their own, so that the casts read them from the cache and
+    // not from stores still in flight (3-float vectors stored and reloaded in other widths
+    // stall store forwarding).
     hits.clear();
     for py in y0..y1 {
         for px in x0..x1 {
             let camera_ray = scene.camera.pixel_ray(px, py, scene.width, scene.height);
-            let hit = camera_ray.as_ref().and_then(|c| {
-                let range = Interval::new(c.t_near, f64::INFINITY);
-                let eps = settings.epsilon;
-                let stats = &mut counters.cast;
-                nearest_hit_lod(
-                    scene,
-                    caster,
-                    &c.ray,
-                    range,
-                    eps,
-                    candidates,
-                    stats,
-                    &mut terrain,
-                )
-            });
-            hits.push((camera_ray, hit));
+            hits.push((camera_ray, None));
+        }
+    }
+    for (camera_ray, hit) in hits.iter_mut() {
+        *hit = camera_ray.as_ref().and_then(|c| {
+            let range = Interval::new(c.t_near, f64::INFINITY);
+            let eps = settings.epsilon;
+            let stats = &mut counters.cast;
+            nearest_hit_deferred(
+                scene,
+                caster,
+                &c.ray,
+                range,
+                eps,
+                candidates,
+                stats,
+                &mut terrain,
+            )
+        });
+    }
+    // Then the surfaces (normals) of all the tile's hits, independent of each other.
+    for (camera_ray, hit) in hits.iter_mut() {
+        if let (Some(c), Some(h)) = (camera_ray, hit) {
+            finish_surface(scene, &c.ray, candidates, h);
         }
     }
     if shade.shadows && settings.culling && !scene.lights.is_empty() {
