@@ -132,6 +132,24 @@ impl FreeForm {
     /// one `+ 0.0` at the end reproduces.
     #[inline]
     pub fn eval_with_gradient_subset(&self, p: DVec3, subset: &[u32]) -> (f64, DVec3) {
+        if subset.is_empty() {
+            // A plain leaf here (the common case): value and gradient from one `p − origin`,
+            // the same bits as the general path below.
+            let (base, g) = self.base.eval_and_gradient(p);
+            let f = base + 0.0; // the empty sum, as below
+            if self.clips {
+                let (d, n) = box_inner_distance(&self.bounds, p);
+                if d < f {
+                    return (d, -n);
+                }
+            }
+            let g = if self.perturbations.is_empty() {
+                g
+            } else {
+                g + DVec3::ZERO // as `gradient_subset` marks dropped terms
+            };
+            return (f, g);
+        }
         let terms = || {
             subset
                 .iter()
@@ -178,23 +196,26 @@ impl FreeForm {
 
 /// The signed distance from `p` to the nearest face of `b`, positive inside, and that face's
 /// outward normal.
+#[inline]
 fn box_inner_distance(b: &Aabb, p: DVec3) -> (f64, DVec3) {
-    let mut best = (f64::INFINITY, DVec3::X);
-    for axis in 0..3 {
-        let lo = p[axis] - b.min[axis];
-        let hi = b.max[axis] - p[axis];
-        if lo < best.0 {
-            let mut n = DVec3::ZERO;
-            n[axis] = -1.0;
-            best = (lo, n);
-        }
-        if hi < best.0 {
-            let mut n = DVec3::ZERO;
-            n[axis] = 1.0;
-            best = (hi, n);
-        }
+    // The six face distances in a fixed order, the first strictly smallest winning: selects
+    // rather than branches (which face is nearest varies from pixel to pixel), and the
+    // normal looked up at the end.
+    const NORMALS: [DVec3; 7] = [
+        DVec3::X,
+        DVec3::NEG_X,
+        DVec3::X,
+        DVec3::NEG_Y,
+        DVec3::Y,
+        DVec3::NEG_Z,
+        DVec3::Z,
+    ];
+    let (lo, hi) = (p - b.min, b.max - p);
+    let mut best = (f64::INFINITY, 0usize);
+    for (k, d) in [lo.x, hi.x, lo.y, hi.y, lo.z, hi.z].into_iter().enumerate() {
+        best = if d < best.0 { (d, k + 1) } else { best };
     }
-    best
+    (best.0, NORMALS[best.1])
 }
 
 #[cfg(test)]

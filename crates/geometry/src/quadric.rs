@@ -147,7 +147,20 @@ impl Quadric {
     /// `∇F` at world point `p`.
     #[inline]
     pub fn gradient(&self, p: DVec3) -> DVec3 {
+        self.gradient_local(p - self.origin)
+    }
+
+    /// `(F, ∇F)` at world point `p`: the same bits as [`Quadric::eval`] and
+    /// [`Quadric::gradient`], with `p − origin` formed once.
+    #[inline]
+    pub fn eval_and_gradient(&self, p: DVec3) -> (f64, DVec3) {
         let x = p - self.origin;
+        (self.eval_local(x), self.gradient_local(x))
+    }
+
+    /// `∇F` at local point `x = p − origin`.
+    #[inline]
+    fn gradient_local(&self, x: DVec3) -> DVec3 {
         let [a11, a22, a33, a12, a13, a23, a14, a24, a34, _] = self.coefficients;
         DVec3::new(
             2.0 * a11 * x.x + a12 * x.y + a13 * x.z + a14,
