@@ -125,8 +125,20 @@ impl Aabb {
         inv_dir: DVec3,
         range: Interval,
     ) -> Option<Interval> {
+        let t = self.slab_interval(ray, inv_dir, range);
+        (t.lo <= t.hi).then_some(t)
+    }
+
+    /// [`Aabb::clip_ray_with_inverse`] as a bare interval, empty (`lo > hi`, or NaN) where the
+    /// ray misses: two floats that travel in registers, for hot loops where the `Option`
+    /// would be spilled to the stack and reloaded in other widths (a store-forwarding stall).
+    #[inline]
+    pub fn slab_interval(&self, ray: &Ray, inv_dir: DVec3, range: Interval) -> Interval {
         if !inv_dir.is_finite() {
-            return self.clip_ray(ray, range);
+            return self.clip_ray(ray, range).unwrap_or(Interval {
+                lo: f64::INFINITY,
+                hi: f64::NEG_INFINITY,
+            });
         }
         let t0 = (self.min - ray.origin) * inv_dir;
         let t1 = (self.max - ray.origin) * inv_dir;
@@ -134,7 +146,7 @@ impl Aabb {
         let far = t0.max(t1);
         let lo = range.lo.max(near.max_element());
         let hi = range.hi.min(far.min_element());
-        (lo <= hi).then_some(Interval { lo, hi })
+        Interval { lo, hi }
     }
 
     /// The outward unit normal of the face nearest to `p` (for hits on a clipping box).

@@ -201,7 +201,9 @@ impl RayCaster {
         stats: &mut CastStats,
     ) -> Option<f64> {
         let inv_dir = self.inverse_of(ray.dir);
-        let range = solid.bounds().clip_ray_with_inverse(ray, inv_dir, range)?;
+        let range = solid
+            .bounds_ref()
+            .clip_ray_with_inverse(ray, inv_dir, range)?;
         let program = active.map_or(solid.program(), ActiveSet::program);
         // The common case — one leaf and no perturbation — needs no scratch space and no program:
         // the same search over the same leaf, monomorphised (bit-identical to the general path).
@@ -213,7 +215,8 @@ impl RayCaster {
             let present = if solid.leaf_covers_solid(i as usize) {
                 range
             } else {
-                leaf.bounds().clip_ray_with_inverse(ray, inv_dir, range)?
+                leaf.bounds_ref()
+                    .clip_ray_with_inverse(ray, inv_dir, range)?
             };
             let mut f = PlainLeaf {
                 leaf: LeafOnRay {
@@ -284,7 +287,9 @@ impl RayCaster {
     /// range, or `None` if the ray cannot reach the solid there. For benchmarks and diagnostics.
     pub fn prepare_ray(&mut self, solid: &Solid, ray: &Ray, range: Interval) -> Option<Interval> {
         let inv_dir = DVec3::ONE / ray.dir;
-        let range = solid.bounds().clip_ray_with_inverse(ray, inv_dir, range)?;
+        let range = solid
+            .bounds_ref()
+            .clip_ray_with_inverse(ray, inv_dir, range)?;
         self.prepare(solid, ray, inv_dir, range, None)
             .then_some(range)
     }
@@ -329,11 +334,16 @@ impl RayCaster {
         self.perturbations.clear();
         let mut any = false;
         for (i, leaf) in solid.leaves().iter().enumerate() {
-            let present = match active {
-                Some(a) if !a.leaf_is_active(i) => None,
-                _ if solid.leaf_covers_solid(i) => Some(range),
-                _ => leaf.bounds().clip_ray_with_inverse(ray, inv_dir, range),
+            // The slab test as two bare floats (an `Option` here is spilled and reloaded).
+            let slab = match active {
+                Some(a) if !a.leaf_is_active(i) => Interval {
+                    lo: f64::INFINITY,
+                    hi: f64::NEG_INFINITY,
+                },
+                _ if solid.leaf_covers_solid(i) => range,
+                _ => leaf.bounds_ref().slab_interval(ray, inv_dir, range),
             };
+            let present = (slab.lo <= slab.hi).then_some(slab);
             let start = self.perturbations.len() as u32;
             if let Some(present) = present {
                 any = true;

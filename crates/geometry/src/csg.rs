@@ -97,6 +97,12 @@ impl Solid {
         self.bounds
     }
 
+    /// [`Solid::bounds`] in place (see `FreeForm::bounds_ref`).
+    #[inline]
+    pub(crate) fn bounds_ref(&self) -> &Aabb {
+        &self.bounds
+    }
+
     /// Whether leaf `i`'s box contains the solid's box (so clipping a ray to the solid's box
     /// clips it to the leaf's as well).
     #[inline]

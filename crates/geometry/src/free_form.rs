@@ -85,6 +85,14 @@ impl FreeForm {
         self.bounds
     }
 
+    /// [`FreeForm::bounds`] in place: the hot slab tests read the box where it lives rather
+    /// than a fresh stack copy (stored and reloaded in other widths, which stalls store
+    /// forwarding on every cast).
+    #[inline]
+    pub(crate) fn bounds_ref(&self) -> &Aabb {
+        &self.bounds
+    }
+
     /// Whether the box cuts the shape (explicit bounds), so its faces can be surface.
     pub fn clips(&self) -> bool {
         self.clips

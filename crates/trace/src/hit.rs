@@ -73,7 +73,7 @@ pub(crate) fn nearest_hit_deferred(
     match candidates {
         None => {
             let all = (0..scene.objects.len()).map(|i| (i, None));
-            let best = nearest_over(scene, caster, ray, range, eps, all, stats);
+            let best = nearest_over(scene, caster, ray, range, eps, all, stats).map(pending);
             let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
             nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
         }
@@ -83,11 +83,11 @@ pub(crate) fn nearest_hit_deferred(
                 .map(|(index, active)| (*index as usize, Some(active)));
             let best = nearest_over(scene, caster, ray, range, eps, listed, stats);
             if scene.terrains.is_empty() {
-                return best; // no terrain pass: skip walking the list again
+                return best.map(pending); // no terrain pass: skip walking the list again
             }
             // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
             let terrains = candidates.iter().map(|(index, _)| *index as usize);
-            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
+            nearer_terrain_hit(scene, ray, range, eps, best.map(pending), terrains, terrain)
         }
     }
 }
@@ -142,7 +142,8 @@ pub fn nearest_hit_among(
 }
 
 /// The nearest hit over `candidates` (object index, and the active subset or `None` for all of
-/// it), its surface pending. On a tie the earlier object keeps the hit: each later search ends
+/// it): `(t, object)`, the hit's surface still to come. Kept small, so that it travels in
+/// registers rather than as a struct through the stack. On a tie the earlier object keeps the hit: each later search ends
 /// at the best so far. Inlined for the reason [`nearest_hit_deferred`] is.
 #[inline(always)]
 fn nearest_over<'a>(
@@ -153,7 +154,7 @@ fn nearest_over<'a>(
     eps: f64,
     candidates: impl Iterator<Item = (usize, Option<&'a ActiveSet>)>,
     stats: &mut CastStats,
-) -> Option<SceneHit> {
+) -> Option<(f64, u32)> {
     let mut best: Option<(f64, usize, Option<&ActiveSet>)> = None;
     let mut hi = range.hi;
     for (index, active) in candidates {
@@ -172,13 +173,18 @@ fn nearest_over<'a>(
             best = Some((t, index, active));
         }
     }
-    let (t, index, _) = best?;
-    Some(SceneHit {
+    best.map(|(t, index, _)| (t, index as u32))
+}
+
+/// A free-form hit `(t, object)` whose surface is still to come.
+#[inline(always)]
+fn pending((t, object): (f64, u32)) -> SceneHit {
+    SceneHit {
         t,
-        object: index as u32,
+        object,
         leaf: SURFACE_PENDING,
         normal: DVec3::ZERO,
-    })
+    }
 }
 
 /// [`occluded`] testing only the listed objects (increasing indices) and the terrains: the same
