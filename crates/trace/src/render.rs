@@ -137,20 +137,25 @@ pub fn render_into(
         && sized(frame.depth.width(), frame.depth.height())
         && sized(frame.normals.width(), frame.normals.height()))
     {
-        // New buffers, their pages touched in parallel (each band task fills its own rows).
-        let (colour, depth, normals) = pool.install(|| {
-            (
-                (0..n)
-                    .into_par_iter()
-                    .map(|_| Rgb::ZERO)
-                    .collect::<Vec<_>>(),
-                (0..n).into_par_iter().map(|_| 0.0).collect::<Vec<_>>(),
-                (0..n)
-                    .into_par_iter()
-                    .map(|_| Vec3::ZERO)
-                    .collect::<Vec<_>>(),
-            )
-        });
+        // New buffers from zeroed allocations: the kernel maps their pages when a band task
+        // first writes its rows (in parallel, once), instead of in a fill pass before that.
+        let zeroed = || bytemuck::allocation::try_zeroed_vec::<Vec3>(n).ok();
+        let (colour, depth, normals) = match (zeroed(), zeroed()) {
+            (Some(c), Some(nrm)) => (c, vec![0.0; n], nrm),
+            _ => pool.install(|| {
+                (
+                    (0..n)
+                        .into_par_iter()
+                        .map(|_| Rgb::ZERO)
+                        .collect::<Vec<_>>(),
+                    (0..n).into_par_iter().map(|_| 0.0).collect::<Vec<_>>(),
+                    (0..n)
+                        .into_par_iter()
+                        .map(|_| Vec3::ZERO)
+                        .collect::<Vec<_>>(),
+                )
+            }),
+        };
         // The lengths are width × height by construction, so the fallbacks are never taken.
         frame.colour = Image::from_pixels(width, height, colour)
             .unwrap_or_else(|| Image::filled(width, height, Rgb::ZERO));
