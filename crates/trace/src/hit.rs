@@ -44,7 +44,10 @@ pub fn nearest_hit_lod(
     stats: &mut CastStats,
     terrain: &mut TerrainCast,
 ) -> Option<SceneHit> {
-    let mut hit = nearest_hit_deferred(scene, caster, ray, range, eps, candidates, stats, terrain);
+    let mut hit = None;
+    nearest_hit_deferred(
+        scene, caster, ray, range, eps, candidates, stats, terrain, &mut hit,
+    );
     if let Some(h) = hit.as_mut() {
         finish_surface(scene, ray, candidates, h);
     }
@@ -52,12 +55,12 @@ pub fn nearest_hit_lod(
 }
 
 /// [`nearest_hit_lod`] with a free-form hit's surface (normal and leaf) left for
-/// [`finish_surface`]: the frame loop finds every hit of a tile first and then their normals,
-/// so that the normals' long chains of dependent arithmetic (point, gradient, square root,
-/// division) overlap from pixel to pixel instead of each waiting on its own cast. Inlined, so
-/// that the hit is written straight into its pixel's slot (a hit returned through a stack
-/// temporary is reloaded in other widths than it was stored in, which stalls store
-/// forwarding once per pixel).
+/// [`finish_surface`], written into `out`: the frame loop finds every hit of a tile first and
+/// then their normals, so that the normals' long chains of dependent arithmetic (point,
+/// gradient, square root, division) overlap from pixel to pixel instead of each waiting on its
+/// own cast. Inlined, and writing its fields in place: a hit returned through a stack
+/// temporary is reloaded in other widths than it was stored in, which stalls store forwarding
+/// once per pixel.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn nearest_hit_deferred(
@@ -69,27 +72,47 @@ pub(crate) fn nearest_hit_deferred(
     candidates: Option<&[(u32, ActiveSet)]>,
     stats: &mut CastStats,
     terrain: &mut TerrainCast,
-) -> Option<SceneHit> {
-    match candidates {
+    out: &mut Option<SceneHit>,
+) {
+    let best = match candidates {
         None => {
             let all = (0..scene.objects.len()).map(|i| (i, None));
-            let best = nearest_over(scene, caster, ray, range, eps, all, stats).map(pending);
-            let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
-            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
+            nearest_over(scene, caster, ray, range, eps, all, stats)
         }
         Some(candidates) => {
             let listed = candidates
                 .iter()
                 .map(|(index, active)| (*index as usize, Some(active)));
-            let best = nearest_over(scene, caster, ray, range, eps, listed, stats);
-            if scene.terrains.is_empty() {
-                return best.map(pending); // no terrain pass: skip walking the list again
-            }
-            // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
-            let terrains = candidates.iter().map(|(index, _)| *index as usize);
-            nearer_terrain_hit(scene, ray, range, eps, best.map(pending), terrains, terrain)
+            nearest_over(scene, caster, ray, range, eps, listed, stats)
         }
+    };
+    if scene.terrains.is_empty() {
+        // No terrain pass: skip walking the list again.
+        match best {
+            Some((t, object)) => {
+                *out = Some(SceneHit {
+                    t,
+                    object,
+                    leaf: SURFACE_PENDING,
+                    normal: DVec3::ZERO,
+                })
+            }
+            None => *out = None,
+        }
+        return;
     }
+    let best = best.map(pending);
+    *out = match candidates {
+        None => {
+            let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
+            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
+        }
+        // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
+        Some(candidates) => {
+            let terrains = candidates.iter().map(|(index, _)| *index as usize);
+            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
+        }
+    };
 }
 
 /// Marks a free-form hit whose surface [`finish_surface`] has yet to compute.

@@ -361,7 +361,7 @@ fn render_tile(
         }
     }
     for (camera_ray, hit) in hits.iter_mut() {
-        *hit = camera_ray.as_ref().and_then(|c| {
+        if let Some(c) = camera_ray {
             let range = Interval::new(c.t_near, f64::INFINITY);
             let eps = settings.epsilon;
             let stats = &mut counters.cast;
@@ -374,8 +374,9 @@ fn render_tile(
                 candidates,
                 stats,
                 &mut terrain,
-            )
-        });
+                hit,
+            );
+        }
     }
     // Then the surfaces (normals) of all the tile's hits, independent of each other.
     for (camera_ray, hit) in hits.iter_mut() {
