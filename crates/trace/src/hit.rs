@@ -1,7 +1,7 @@
 //! The nearest hit over all objects of a scene: the pair (ray parameter, primitive).
 
 use crate::terrain_hit::{TerrainCast, nearer_terrain_hit, terrain_occludes};
-use fray_core::{Interval, Ray};
+use fray_core::{CameraRay, Interval, Ray};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_scene::Scene;
 use glam::DVec3;
@@ -113,6 +113,81 @@ pub(crate) fn nearest_hit_deferred(
             nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
         }
     };
+}
+
+/// [`nearest_hit_deferred`] for every camera ray of a tile at once (`pixels`: each ray and its
+/// hit slot, overwritten), with the same answers: per pixel the same casts in the same order,
+/// each ending at that pixel's best so far. The loops are the other way round — candidates
+/// outer, pixels inner — because a pixel's next cast depends on its last (its range ends at
+/// the best hit), while the next pixel's cast does not: consecutive casts are independent, so
+/// the processor overlaps their long chains of dependent arithmetic (root, square root,
+/// division, certification).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn nearest_hits_deferred(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    pixels: &mut [(Option<CameraRay>, Option<SceneHit>)],
+    eps: f64,
+    candidates: Option<&[(u32, ActiveSet)]>,
+    stats: &mut CastStats,
+    terrain: &mut TerrainCast,
+) {
+    for (_, hit) in pixels.iter_mut() {
+        *hit = None;
+    }
+    let mut cast_all = |index: usize, active: Option<&ActiveSet>| {
+        let Some(object) = scene.objects.get(index) else {
+            return;
+        };
+        for (camera_ray, hit) in pixels.iter_mut() {
+            let Some(c) = camera_ray else {
+                continue;
+            };
+            let hi = hit.map_or(f64::INFINITY, |h| h.t);
+            let segment = Interval { lo: c.t_near, hi };
+            let found = match active {
+                Some(active) => {
+                    caster.cast_with(&object.solid, &c.ray, segment, eps, active, stats)
+                }
+                None => caster.cast(&object.solid, &c.ray, segment, eps, stats),
+            };
+            if let Some(t) = found
+                && hit.is_none_or(|h| t < h.t)
+            {
+                *hit = Some(SceneHit {
+                    t,
+                    object: index as u32,
+                    leaf: SURFACE_PENDING,
+                    normal: DVec3::ZERO,
+                });
+            }
+        }
+    };
+    match candidates {
+        None => (0..scene.objects.len()).for_each(|i| cast_all(i, None)),
+        Some(listed) => listed
+            .iter()
+            .for_each(|(index, active)| cast_all(*index as usize, Some(active))),
+    }
+    if scene.terrains.is_empty() {
+        return;
+    }
+    for (camera_ray, hit) in pixels.iter_mut() {
+        let Some(c) = camera_ray else {
+            continue;
+        };
+        let range = Interval::new(c.t_near, f64::INFINITY);
+        *hit = match candidates {
+            None => {
+                let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
+                nearer_terrain_hit(scene, &c.ray, range, eps, *hit, terrains, terrain)
+            }
+            Some(listed) => {
+                let terrains = listed.iter().map(|(index, _)| *index as usize);
+                nearer_terrain_hit(scene, &c.ray, range, eps, *hit, terrains, terrain)
+            }
+        };
+    }
 }
 
 /// Marks a free-form hit whose surface [`finish_surface`] has yet to compute.

@@ -2,12 +2,12 @@
 //! the frame's statistics. The result does not depend on the thread count.
 
 use crate::SceneHit;
-use crate::hit::{finish_surface, nearest_hit_deferred};
+use crate::hit::{finish_surface, nearest_hits_deferred};
 use crate::shade::{ShadeContext, SurfacePoint};
 use crate::shadow_cull;
 use crate::terrain_hit::TerrainCast;
 use crate::{TraceError, TraceSettings};
-use fray_core::{CameraRay, Frame, Image, Interval, RenderStats, Rgb};
+use fray_core::{CameraRay, Frame, Image, RenderStats, Rgb};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
 use fray_quadtree::WorkList;
 use fray_scene::{Scene, work_list};
@@ -360,24 +360,15 @@ fn render_tile(
             hits.push((camera_ray, None));
         }
     }
-    for (camera_ray, hit) in hits.iter_mut() {
-        if let Some(c) = camera_ray {
-            let range = Interval::new(c.t_near, f64::INFINITY);
-            let eps = settings.epsilon;
-            let stats = &mut counters.cast;
-            nearest_hit_deferred(
-                scene,
-                caster,
-                &c.ray,
-                range,
-                eps,
-                candidates,
-                stats,
-                &mut terrain,
-                hit,
-            );
-        }
-    }
+    nearest_hits_deferred(
+        scene,
+        caster,
+        hits,
+        settings.epsilon,
+        candidates,
+        &mut counters.cast,
+        &mut terrain,
+    );
     // Then the surfaces (normals) of all the tile's hits, independent of each other.
     for (camera_ray, hit) in hits.iter_mut() {
         if let (Some(c), Some(h)) = (camera_ray, hit) {
