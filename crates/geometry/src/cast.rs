@@ -19,7 +19,7 @@
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
 
 use crate::closed_form::{Certified, SpanSet, certify, program_set};
-use crate::{ActiveSet, CsgOp, RayQuadratic, Solid};
+use crate::{ActiveSet, CsgOp, FreeForm, RayQuadratic, Solid};
 use fray_core::root::illinois;
 use fray_core::{Interval, Ray};
 use glam::DVec3;
@@ -207,36 +207,8 @@ impl RayCaster {
         let program = active.map_or(solid.program(), ActiveSet::program);
         // The common case — one leaf and no perturbation — needs no scratch space and no program:
         // the same search over the same leaf, monomorphised (bit-identical to the general path).
-        if let [CsgOp::Leaf(i)] = *program
-            && let Some(leaf) = solid.leaves().get(i as usize)
-            && active.is_none_or(|a| a.leaf_perturbations(i as usize).is_empty())
-            && (active.is_some() || leaf.perturbations().is_empty())
-        {
-            let present = if solid.leaf_covers_solid(i as usize) {
-                range
-            } else {
-                leaf.bounds_ref()
-                    .clip_ray_with_inverse(ray, inv_dir, range)?
-            };
-            let mut f = PlainLeaf {
-                leaf: LeafOnRay {
-                    present: Some(present),
-                    clips: leaf.clips(),
-                    base: leaf.base().on_ray(ray),
-                    perturbations: (0, 0),
-                },
-                stats,
-            };
-            if self.method == CastMethod::ClosedForm {
-                let first = SpanSet::first_of_leaf(&f.leaf.base, present, range);
-                if let Some(first) = first
-                    && let Certified::Hit(hit) = certify(first, range, eps, |t| f.value(t))
-                {
-                    f.stats.closed_form_casts += 1;
-                    return hit;
-                }
-            }
-            return search(f, &mut self.segments, range, eps);
+        if let Some((leaf, covers)) = plain_leaf(solid, program, active) {
+            return self.cast_plain_leaf(leaf, covers, ray, inv_dir, range, eps, stats);
         }
         if !self.prepare(solid, ray, inv_dir, range, active) {
             return None;
@@ -280,6 +252,72 @@ impl RayCaster {
             self.inverse = (dir, DVec3::ONE / dir);
         }
         self.inverse.1
+    }
+
+    /// Casts one leaf without perturbations over `range` (already clipped to the solid's box);
+    /// `covers`: the leaf's box contains the solid's. Shared by [`RayCaster::cast_with`] and
+    /// [`RayCaster::cast_planned`], so both give the same bits.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn cast_plain_leaf(
+        &mut self,
+        leaf: &FreeForm,
+        covers: bool,
+        ray: &Ray,
+        inv_dir: DVec3,
+        range: Interval,
+        eps: f64,
+        stats: &mut CastStats,
+    ) -> Option<f64> {
+        let present = if covers {
+            range
+        } else {
+            leaf.bounds_ref()
+                .clip_ray_with_inverse(ray, inv_dir, range)?
+        };
+        let mut f = PlainLeaf {
+            leaf: LeafOnRay {
+                present: Some(present),
+                clips: leaf.clips(),
+                base: leaf.base().on_ray(ray),
+                perturbations: (0, 0),
+            },
+            stats,
+        };
+        if self.method == CastMethod::ClosedForm {
+            let first = SpanSet::first_of_leaf(&f.leaf.base, present, range);
+            if let Some(first) = first
+                && let Certified::Hit(hit) = certify(first, range, eps, |t| f.value(t))
+            {
+                f.stats.closed_form_casts += 1;
+                return hit;
+            }
+        }
+        search(f, &mut self.segments, range, eps)
+    }
+
+    /// [`RayCaster::cast_with`] (`active: Some`) or [`RayCaster::cast`] (`None`) with what
+    /// depends on the solid alone decided once, in `plan` ([`CastPlan::new`]): for casting one
+    /// solid along many rays (a tile's pixels). The same answer, bit for bit; inlined, so that
+    /// a plain leaf's cast runs in the caller's loop without a call.
+    #[inline]
+    pub fn cast_planned(
+        &mut self,
+        plan: &CastPlan<'_>,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        stats: &mut CastStats,
+    ) -> Option<f64> {
+        let Some((leaf, covers)) = plan.plain else {
+            return self.cast_program(plan.solid, ray, range, eps, plan.active, stats);
+        };
+        let inv_dir = self.inverse_of(ray.dir);
+        let range = plan
+            .solid
+            .bounds_ref()
+            .clip_ray_with_inverse(ray, inv_dir, range)?;
+        self.cast_plain_leaf(leaf, covers, ray, inv_dir, range, eps, stats)
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
@@ -385,6 +423,47 @@ impl RayCaster {
         }
         any
     }
+}
+
+/// What [`RayCaster::cast_planned`] needs to know about a solid (and its active subset) before
+/// any ray: whether the (pruned) program is a single leaf without perturbations, the caster's
+/// fast path.
+#[derive(Clone, Copy, Debug)]
+pub struct CastPlan<'a> {
+    solid: &'a Solid,
+    active: Option<&'a ActiveSet>,
+    /// The single plain leaf and whether its box contains the solid's.
+    plain: Option<(&'a FreeForm, bool)>,
+}
+
+impl<'a> CastPlan<'a> {
+    /// The plan for casting `solid` restricted to `active` (or whole, `None`).
+    pub fn new(solid: &'a Solid, active: Option<&'a ActiveSet>) -> Self {
+        let program = active.map_or(solid.program(), ActiveSet::program);
+        Self {
+            solid,
+            active,
+            plain: plain_leaf(solid, program, active),
+        }
+    }
+}
+
+/// The leaf of a one-leaf `program` that has no perturbation (none active, or none at all when
+/// casting the whole solid), with whether its box contains the solid's.
+#[inline]
+fn plain_leaf<'a>(
+    solid: &'a Solid,
+    program: &[CsgOp],
+    active: Option<&ActiveSet>,
+) -> Option<(&'a FreeForm, bool)> {
+    if let [CsgOp::Leaf(i)] = *program
+        && let Some(leaf) = solid.leaves().get(i as usize)
+        && active.is_none_or(|a| a.leaf_perturbations(i as usize).is_empty())
+        && (active.is_some() || leaf.perturbations().is_empty())
+    {
+        return Some((leaf, solid.leaf_covers_solid(i as usize)));
+    }
+    None
 }
 
 /// `F′` along the current ray, as the search sees it: bounds over segments, values at points.

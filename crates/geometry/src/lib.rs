@@ -39,7 +39,7 @@ mod quadric;
 mod ray_quadratic;
 
 pub use active::ActiveSet;
-pub use cast::{CastMethod, CastStats, RayCaster};
+pub use cast::{CastMethod, CastPlan, CastStats, RayCaster};
 pub use csg::{CsgOp, Shape, Solid};
 pub use error::GeometryError;
 pub use free_form::FreeForm;

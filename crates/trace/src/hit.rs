@@ -2,7 +2,7 @@
 
 use crate::terrain_hit::{TerrainCast, nearer_terrain_hit, terrain_occludes};
 use fray_core::{CameraRay, Interval, Ray};
-use fray_geometry::{ActiveSet, CastStats, RayCaster};
+use fray_geometry::{ActiveSet, CastPlan, CastStats, RayCaster};
 use fray_scene::Scene;
 use glam::DVec3;
 
@@ -139,18 +139,14 @@ pub(crate) fn nearest_hits_deferred(
         let Some(object) = scene.objects.get(index) else {
             return;
         };
+        let plan = CastPlan::new(&object.solid, active);
         for (camera_ray, hit) in pixels.iter_mut() {
             let Some(c) = camera_ray else {
                 continue;
             };
             let hi = hit.map_or(f64::INFINITY, |h| h.t);
             let segment = Interval { lo: c.t_near, hi };
-            let found = match active {
-                Some(active) => {
-                    caster.cast_with(&object.solid, &c.ray, segment, eps, active, stats)
-                }
-                None => caster.cast(&object.solid, &c.ray, segment, eps, stats),
-            };
+            let found = caster.cast_planned(&plan, &c.ray, segment, eps, stats);
             if let Some(t) = found
                 && hit.is_none_or(|h| t < h.t)
             {
