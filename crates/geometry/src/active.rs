@@ -283,6 +283,16 @@ mod tests {
                 with.map(f64::to_bits),
                 "ray {i} (subset)"
             );
+            // Planned casts, whole and with the subset, give the same bits too.
+            for active in [None, Some(&subset)] {
+                let plan = crate::CastPlan::new(&s, active);
+                let planned = caster.cast_planned(&plan, &ray, range, 1e-9, &mut stats);
+                assert_eq!(
+                    full.map(f64::to_bits),
+                    planned.map(f64::to_bits),
+                    "ray {i} (planned)"
+                );
+            }
             assert!(may_hit || full.is_none());
             if let Some(t) = full {
                 let p = ray.at(t);
@@ -290,6 +300,44 @@ mod tests {
                     s.surface_at(p, -ray.dir),
                     s.surface_at_with(p, -ray.dir, &subset)
                 );
+            }
+        }
+    }
+
+    /// A plain leaf, clipped by a box that cuts it and not: the planned fast path and the
+    /// general cast agree bit for bit, with either cast method.
+    #[test]
+    fn planned_plain_leaves_match_cast_bit_for_bit() {
+        let cut = fray_core::Aabb::from_center_half(DVec3::new(0.2, 0.1, 0.0), DVec3::splat(0.8));
+        let leaves = [
+            FreeForm::new(Quadric::sphere(DVec3::ZERO, 1.0), vec![], None).unwrap(),
+            FreeForm::new(Quadric::sphere(DVec3::ZERO, 1.0), vec![], Some(cut)).unwrap(),
+            FreeForm::new(
+                Quadric::cylinder(DVec3::ZERO, DVec3::Y, 0.6),
+                vec![],
+                Some(cut),
+            )
+            .unwrap(),
+        ];
+        for leaf in leaves {
+            let s = Solid::from_free_form(leaf);
+            let all = ActiveSet::all(&s);
+            for method in [crate::CastMethod::ClosedForm, crate::CastMethod::Halving] {
+                let mut caster = RayCaster::with_method(method);
+                let mut stats = CastStats::default();
+                for i in 0..500 {
+                    let a = f64::from(i) * 0.61;
+                    let origin = DVec3::new(3.0 * a.cos(), 1.5 * (a * 0.3).sin(), 3.0 * a.sin());
+                    let target = DVec3::new(0.7 * (a * 1.7).sin(), 0.6 * a.cos(), 0.2);
+                    let ray = Ray::new(origin, target - origin).unwrap();
+                    let range = Interval::new(0.0, f64::INFINITY);
+                    let cast = caster.cast(&s, &ray, range, 1e-9, &mut stats);
+                    for active in [None, Some(&all)] {
+                        let plan = crate::CastPlan::new(&s, active);
+                        let planned = caster.cast_planned(&plan, &ray, range, 1e-9, &mut stats);
+                        assert_eq!(cast.map(f64::to_bits), planned.map(f64::to_bits), "ray {i}");
+                    }
+                }
             }
         }
     }
