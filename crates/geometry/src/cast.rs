@@ -15,6 +15,12 @@
 //! the common case after culling — a single leaf without perturbations, monomorphised so that it
 //! needs no scratch space and no program interpretation (and gives the same answer bit for bit).
 //!
+//! Where no perturbation reaches the ray, every leaf on it is a plain quadric, and by default
+//! ([`CastMethod::ClosedForm`]) the caster answers in closed form instead (module
+//! `closed_form`), certified the same way; the search stays the method for perturbed rays and
+//! the fallback wherever rounding leaves the closed form unsure. [`CastPlan`] decides a solid's
+//! fast path once for many rays.
+//!
 //! Contract: the returned `t` is the first point of the range (up to `ε`) where `F′ ≥ 0`; it is
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
 
