@@ -5,8 +5,9 @@
 //! Positions are made relative in f64 before they are rounded to f32 (a quadric's coefficients
 //! are about its own origin, so only origins and boxes move), which keeps far-from-origin scenes
 //! as accurate on the GPU as scenes at the origin. Every struct is built from 16-byte vectors, so
-//! the Rust layout and the WGSL storage layout coincide; [`WgslStruct::layout`] computes each table's WGSL offsets, which a test checks
-//! against `size_of`/`offset_of`, and fray-gpu's naga test checks the generated WGSL itself.
+//! the Rust layout and the WGSL storage layout coincide; [`WgslStruct::layout`] computes each
+//! table's WGSL offsets, which a test checks against `size_of`/`offset_of`, and fray-gpu's naga
+//! test checks the generated WGSL itself.
 
 use crate::{CsgOp, Quadric, Solid};
 use bytemuck::{Pod, Zeroable};
