@@ -41,7 +41,7 @@ const ILLINOIS_STEPS: u32 = 100u;
 @group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
 // Frame totals: hits, shadow rays, then (lo, hi) 64-bit pairs of bound evaluations, point
 // evaluations, terrain rays, segments, cells, stops and stop levels.
-@group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, 16>;
+@group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, COUNTER_WORDS>;
 // The work list: this dispatch's items, and the frame's candidates, active leaves (solid-local),
 // active perturbations (object-wide) and per-candidate (first word, length) in `program`.
 @group(0) @binding(9) var<storage, read> items: array<WorkItem>;
@@ -812,13 +812,12 @@ fn add_wide(lo: u32, value: u32) {
     }
 }
 
-// The workgroup's sums of the per-pixel counters (hits, shadow rays, bound and point
-// evaluations, then terrain.wgsl's camera-ray counters: rays, segments, cells, stops, stop
-// levels; zeroed by the kernel: the pipeline skips wgpu's workgroup zero-fill). Pixels add here
-// and one invocation adds the sums to `counters`: on a real GPU, atomics from every pixel to
-// the same few words serialise and cost more than the tracing.
+// The workgroup's sums of the per-pixel counters (slots COUNT_*, words WORD_* of `counters`:
+// generated from fray_gpu::counters; zeroed by the kernel, since the pipeline skips wgpu's
+// workgroup zero-fill). Pixels add here and one invocation adds the sums to `counters`: on a
+// real GPU, atomics from every pixel to the same few words serialise and cost more than the
+// tracing.
 var<workgroup> group_counts: array<atomic<u32>, GROUP_COUNTERS>;
-const GROUP_COUNTERS: u32 = 9u;
 
 // One pixel: camera ray, nearest hit, normal, shading. Writes colour + depth and normal + hit;
 // true if it hit.
@@ -888,36 +887,41 @@ fn main(
     let py = item.y0 + local.y;
     if px < item.x1 && py < item.y1 {
         if render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px) {
-            atomicAdd(&group_counts[0], 1u);
+            atomicAdd(&group_counts[COUNT_HITS], 1u);
         }
-        atomicAdd(&group_counts[1], shadow_rays);
-        atomicAdd(&group_counts[2], bound_evals);
-        atomicAdd(&group_counts[3], point_evals);
+        atomicAdd(&group_counts[COUNT_SHADOW_RAYS], shadow_rays);
+        atomicAdd(&group_counts[COUNT_BOUND_EVALUATIONS], bound_evals);
+        atomicAdd(&group_counts[COUNT_POINT_EVALUATIONS], point_evals);
         if HAS_TERRAIN {
-            atomicAdd(&group_counts[4], terrain_rays);
-            atomicAdd(&group_counts[5], terrain_segments);
-            atomicAdd(&group_counts[6], terrain_cells);
-            atomicAdd(&group_counts[7], terrain_stops);
-            atomicAdd(&group_counts[8], terrain_stop_levels);
+            atomicAdd(&group_counts[COUNT_TERRAIN_RAYS], terrain_rays);
+            atomicAdd(&group_counts[COUNT_TERRAIN_SEGMENTS], terrain_segments);
+            atomicAdd(&group_counts[COUNT_TERRAIN_CELLS], terrain_cells);
+            atomicAdd(&group_counts[COUNT_TERRAIN_STOPS], terrain_stops);
+            atomicAdd(&group_counts[COUNT_TERRAIN_STOP_LEVELS], terrain_stop_levels);
         }
     }
     workgroupBarrier();
     if local_index == 0u {
         // A workgroup's sums fit 32 bits (TILE_THREADS² pixels); the frame's totals are 64-bit pairs.
-        let hits = atomicLoad(&group_counts[0]);
+        let hits = atomicLoad(&group_counts[COUNT_HITS]);
         if hits > 0u {
-            atomicAdd(&counters[0], hits);
+            atomicAdd(&counters[WORD_HITS], hits);
         }
-        let shadows = atomicLoad(&group_counts[1]);
+        let shadows = atomicLoad(&group_counts[COUNT_SHADOW_RAYS]);
         if shadows > 0u {
-            atomicAdd(&counters[1], shadows);
+            atomicAdd(&counters[WORD_SHADOW_RAYS], shadows);
         }
-        add_wide(2u, atomicLoad(&group_counts[2]));
-        add_wide(4u, atomicLoad(&group_counts[3]));
+        add_wide(WORD_BOUND_EVALUATIONS, atomicLoad(&group_counts[COUNT_BOUND_EVALUATIONS]));
+        add_wide(WORD_POINT_EVALUATIONS, atomicLoad(&group_counts[COUNT_POINT_EVALUATIONS]));
         if HAS_TERRAIN {
-            for (var k = 4u; k < GROUP_COUNTERS; k++) {
-                add_wide(2u * k - 2u, atomicLoad(&group_counts[k]));
-            }
+            add_wide(WORD_TERRAIN_RAYS, atomicLoad(&group_counts[COUNT_TERRAIN_RAYS]));
+            add_wide(WORD_TERRAIN_SEGMENTS, atomicLoad(&group_counts[COUNT_TERRAIN_SEGMENTS]));
+            add_wide(WORD_TERRAIN_CELLS, atomicLoad(&group_counts[COUNT_TERRAIN_CELLS]));
+            add_wide(WORD_TERRAIN_STOPS, atomicLoad(&group_counts[COUNT_TERRAIN_STOPS]));
+            add_wide(
+                WORD_TERRAIN_STOP_LEVELS,
+                atomicLoad(&group_counts[COUNT_TERRAIN_STOP_LEVELS]),
+            );
         }
     }
 }

@@ -6,6 +6,7 @@
 //! has timestamp queries, each band's compute pass is timed on the GPU.
 
 use crate::bindings::{entry, storage};
+use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams};
 use crate::readback::{map_read, read_back, readback_buffer};
 use crate::shader::{self, ArraySizes, Specialisation};
@@ -22,7 +23,8 @@ use wgpu::util::DeviceExt;
 const PASS: &str = "free-form";
 /// Bytes written per pixel: two `vec4<f32>` (colour + depth, normal + hit flag).
 const BYTES_PER_PIXEL: u64 = 32;
-const COUNTERS: usize = 16;
+/// Words of the frame's counter buffer (the layout: [`crate::counters`]).
+const COUNTERS: usize = counters::WORDS;
 /// Storage buffers the pass binds (scene 6, output, counters, work list 5).
 const STORAGE_BUFFERS: u32 = 13;
 /// Upper bound of one band's output buffer (smaller bands keep readback memory modest).
@@ -409,17 +411,16 @@ impl FreeFormPass {
                     (COUNTERS * 4) as u64,
                     PASS,
                 )?;
-                let wide = |lo: usize| u64::from(c[lo]) | (u64::from(c[lo + 1]) << 32);
-                out.hits = u64::from(c[0]);
-                out.shadow_rays = u64::from(c[1]);
-                out.bound_evaluations = wide(2);
-                out.point_evaluations = wide(4);
-                out.terrain_rays = wide(6);
+                out.hits = Counter::Hits.read(&c);
+                out.shadow_rays = Counter::ShadowRays.read(&c);
+                out.bound_evaluations = Counter::BoundEvaluations.read(&c);
+                out.point_evaluations = Counter::PointEvaluations.read(&c);
+                out.terrain_rays = Counter::TerrainRays.read(&c);
                 out.terrain = fray_terrain::TerrainStats {
-                    segments: wide(8),
-                    cells: wide(10),
-                    stops: wide(12),
-                    stop_levels_above_finest: wide(14),
+                    segments: Counter::TerrainSegments.read(&c),
+                    cells: Counter::TerrainCells.read(&c),
+                    stops: Counter::TerrainStops.read(&c),
+                    stop_levels_above_finest: Counter::TerrainStopLevels.read(&c),
                 };
             }
         }

@@ -18,6 +18,7 @@
 
 mod bindings;
 mod context;
+pub mod counters;
 mod error;
 pub mod freeform_pass;
 pub mod params;

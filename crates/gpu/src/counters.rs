@@ -1,0 +1,134 @@
+//! The free-form kernel's frame counters: one Rust table of slots, from which the shader
+//! prelude's constants are generated and the read-back words are decoded, so the WGSL and the
+//! Rust side cannot drift apart.
+//!
+//! Each pixel adds to a workgroup sum (`group_counts[COUNT_…]`); one invocation per workgroup
+//! adds the sums to the frame's counter buffer (`counters[WORD_…]`). Hits and shadow rays take
+//! one 32-bit word each; the evaluation and terrain counters, which can pass 2³² in a frame, a
+//! pair of words (low, high) that the kernel carries into.
+
+/// A counter the kernel sums, in the order of its workgroup slots.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Counter {
+    Hits,
+    ShadowRays,
+    BoundEvaluations,
+    PointEvaluations,
+    TerrainRays,
+    TerrainSegments,
+    TerrainCells,
+    TerrainStops,
+    TerrainStopLevels,
+}
+
+/// Every counter, in workgroup-slot order.
+pub const ALL: [Counter; 9] = [
+    Counter::Hits,
+    Counter::ShadowRays,
+    Counter::BoundEvaluations,
+    Counter::PointEvaluations,
+    Counter::TerrainRays,
+    Counter::TerrainSegments,
+    Counter::TerrainCells,
+    Counter::TerrainStops,
+    Counter::TerrainStopLevels,
+];
+
+/// 32-bit words in the frame's counter buffer.
+pub const WORDS: usize = 16;
+
+impl Counter {
+    /// Its slot in the workgroup sums.
+    pub const fn slot(self) -> u32 {
+        self as u32
+    }
+
+    /// Whether it is a 64-bit pair of words.
+    pub const fn wide(self) -> bool {
+        !matches!(self, Counter::Hits | Counter::ShadowRays)
+    }
+
+    /// Its (first) word in the frame's counter buffer.
+    pub const fn word(self) -> u32 {
+        match self {
+            Counter::Hits => 0,
+            Counter::ShadowRays => 1,
+            // The pairs follow the two single words, in slot order.
+            wide => 2 + 2 * (wide as u32 - 2),
+        }
+    }
+
+    /// The suffix of its WGSL constants (`COUNT_…`, `WORD_…`).
+    const fn wgsl_name(self) -> &'static str {
+        match self {
+            Counter::Hits => "HITS",
+            Counter::ShadowRays => "SHADOW_RAYS",
+            Counter::BoundEvaluations => "BOUND_EVALUATIONS",
+            Counter::PointEvaluations => "POINT_EVALUATIONS",
+            Counter::TerrainRays => "TERRAIN_RAYS",
+            Counter::TerrainSegments => "TERRAIN_SEGMENTS",
+            Counter::TerrainCells => "TERRAIN_CELLS",
+            Counter::TerrainStops => "TERRAIN_STOPS",
+            Counter::TerrainStopLevels => "TERRAIN_STOP_LEVELS",
+        }
+    }
+
+    /// Its value in the read-back buffer `words` (0 if the buffer is too short).
+    pub fn read(self, words: &[u32]) -> u64 {
+        let at = |k: u32| words.get(k as usize).copied().map_or(0, u64::from);
+        if self.wide() {
+            at(self.word()) | (at(self.word() + 1) << 32)
+        } else {
+            at(self.word())
+        }
+    }
+}
+
+/// The WGSL constants of the layout: `COUNT_<NAME>` (workgroup slot) and `WORD_<NAME>` (buffer
+/// word) per counter, `GROUP_COUNTERS` and `COUNTER_WORDS`.
+pub fn wgsl_constants() -> Vec<(String, u32)> {
+    let mut c: Vec<(String, u32)> = ALL
+        .iter()
+        .flat_map(|&k| {
+            [
+                (format!("COUNT_{}", k.wgsl_name()), k.slot()),
+                (format!("WORD_{}", k.wgsl_name()), k.word()),
+            ]
+        })
+        .collect();
+    c.push(("GROUP_COUNTERS".into(), ALL.len() as u32));
+    c.push(("COUNTER_WORDS".into(), WORDS as u32));
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slots_are_in_order_and_words_tile_the_buffer_without_overlap() {
+        let mut used = [false; WORDS];
+        for (k, c) in ALL.iter().enumerate() {
+            assert_eq!(c.slot() as usize, k);
+            let n = if c.wide() { 2 } else { 1 };
+            for w in c.word()..c.word() + n {
+                let w = w as usize;
+                assert!(w < WORDS, "{c:?} past the buffer");
+                assert!(!used[w], "{c:?} overlaps");
+                used[w] = true;
+            }
+        }
+        assert!(used.iter().all(|&u| u), "every word is a counter's");
+    }
+
+    #[test]
+    fn wide_counters_read_as_pairs() {
+        let mut words = [0u32; WORDS];
+        words[Counter::Hits.word() as usize] = 7;
+        let w = Counter::PointEvaluations.word() as usize;
+        (words[w], words[w + 1]) = (5, 2);
+        assert_eq!(Counter::Hits.read(&words), 7);
+        assert_eq!(Counter::PointEvaluations.read(&words), (2u64 << 32) | 5);
+        assert_eq!(Counter::TerrainStops.read(&words[..3]), 0);
+    }
+}
