@@ -111,15 +111,17 @@ impl GpuWork {
         for (i, (object, flat)) in scene.objects.iter().zip(&solids.solids).enumerate() {
             let leaves = object.solid.leaves().len() as u32;
             let perturbations = object.solid.perturbation_count() as u32;
+            let (leaf_start, perturbation_start) = (work.leaves.len(), work.perturbations.len());
             work.candidates.push(Candidate {
-                object: i as u32,
-                leaf_start: work.leaves.len() as u32,
                 leaf_count: leaves,
-                perturbation_start: work.perturbations.len() as u32,
                 perturbation_count: perturbations,
-                t_min: 0.0,
-                t_max: f32::INFINITY,
-                _pad: 0,
+                ..Candidate::new(
+                    i as u32,
+                    leaf_start as u32,
+                    perturbation_start as u32,
+                    0.0,
+                    f64::INFINITY,
+                )
             });
             work.leaves.extend(0..leaves);
             work.perturbations.extend(0..perturbations);
@@ -151,16 +153,14 @@ impl GpuWork {
     /// Lists terrain `object` (an id past the scene's objects): no leaves, no perturbations,
     /// an empty program.
     fn push_terrain(&mut self, object: u32) {
-        self.candidates.push(Candidate {
+        let (leaf_start, perturbation_start) = (self.leaves.len(), self.perturbations.len());
+        self.candidates.push(Candidate::new(
             object,
-            leaf_start: self.leaves.len() as u32,
-            leaf_count: 0,
-            perturbation_start: self.perturbations.len() as u32,
-            perturbation_count: 0,
-            t_min: 0.0,
-            t_max: f32::INFINITY,
-            _pad: 0,
-        });
+            leaf_start as u32,
+            perturbation_start as u32,
+            0.0,
+            f64::INFINITY,
+        ));
         self.programs.push([0, 0]);
     }
 

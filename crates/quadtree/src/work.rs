@@ -39,6 +39,28 @@ pub struct Candidate {
 }
 
 impl Candidate {
+    /// A candidate for `object` with no leaves or perturbations yet, whose lists will start at
+    /// `leaf_start` and `perturbation_start` in their index arrays, and whose rays can meet it
+    /// for `t ∈ [t_min, t_max]` (rounded outward to f32).
+    pub fn new(
+        object: u32,
+        leaf_start: u32,
+        perturbation_start: u32,
+        t_min: f64,
+        t_max: f64,
+    ) -> Self {
+        Self {
+            object,
+            leaf_start,
+            leaf_count: 0,
+            perturbation_start,
+            perturbation_count: 0,
+            t_min: round_down(t_min),
+            t_max: round_up(t_max),
+            _pad: 0,
+        }
+    }
+
     pub fn leaves<'a>(&self, leaves: &'a [u32]) -> &'a [u32] {
         let s = self.leaf_start as usize;
         leaves.get(s..s + self.leaf_count as usize).unwrap_or(&[])
@@ -82,16 +104,14 @@ impl Candidates {
     /// Starts a candidate for `object` whose rays can meet it for `t ∈ [t_min, t_max]`; the
     /// following [`Candidates::push_leaf`] / [`Candidates::push_perturbation`] calls fill it.
     pub fn begin(&mut self, object: u32, t_min: f64, t_max: f64) {
-        self.candidates.push(Candidate {
+        let (leaf_start, perturbation_start) = (self.leaves.len(), self.perturbations.len());
+        self.candidates.push(Candidate::new(
             object,
-            leaf_start: self.leaves.len() as u32,
-            leaf_count: 0,
-            perturbation_start: self.perturbations.len() as u32,
-            perturbation_count: 0,
-            t_min: round_down(t_min),
-            t_max: round_up(t_max),
-            _pad: 0,
-        });
+            leaf_start as u32,
+            perturbation_start as u32,
+            t_min,
+            t_max,
+        ));
     }
 
     pub fn push_leaf(&mut self, leaf: u32) {
