@@ -36,6 +36,7 @@ impl SpanSet {
     #[cfg(test)]
     const EVERYTHING: SpanSet = SpanSet::one(f64::NEG_INFINITY, f64::INFINITY);
 
+    #[cfg(test)]
     const fn one(lo: f64, hi: f64) -> Self {
         let mut s = Self::EMPTY;
         s.spans[0] = (lo, hi);
@@ -72,57 +73,13 @@ impl SpanSet {
     /// the roots are not finite numbers (overflow), so the caller searches instead.
     #[inline]
     pub(crate) fn of_leaf(q: &RayQuadratic, present: Interval) -> Option<Self> {
-        let inside = |lo: f64, hi: f64| {
+        let mut s = Self::EMPTY;
+        for (lo, hi) in nonnegative_spans(q)?.into_iter().flatten() {
             let (lo, hi) = (lo.max(present.lo), hi.min(present.hi));
+            // Two spans that touch (a double root) merge into one.
             if lo <= hi {
-                Self::one(lo, hi)
-            } else {
-                Self::EMPTY
+                s.push(lo, hi);
             }
-        };
-        let (a, b, c) = (q.a, q.b, q.c);
-        if a == 0.0 {
-            return Some(if b > 0.0 {
-                inside(-c / b, f64::INFINITY)
-            } else if b < 0.0 {
-                inside(f64::NEG_INFINITY, -c / b)
-            } else if c >= 0.0 {
-                inside(f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                Self::EMPTY
-            });
-        }
-        let disc = b * b - 4.0 * a * c;
-        if disc.is_nan() || disc.is_infinite() {
-            return None;
-        }
-        if disc < 0.0 {
-            // No root: q has a's sign everywhere.
-            return Some(if a > 0.0 {
-                inside(f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                Self::EMPTY
-            });
-        }
-        // The cancellation-free roots, as in `RayQuadratic::first_nonnegative`.
-        let half = -0.5 * (b + b.signum() * disc.sqrt());
-        let (r0, r1) = if half == 0.0 {
-            (0.0, 0.0)
-        } else {
-            (half / a, c / half)
-        };
-        let (r0, r1) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
-        if r0.is_nan() || r1.is_nan() {
-            return None;
-        }
-        if a < 0.0 {
-            return Some(inside(r0, r1));
-        }
-        // Outside the roots: two spans, either of which the box may cut away.
-        let mut s = inside(f64::NEG_INFINITY, r0);
-        let after = inside(r1, f64::INFINITY);
-        if after.len == 1 {
-            s.push(after.spans[0].0, after.spans[0].1);
         }
         Some(s)
     }
@@ -136,52 +93,16 @@ impl SpanSet {
         present: Interval,
         range: Interval,
     ) -> Option<Option<f64>> {
-        // The span [lo, hi] of the set (before the box), cut to the box; its first point.
-        let first = |lo: f64, hi: f64| {
+        // A span's first point once the box cuts it. Where the box keeps both spans and they
+        // touch (a double root), the set merges them, and its first point is still the earlier
+        // span's.
+        let first = |(lo, hi): (f64, f64)| {
             let (lo, hi) = (lo.max(present.lo), hi.min(present.hi));
             (lo <= hi && hi >= range.lo)
                 .then(|| lo.max(range.lo))
                 .filter(|&t| t <= range.hi)
         };
-        let (a, b, c) = (q.a, q.b, q.c);
-        if a == 0.0 {
-            return Some(if b > 0.0 {
-                first(-c / b, f64::INFINITY)
-            } else if b < 0.0 {
-                first(f64::NEG_INFINITY, -c / b)
-            } else if c >= 0.0 {
-                first(f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                None
-            });
-        }
-        let disc = b * b - 4.0 * a * c;
-        if disc.is_nan() || disc.is_infinite() {
-            return None;
-        }
-        if disc < 0.0 {
-            return Some(if a > 0.0 {
-                first(f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                None
-            });
-        }
-        let half = -0.5 * (b + b.signum() * disc.sqrt());
-        let (r0, r1) = if half == 0.0 {
-            (0.0, 0.0)
-        } else {
-            (half / a, c / half)
-        };
-        let (r0, r1) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
-        if r0.is_nan() || r1.is_nan() {
-            return None;
-        }
-        if a < 0.0 {
-            return Some(first(r0, r1));
-        }
-        // Outside the roots. Where the box keeps both spans and they touch (a double root),
-        // the set merges them into one span, whose first point is the earlier span's.
-        Some(first(f64::NEG_INFINITY, r0).or_else(|| first(r1, f64::INFINITY)))
+        Some(nonnegative_spans(q)?.into_iter().flatten().find_map(first))
     }
 
     /// `self ∪ other`; `None` if it does not fit.
@@ -253,6 +174,52 @@ impl SpanSet {
             .map(|s| s.0.max(range.lo))
             .filter(|&t| t <= range.hi)
     }
+}
+
+/// Where `q(t) ≥ 0` on the whole line: at most two spans, in order (endpoints may be infinite;
+/// `None` entries unused). `None` when the roots are not finite numbers (overflow), so the
+/// caller searches instead. The roots are the cancellation-free ones of
+/// `RayQuadratic::first_nonnegative`.
+#[inline(always)]
+fn nonnegative_spans(q: &RayQuadratic) -> Option<[Option<(f64, f64)>; 2]> {
+    const ALL: Option<(f64, f64)> = Some((f64::NEG_INFINITY, f64::INFINITY));
+    let (a, b, c) = (q.a, q.b, q.c);
+    if a == 0.0 {
+        let span = if b > 0.0 {
+            Some((-c / b, f64::INFINITY))
+        } else if b < 0.0 {
+            Some((f64::NEG_INFINITY, -c / b))
+        } else if c >= 0.0 {
+            ALL
+        } else {
+            None
+        };
+        return Some([span, None]);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc.is_nan() || disc.is_infinite() {
+        return None;
+    }
+    if disc < 0.0 {
+        // No root: q has a's sign everywhere.
+        return Some([if a > 0.0 { ALL } else { None }, None]);
+    }
+    let half = -0.5 * (b + b.signum() * disc.sqrt());
+    let (r0, r1) = if half == 0.0 {
+        (0.0, 0.0)
+    } else {
+        (half / a, c / half)
+    };
+    let (r0, r1) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
+    if r0.is_nan() || r1.is_nan() {
+        return None;
+    }
+    Some(if a < 0.0 {
+        [Some((r0, r1)), None]
+    } else {
+        // Outside the roots.
+        [Some((f64::NEG_INFINITY, r0)), Some((r1, f64::INFINITY))]
+    })
 }
 
 /// Where the program is non-negative, from its leaves' sets (`leaf_set(i)`, `None` to give up);

@@ -44,36 +44,6 @@ pub fn nearest_hit_lod(
     stats: &mut CastStats,
     terrain: &mut TerrainCast,
 ) -> Option<SceneHit> {
-    let mut hit = None;
-    nearest_hit_deferred(
-        scene, caster, ray, range, eps, candidates, stats, terrain, &mut hit,
-    );
-    if let Some(h) = hit.as_mut() {
-        finish_surface(scene, ray, candidates, h);
-    }
-    hit
-}
-
-/// [`nearest_hit_lod`] with a free-form hit's surface (normal and leaf) left for
-/// [`finish_surface`], written into `out`: the frame loop finds every hit of a tile first and
-/// then their normals, so that the normals' long chains of dependent arithmetic (point,
-/// gradient, square root, division) overlap from pixel to pixel instead of each waiting on its
-/// own cast. Inlined, and writing its fields in place: a hit returned through a stack
-/// temporary is reloaded in other widths than it was stored in, which stalls store forwarding
-/// once per pixel.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-pub(crate) fn nearest_hit_deferred(
-    scene: &Scene,
-    caster: &mut RayCaster,
-    ray: &Ray,
-    range: Interval,
-    eps: f64,
-    candidates: Option<&[(u32, ActiveSet)]>,
-    stats: &mut CastStats,
-    terrain: &mut TerrainCast,
-    out: &mut Option<SceneHit>,
-) {
     let best = match candidates {
         None => {
             let all = (0..scene.objects.len()).map(|i| (i, None));
@@ -86,38 +56,53 @@ pub(crate) fn nearest_hit_deferred(
             nearest_over(scene, caster, ray, range, eps, listed, stats)
         }
     };
-    if scene.terrains.is_empty() {
-        // No terrain pass: skip walking the list again.
-        match best {
-            Some((t, object)) => {
-                *out = Some(SceneHit {
-                    t,
-                    object,
-                    leaf: SURFACE_PENDING,
-                    normal: DVec3::ZERO,
-                })
-            }
-            None => *out = None,
-        }
-        return;
+    let mut hit = terrain_pass(
+        scene,
+        ray,
+        range,
+        eps,
+        best.map(pending),
+        candidates,
+        terrain,
+    );
+    if let Some(h) = hit.as_mut() {
+        finish_surface(scene, ray, candidates, h);
     }
-    let best = best.map(pending);
-    *out = match candidates {
+    hit
+}
+
+/// The terrains' pass after the free forms: the nearer of `best` and the terrains' hits
+/// (terrain candidates have ids after the objects; without candidates, every terrain).
+fn terrain_pass(
+    scene: &Scene,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    best: Option<SceneHit>,
+    candidates: Option<&[(u32, ActiveSet)]>,
+    terrain: &mut TerrainCast,
+) -> Option<SceneHit> {
+    if scene.terrains.is_empty() {
+        return best; // no terrain pass: skip walking the list again
+    }
+    match candidates {
         None => {
             let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
             nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
         }
-        // Terrain candidates (ids after the objects) were skipped above; their pass comes last.
-        Some(candidates) => {
-            let terrains = candidates.iter().map(|(index, _)| *index as usize);
+        Some(listed) => {
+            let terrains = listed.iter().map(|(index, _)| *index as usize);
             nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
         }
-    };
+    }
 }
 
-/// [`nearest_hit_deferred`] for every camera ray of a tile at once (`pixels`: each ray and its
-/// hit slot, overwritten), with the same answers: per pixel the same casts in the same order,
-/// each ending at that pixel's best so far. The loops are the other way round — candidates
+/// [`nearest_hit_lod`] for every camera ray of a tile at once (`pixels`: each ray and its hit
+/// slot, overwritten) with the same answers — per pixel the same casts in the same order, each
+/// ending at that pixel's best so far — except that a free-form hit's surface (normal and leaf)
+/// is left for [`finish_surface`]: the frame loop finds all of a tile's hits first and then
+/// their surfaces, whose chains of dependent arithmetic (point, gradient, square root,
+/// division) then overlap from pixel to pixel. The loops are the other way round — candidates
 /// outer, pixels inner — because a pixel's next cast depends on its last (its range ends at
 /// the best hit), while the next pixel's cast does not: consecutive casts are independent, so
 /// the processor overlaps their long chains of dependent arithmetic (root, square root,
@@ -150,12 +135,7 @@ pub(crate) fn nearest_hits_deferred(
             if let Some(t) = found
                 && hit.is_none_or(|h| t < h.t)
             {
-                *hit = Some(SceneHit {
-                    t,
-                    object: index as u32,
-                    leaf: SURFACE_PENDING,
-                    normal: DVec3::ZERO,
-                });
+                *hit = Some(pending((t, index as u32)));
             }
         }
     };
@@ -169,27 +149,17 @@ pub(crate) fn nearest_hits_deferred(
         return;
     }
     for (camera_ray, hit) in pixels.iter_mut() {
-        let Some(c) = camera_ray else {
-            continue;
-        };
-        let range = Interval::new(c.t_near, f64::INFINITY);
-        *hit = match candidates {
-            None => {
-                let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
-                nearer_terrain_hit(scene, &c.ray, range, eps, *hit, terrains, terrain)
-            }
-            Some(listed) => {
-                let terrains = listed.iter().map(|(index, _)| *index as usize);
-                nearer_terrain_hit(scene, &c.ray, range, eps, *hit, terrains, terrain)
-            }
-        };
+        if let Some(c) = camera_ray {
+            let range = Interval::new(c.t_near, f64::INFINITY);
+            *hit = terrain_pass(scene, &c.ray, range, eps, *hit, candidates, terrain);
+        }
     }
 }
 
 /// Marks a free-form hit whose surface [`finish_surface`] has yet to compute.
 const SURFACE_PENDING: u32 = u32::MAX;
 
-/// Completes a hit from [`nearest_hit_deferred`]: a free-form hit gets the normal and the leaf of
+/// Completes a hit whose surface is pending: a free-form hit gets the normal and the leaf of
 /// its solid at the hit point (evaluated with the candidate's active subset, when culling);
 /// terrain hits come complete.
 #[inline]
@@ -236,10 +206,8 @@ pub fn nearest_hit_among(
 }
 
 /// The nearest hit over `candidates` (object index, and the active subset or `None` for all of
-/// it): `(t, object)`, the hit's surface still to come. Kept small, so that it travels in
-/// registers rather than as a struct through the stack. On a tie the earlier object keeps the hit: each later search ends
-/// at the best so far. Inlined for the reason [`nearest_hit_deferred`] is.
-#[inline(always)]
+/// it): `(t, object)`, the hit's surface still to come. On a tie the earlier object keeps the
+/// hit: each later search ends at the best so far.
 fn nearest_over<'a>(
     scene: &Scene,
     caster: &mut RayCaster,
@@ -249,7 +217,7 @@ fn nearest_over<'a>(
     candidates: impl Iterator<Item = (usize, Option<&'a ActiveSet>)>,
     stats: &mut CastStats,
 ) -> Option<(f64, u32)> {
-    let mut best: Option<(f64, usize, Option<&ActiveSet>)> = None;
+    let mut best: Option<(f64, u32)> = None;
     let mut hi = range.hi;
     for (index, active) in candidates {
         let Some(object) = scene.objects.get(index) else {
@@ -261,17 +229,17 @@ fn nearest_over<'a>(
             None => caster.cast(&object.solid, ray, segment, eps, stats),
         };
         if let Some(t) = found
-            && best.is_none_or(|(bt, _, _)| t < bt)
+            && best.is_none_or(|(bt, _)| t < bt)
         {
             hi = t;
-            best = Some((t, index, active));
+            best = Some((t, index as u32));
         }
     }
-    best.map(|(t, index, _)| (t, index as u32))
+    best
 }
 
 /// A free-form hit `(t, object)` whose surface is still to come.
-#[inline(always)]
+#[inline]
 fn pending((t, object): (f64, u32)) -> SceneHit {
     SceneHit {
         t,

@@ -3,26 +3,15 @@
 //! both hit, and hit/miss disagreement only on silhouette pixels (a neighbour differs in what it
 //! hits), at most 0.2 % of the image.
 
+mod common;
+
 use fray_trace::{CastMethod, TraceSettings, render};
-use std::path::Path;
 
 #[test]
 fn closed_form_and_search_agree_on_every_data_scene() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
-    let mut entries: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    entries.sort();
-    assert!(entries.len() >= 4);
-    for path in entries {
+    for path in common::data_scenes() {
         let what = path.display().to_string();
-        let mut s = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        let aspect = f64::from(s.width) / f64::from(s.height);
-        s.height = 120;
-        s.width = (120.0 * aspect).round() as u32;
+        let s = common::load_at_height(&path, 120);
         let mut settings = TraceSettings::for_scene(&s);
         settings.shading = false;
         settings.method = CastMethod::Halving;

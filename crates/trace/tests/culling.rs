@@ -2,9 +2,10 @@
 //! the quadtree scheduler on and off (all projector kinds, CSG, many perturbations), with plain
 //! rays answered by the search and by the closed form alike.
 
+mod common;
+
 use fray_core::RenderStats;
 use fray_trace::{CastMethod, TraceSettings, render};
-use std::path::Path;
 
 fn scene(src: &str) -> fray_scene::Scene {
     match fray_scene::parse(src, "test.ron") {
@@ -103,20 +104,8 @@ fn assert_lossless_with(
 
 #[test]
 fn every_data_scene_is_identical_with_and_without_culling() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
-    let mut entries: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    entries.sort();
-    assert!(entries.len() >= 4);
-    for path in entries {
-        let mut s = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        let aspect = f64::from(s.width) / f64::from(s.height);
-        s.height = 60;
-        s.width = (60.0 * aspect).round() as u32;
+    for path in common::data_scenes() {
+        let mut s = common::load_at_height(&path, 60);
         assert_lossless(&s, &path.display().to_string());
         // Point lights too (shadow rays converge on them; the tile culling keeps what their
         // segments can meet): one above the scene, one low among its objects.

@@ -2,27 +2,16 @@
 //! then their surfaces) gives each pixel exactly what the per-ray API gives its camera ray:
 //! the depth and normal of [`nearest_hit`], bit for bit, on every data scene, culled or not.
 
+mod common;
+
 use fray_trace::{TraceSettings, nearest_hit, render};
-use std::path::Path;
 
 #[test]
 fn every_pixel_gets_the_hit_of_nearest_hit() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
-    let mut entries: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    entries.sort();
-    assert!(entries.len() >= 4);
     let mut caster = fray_geometry::RayCaster::new();
-    for path in entries {
+    for path in common::data_scenes() {
         let what = path.display().to_string();
-        let mut s = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        let aspect = f64::from(s.width) / f64::from(s.height);
-        s.height = 48;
-        s.width = (48.0 * aspect).round() as u32;
+        let mut s = common::load_at_height(&path, 48);
         // Terrains: the frame casts camera rays at the pixel footprint's level of detail, the
         // per-ray API exactly; compare exact terrains.
         for t in &mut s.terrains {

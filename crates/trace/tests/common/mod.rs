@@ -1,0 +1,26 @@
+//! Shared by fray-trace's integration tests: the data scenes, at test size.
+
+use std::path::{Path, PathBuf};
+
+/// Every scene file in `data/scenes`, sorted (there are at least four).
+pub fn data_scenes() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
+    let mut entries: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    entries.sort();
+    assert!(entries.len() >= 4);
+    entries
+}
+
+/// The scene at `path`, resized to `height` rows at its own aspect ratio.
+pub fn load_at_height(path: &Path, height: u32) -> fray_scene::Scene {
+    let mut s = fray_scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let aspect = f64::from(s.width) / f64::from(s.height);
+    s.height = height;
+    s.width = (f64::from(height) * aspect).round() as u32;
+    s
+}
