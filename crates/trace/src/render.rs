@@ -1,5 +1,7 @@
-//! The CPU frame loop: tiles in parallel (rayon), one primary ray per pixel centre, shading, and
-//! the frame's statistics. The result does not depend on the thread count.
+//! The CPU frame loop: bands of image rows in parallel (rayon), written in place; in each band
+//! its tiles, each in passes — camera rays (one per pixel centre), hits (candidates outer,
+//! pixels inner), surfaces, shading — and the frame's statistics. The result does not depend
+//! on the thread count or the tile size.
 
 use crate::SceneHit;
 use crate::hit::{finish_surface, nearest_hits_deferred};
