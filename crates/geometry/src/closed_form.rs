@@ -102,7 +102,8 @@ impl SpanSet {
                 .then(|| lo.max(range.lo))
                 .filter(|&t| t <= range.hi)
         };
-        Some(nonnegative_spans(q)?.into_iter().flatten().find_map(first))
+        let [s0, s1] = nonnegative_spans(q)?;
+        Some(s0.and_then(first).or_else(|| s1.and_then(first)))
     }
 
     /// `self ∪ other`; `None` if it does not fit.
