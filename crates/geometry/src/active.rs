@@ -285,8 +285,8 @@ mod tests {
             );
             // Planned casts, whole and with the subset, give the same bits too.
             for active in [None, Some(&subset)] {
-                let plan = crate::CastPlan::new(&s, active);
-                let planned = caster.cast_planned(&plan, &ray, range, 1e-9, &mut stats);
+                let mut plan = crate::CastPlan::new(&s, active);
+                let planned = caster.cast_planned(&mut plan, &ray, range, 1e-9, &mut stats);
                 assert_eq!(
                     full.map(f64::to_bits),
                     planned.map(f64::to_bits),
@@ -333,8 +333,8 @@ mod tests {
                     let range = Interval::new(0.0, f64::INFINITY);
                     let cast = caster.cast(&s, &ray, range, 1e-9, &mut stats);
                     for active in [None, Some(&all)] {
-                        let plan = crate::CastPlan::new(&s, active);
-                        let planned = caster.cast_planned(&plan, &ray, range, 1e-9, &mut stats);
+                        let mut plan = crate::CastPlan::new(&s, active);
+                        let planned = caster.cast_planned(&mut plan, &ray, range, 1e-9, &mut stats);
                         assert_eq!(cast.map(f64::to_bits), planned.map(f64::to_bits), "ray {i}");
                     }
                 }

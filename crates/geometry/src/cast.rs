@@ -25,7 +25,7 @@
 //! never behind the range's start. Features thinner than `ε` along the ray may be missed.
 
 use crate::closed_form::{Certified, SpanSet, certify, program_set};
-use crate::{ActiveSet, CsgOp, FreeForm, RayQuadratic, Solid};
+use crate::{ActiveSet, CsgOp, FreeForm, OriginTerms, RayQuadratic, Solid};
 use fray_core::root::illinois;
 use fray_core::{Interval, Ray};
 use glam::DVec3;
@@ -214,7 +214,8 @@ impl RayCaster {
         // The common case — one leaf and no perturbation — needs no scratch space and no program:
         // the same search over the same leaf, monomorphised (bit-identical to the general path).
         if let Some((leaf, covers)) = plain_leaf(solid, program, active) {
-            return self.cast_plain_leaf(leaf, covers, ray, inv_dir, range, eps, stats);
+            let terms = leaf.base().at_origin(ray.origin);
+            return self.cast_plain_leaf(leaf, covers, &terms, ray, inv_dir, range, eps, stats);
         }
         if !self.prepare(solid, ray, inv_dir, range, active) {
             return None;
@@ -261,7 +262,7 @@ impl RayCaster {
     }
 
     /// Casts one leaf without perturbations over `range` (already clipped to the solid's box);
-    /// `covers`: the leaf's box contains the solid's. Shared by [`RayCaster::cast_with`] and
+    /// `covers`: the leaf's box contains the solid's; `terms`: its quadric at the ray's origin. Shared by [`RayCaster::cast_with`] and
     /// [`RayCaster::cast_planned`], so both give the same bits.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
@@ -269,6 +270,7 @@ impl RayCaster {
         &mut self,
         leaf: &FreeForm,
         covers: bool,
+        terms: &OriginTerms,
         ray: &Ray,
         inv_dir: DVec3,
         range: Interval,
@@ -285,7 +287,7 @@ impl RayCaster {
             leaf: LeafOnRay {
                 present: Some(present),
                 clips: leaf.clips(),
-                base: leaf.base().on_ray(ray),
+                base: leaf.base().on_ray_from(terms, ray.dir),
                 perturbations: (0, 0),
             },
             stats,
@@ -303,13 +305,14 @@ impl RayCaster {
     }
 
     /// [`RayCaster::cast_with`] (`active: Some`) or [`RayCaster::cast`] (`None`) with what
-    /// depends on the solid alone decided once, in `plan` ([`CastPlan::new`]): for casting one
-    /// solid along many rays (a tile's pixels). The same answer, bit for bit; inlined, so that
+    /// depends on the solid alone decided once, in `plan` ([`CastPlan::new`]), and what depends
+    /// on the ray's origin kept while rays share it: for casting one solid along many rays (a
+    /// tile's pixels). The same answer, bit for bit; inlined, so that
     /// a plain leaf's cast runs in the caller's loop without a call.
     #[inline]
     pub fn cast_planned(
         &mut self,
-        plan: &CastPlan<'_>,
+        plan: &mut CastPlan<'_>,
         ray: &Ray,
         range: Interval,
         eps: f64,
@@ -323,7 +326,17 @@ impl RayCaster {
             .solid
             .bounds_ref()
             .clip_ray_with_inverse(ray, inv_dir, range)?;
-        self.cast_plain_leaf(leaf, covers, ray, inv_dir, range, eps, stats)
+        // The leaf's quadric at the ray's origin, kept while rays share it (a pinhole camera's
+        // do): the same terms `cast_with` computes afresh, so the same bits.
+        let terms = match plan.origin {
+            Some((origin, terms)) if origin == ray.origin => terms,
+            _ => {
+                let terms = leaf.base().at_origin(ray.origin);
+                plan.origin = Some((ray.origin, terms));
+                terms
+            }
+        };
+        self.cast_plain_leaf(leaf, covers, &terms, ray, inv_dir, range, eps, stats)
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
@@ -440,6 +453,8 @@ pub struct CastPlan<'a> {
     active: Option<&'a ActiveSet>,
     /// The single plain leaf and whether its box contains the solid's.
     plain: Option<(&'a FreeForm, bool)>,
+    /// That leaf's quadric at the last ray origin.
+    origin: Option<(DVec3, OriginTerms)>,
 }
 
 impl<'a> CastPlan<'a> {
@@ -450,6 +465,7 @@ impl<'a> CastPlan<'a> {
             solid,
             active,
             plain: plain_leaf(solid, program, active),
+            origin: None,
         }
     }
 }

@@ -44,5 +44,5 @@ pub use csg::{CsgOp, Shape, Solid};
 pub use error::GeometryError;
 pub use free_form::FreeForm;
 pub use perturbation::Perturbation;
-pub use quadric::{Quadric, Sheets};
+pub use quadric::{OriginTerms, Quadric, Sheets};
 pub use ray_quadratic::RayQuadratic;

@@ -26,6 +26,13 @@ pub enum Sheets {
     Two,
 }
 
+/// A quadric's value and gradient at a ray origin ([`Quadric::at_origin`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OriginTerms {
+    pub value: f64,
+    pub gradient: DVec3,
+}
+
 impl Quadric {
     /// A quadric from its ten coefficients about `origin`.
     pub const fn new(origin: DVec3, coefficients: [f64; 10]) -> Self {
@@ -169,26 +176,36 @@ impl Quadric {
         )
     }
 
-    /// `F` restricted to `ray`: the quadratic `a t² + b t + c` in the ray parameter.
+    /// `F` restricted to `ray`: the quadratic `a t² + b t + c` in the ray parameter
+    /// (`a = dᵀAd`, `b = ∇F(o)·d`, `c = F(o)`).
     #[inline]
     pub fn on_ray(&self, ray: &Ray) -> RayQuadratic {
-        let o = ray.origin - self.origin;
-        let d = ray.dir;
-        let [a11, a22, a33, a12, a13, a23, a14, a24, a34, _] = self.coefficients;
+        self.on_ray_from(&self.at_origin(ray.origin), ray.dir)
+    }
+
+    /// What [`Quadric::on_ray`] needs of a ray's origin alone: rays that share an origin (a
+    /// pinhole camera's) can share it.
+    #[inline]
+    pub fn at_origin(&self, origin: DVec3) -> OriginTerms {
+        let o = origin - self.origin;
+        OriginTerms {
+            value: self.eval_local(o),
+            gradient: self.gradient_local(o),
+        }
+    }
+
+    /// [`Quadric::on_ray`] of the ray along `dir` from the origin of `terms`: the same bits.
+    #[inline]
+    pub fn on_ray_from(&self, terms: &OriginTerms, dir: DVec3) -> RayQuadratic {
+        let d = dir;
+        let [a11, a22, a33, a12, a13, a23, ..] = self.coefficients;
         let a = d.x * (a11 * d.x + a12 * d.y + a13 * d.z)
             + d.y * (a22 * d.y + a23 * d.z)
             + a33 * d.z * d.z;
-        let b = 2.0 * (a11 * o.x * d.x + a22 * o.y * d.y + a33 * o.z * d.z)
-            + a12 * (o.x * d.y + o.y * d.x)
-            + a13 * (o.x * d.z + o.z * d.x)
-            + a23 * (o.y * d.z + o.z * d.y)
-            + a14 * d.x
-            + a24 * d.y
-            + a34 * d.z;
         RayQuadratic {
             a,
-            b,
-            c: self.eval_local(o),
+            b: terms.gradient.dot(d),
+            c: terms.value,
         }
     }
 

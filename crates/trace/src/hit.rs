@@ -124,14 +124,14 @@ pub(crate) fn nearest_hits_deferred(
         let Some(object) = scene.objects.get(index) else {
             return;
         };
-        let plan = CastPlan::new(&object.solid, active);
+        let mut plan = CastPlan::new(&object.solid, active);
         for (camera_ray, hit) in pixels.iter_mut() {
             let Some(c) = camera_ray else {
                 continue;
             };
             let hi = hit.map_or(f64::INFINITY, |h| h.t);
             let segment = Interval { lo: c.t_near, hi };
-            let found = caster.cast_planned(&plan, &c.ray, segment, eps, stats);
+            let found = caster.cast_planned(&mut plan, &c.ray, segment, eps, stats);
             if let Some(t) = found
                 && hit.is_none_or(|h| t < h.t)
             {
