@@ -135,10 +135,7 @@ impl Aabb {
     #[inline]
     pub fn slab_interval(&self, ray: &Ray, inv_dir: DVec3, range: Interval) -> Interval {
         if !inv_dir.is_finite() {
-            return self.clip_ray(ray, range).unwrap_or(Interval {
-                lo: f64::INFINITY,
-                hi: f64::NEG_INFINITY,
-            });
+            return self.clip_ray(ray, range).unwrap_or(Interval::EMPTY);
         }
         let t0 = (self.min - ray.origin) * inv_dir;
         let t1 = (self.max - ray.origin) * inv_dir;

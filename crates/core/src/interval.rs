@@ -21,6 +21,12 @@ impl Interval {
         lo: f64::NEG_INFINITY,
         hi: f64::INFINITY,
     };
+    /// No point at all (`lo > hi`): what a ray's part inside a box is when the ray misses it
+    /// ([`crate::Aabb::slab_interval`]). Not an operand of the arithmetic below.
+    pub const EMPTY: Self = Self {
+        lo: f64::INFINITY,
+        hi: f64::NEG_INFINITY,
+    };
     /// The interval `{-∞}`: the value of a CSG operand that is absent (outside its box).
     pub const NEG_INFINITY: Self = Self {
         lo: f64::NEG_INFINITY,

@@ -262,8 +262,9 @@ impl RayCaster {
     }
 
     /// Casts one leaf without perturbations over `range` (already clipped to the solid's box);
-    /// `covers`: the leaf's box contains the solid's; `terms`: its quadric at the ray's origin. Shared by [`RayCaster::cast_with`] and
-    /// [`RayCaster::cast_planned`], so both give the same bits.
+    /// `covers`: the leaf's box contains the solid's; `terms`: its quadric at the ray's origin.
+    /// Shared by [`RayCaster::cast_with`] and [`RayCaster::cast_planned`], so both give the same
+    /// bits.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn cast_plain_leaf(
@@ -307,8 +308,8 @@ impl RayCaster {
     /// [`RayCaster::cast_with`] (`active: Some`) or [`RayCaster::cast`] (`None`) with what
     /// depends on the solid alone decided once, in `plan` ([`CastPlan::new`]), and what depends
     /// on the ray's origin kept while rays share it: for casting one solid along many rays (a
-    /// tile's pixels). The same answer, bit for bit; inlined, so that
-    /// a plain leaf's cast runs in the caller's loop without a call.
+    /// tile's pixels). The same answer, bit for bit; inlined, so that a plain leaf's cast runs in
+    /// the caller's loop without a call.
     #[inline]
     pub fn cast_planned(
         &mut self,
@@ -393,10 +394,7 @@ impl RayCaster {
         for (i, leaf) in solid.leaves().iter().enumerate() {
             // The slab test as two bare floats (an `Option` here is spilled and reloaded).
             let slab = match active {
-                Some(a) if !a.leaf_is_active(i) => Interval {
-                    lo: f64::INFINITY,
-                    hi: f64::NEG_INFINITY,
-                },
+                Some(a) if !a.leaf_is_active(i) => Interval::EMPTY,
                 _ if solid.leaf_covers_solid(i) => range,
                 _ => leaf.bounds_ref().slab_interval(ray, inv_dir, range),
             };

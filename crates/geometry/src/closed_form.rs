@@ -237,27 +237,13 @@ pub(crate) fn program_set(
             CsgOp::Leaf(i),
             CsgOp::Leaf(j),
             op @ (CsgOp::Max | CsgOp::Min),
-        ] => {
-            let (a, b) = (leaf_set(i)?, leaf_set(j)?);
-            return if op == CsgOp::Max {
-                a.union(&b)
-            } else {
-                Some(a.intersection(&b))
-            };
-        }
+        ] => return combine(op, &leaf_set(i)?, &leaf_set(j)?),
         [
             CsgOp::Leaf(i),
             CsgOp::Leaf(j),
             CsgOp::Neg,
             op @ (CsgOp::Max | CsgOp::Min),
-        ] => {
-            let (a, b) = (leaf_set(i)?, leaf_set(j)?.complement()?);
-            return if op == CsgOp::Max {
-                a.union(&b)
-            } else {
-                Some(a.intersection(&b))
-            };
-        }
+        ] => return combine(op, &leaf_set(i)?, &leaf_set(j)?.complement()?),
         _ => {}
     }
     stack.clear();
@@ -274,15 +260,21 @@ pub(crate) fn program_set(
                 }
                 let b = stack.pop().unwrap_or(SpanSet::EMPTY);
                 let a = stack.pop().unwrap_or(SpanSet::EMPTY);
-                stack.push(if *op == CsgOp::Max {
-                    a.union(&b)?
-                } else {
-                    a.intersection(&b)
-                });
+                stack.push(combine(*op, &a, &b)?);
             }
         }
     }
     Some(stack.pop().unwrap_or(SpanSet::EMPTY))
+}
+
+/// `max(a, b)` (union) or `min(a, b)` (intersection) of two sets; `None` if it does not fit.
+#[inline]
+fn combine(op: CsgOp, a: &SpanSet, b: &SpanSet) -> Option<SpanSet> {
+    if op == CsgOp::Max {
+        a.union(b)
+    } else {
+        Some(a.intersection(b))
+    }
 }
 
 /// The outcome of certifying a closed-form hit.

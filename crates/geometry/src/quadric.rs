@@ -187,11 +187,8 @@ impl Quadric {
     /// pinhole camera's) can share it.
     #[inline]
     pub fn at_origin(&self, origin: DVec3) -> OriginTerms {
-        let o = origin - self.origin;
-        OriginTerms {
-            value: self.eval_local(o),
-            gradient: self.gradient_local(o),
-        }
+        let (value, gradient) = self.eval_and_gradient(origin);
+        OriginTerms { value, gradient }
     }
 
     /// [`Quadric::on_ray`] of the ray along `dir` from the origin of `terms`: the same bits.

@@ -100,13 +100,11 @@ fn terrain_pass(
 /// [`nearest_hit_lod`] for every camera ray of a tile at once (`pixels`: each ray and its hit
 /// slot, overwritten) with the same answers — per pixel the same casts in the same order, each
 /// ending at that pixel's best so far — except that a free-form hit's surface (normal and leaf)
-/// is left for [`finish_surface`]: the frame loop finds all of a tile's hits first and then
-/// their surfaces, whose chains of dependent arithmetic (point, gradient, square root,
-/// division) then overlap from pixel to pixel. The loops are the other way round — candidates
-/// outer, pixels inner — because a pixel's next cast depends on its last (its range ends at
-/// the best hit), while the next pixel's cast does not: consecutive casts are independent, so
-/// the processor overlaps their long chains of dependent arithmetic (root, square root,
-/// division, certification).
+/// is left for [`finish_surface`], which the frame loop runs over all of a tile's hits
+/// afterwards. The loops are candidates outer, pixels inner: a pixel's next cast depends on
+/// its last (its range ends at the best hit) while the next pixel's does not, so consecutive
+/// casts are independent and the processor overlaps their long chains of dependent arithmetic
+/// (root, square root, division, certification); so do consecutive surfaces.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn nearest_hits_deferred(
     scene: &Scene,
@@ -260,12 +258,10 @@ pub fn occluded_among(
     objects: &[u32],
     stats: &mut CastStats,
 ) -> bool {
-    objects.iter().any(|&k| {
-        scene
-            .objects
-            .get(k as usize)
-            .is_some_and(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
-    }) || terrain_occludes(scene, ray, range, eps)
+    let listed = objects
+        .iter()
+        .filter_map(|&k| scene.objects.get(k as usize));
+    occluded_by(scene, caster, ray, range, eps, listed, stats)
 }
 
 /// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.
@@ -277,9 +273,19 @@ pub fn occluded(
     eps: f64,
     stats: &mut CastStats,
 ) -> bool {
-    scene
-        .objects
-        .iter()
-        .any(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
+    occluded_by(scene, caster, ray, range, eps, scene.objects.iter(), stats)
+}
+
+/// Whether one of `objects` or a terrain lies on the ray within `range`.
+fn occluded_by<'a>(
+    scene: &Scene,
+    caster: &mut RayCaster,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    mut objects: impl Iterator<Item = &'a fray_scene::Object>,
+    stats: &mut CastStats,
+) -> bool {
+    objects.any(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
         || terrain_occludes(scene, ray, range, eps)
 }

@@ -141,23 +141,10 @@ pub fn render_into(
     {
         // New buffers from zeroed allocations: the kernel maps their pages when a band task
         // first writes its rows (in parallel, once), instead of in a fill pass before that.
-        let zeroed = || bytemuck::allocation::try_zeroed_vec::<Vec3>(n).ok();
-        let (colour, depth, normals) = match (zeroed(), zeroed()) {
-            (Some(c), Some(nrm)) => (c, vec![0.0; n], nrm),
-            _ => pool.install(|| {
-                (
-                    (0..n)
-                        .into_par_iter()
-                        .map(|_| Rgb::ZERO)
-                        .collect::<Vec<_>>(),
-                    (0..n).into_par_iter().map(|_| 0.0).collect::<Vec<_>>(),
-                    (0..n)
-                        .into_par_iter()
-                        .map(|_| Vec3::ZERO)
-                        .collect::<Vec<_>>(),
-                )
-            }),
+        let zeroed = || {
+            bytemuck::allocation::try_zeroed_vec::<Vec3>(n).unwrap_or_else(|_| vec![Vec3::ZERO; n])
         };
+        let (colour, depth, normals) = (zeroed(), vec![0.0; n], zeroed());
         // The lengths are width × height by construction, so the fallbacks are never taken.
         frame.colour = Image::from_pixels(width, height, colour)
             .unwrap_or_else(|| Image::filled(width, height, Rgb::ZERO));
@@ -350,11 +337,10 @@ fn render_tile(
         cast: CastStats::default(),
         occluders: None,
     };
-    // First every pixel's camera ray and nearest hit, then (with culling) the objects the
-    // tile's shadow rays can meet, then the shading.
-    // The camera rays in a pass of their own, so that the casts read them from the cache and
-    // not from stores still in flight (3-float vectors stored and reloaded in other widths
-    // stall store forwarding).
+    // In passes: every pixel's camera ray, the hits, their surfaces, then (with culling) the
+    // objects the tile's shadow rays can meet, then the shading. The camera rays get a pass of
+    // their own so that the casts read them from the cache, not from stores still in flight
+    // (3-float vectors stored and reloaded in other widths stall store forwarding).
     hits.clear();
     for py in y0..y1 {
         for px in x0..x1 {
@@ -371,7 +357,6 @@ fn render_tile(
         &mut counters.cast,
         &mut terrain,
     );
-    // Then the surfaces (normals) of all the tile's hits, independent of each other.
     for (camera_ray, hit) in hits.iter_mut() {
         if let (Some(c), Some(h)) = (camera_ray, hit) {
             finish_surface(scene, &c.ray, candidates, h);
