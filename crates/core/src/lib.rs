@@ -23,6 +23,7 @@
 //! ```
 
 mod aabb;
+pub mod budget;
 mod colour;
 mod footprint;
 mod frame;
@@ -33,6 +34,7 @@ mod ray;
 pub mod root;
 
 pub use aabb::Aabb;
+pub use budget::{BudgetError, MemoryBudget};
 pub use colour::{Rgb, ToneMap, linear_to_srgb, srgb_to_linear};
 pub use footprint::PixelFootprint;
 pub use frame::{Frame, RenderStats};
