@@ -86,7 +86,7 @@ impl MemoryBudget {
         count: u64,
         element_bytes: u64,
     ) -> Result<(), BudgetError> {
-        self.check(what, count.checked_mul(element_bytes).unwrap_or(u64::MAX))
+        self.check(what, count.saturating_mul(element_bytes))
     }
 }
 
