@@ -35,7 +35,7 @@ enum Command {
     },
 }
 
-#[derive(clap::Args, Debug, Default)]
+#[derive(clap::Args, Debug)]
 struct RenderArgs {
     /// The scene file (.ron); the built-in turboprop scene if omitted.
     scene: Option<PathBuf>,
@@ -106,11 +106,16 @@ enum ToneMapArg {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        None => render(&RenderArgs::default()),
+    // No subcommand means `fray render`, parsed as such: clap fills in the arguments' declared
+    // defaults only when it parses, so a hand-built `RenderArgs` would have none of them (the
+    // all-black first picture of an exposure of 0 came from exactly that).
+    let command = Cli::parse()
+        .command
+        .or_else(|| Cli::parse_from(["fray", "render"]).command);
+    let result = match command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Check { scene }) => check(&scene),
+        None => Err("no command".to_owned()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -165,6 +170,8 @@ fn render(args: &RenderArgs) -> Result<(), String> {
             );
         PathBuf::from(format!("{stem}.png"))
     });
+    // Refuse an output the writers cannot produce before rendering, not after.
+    fray_render::output::check_extension(&output).map_err(|e| e.to_string())?;
     let renderer = Renderer::new(RenderOptions {
         backend: match args.backend {
             BackendArg::Cpu => Backend::Cpu,

@@ -160,6 +160,93 @@ fn unsupported_output_extension_is_a_clear_error() {
         err.contains("out.bmp") && !err.contains("panicked"),
         "{err}"
     );
+    // Checked before anything renders: with no GPU adapter, `--backend gpu` would fail to
+    // render, but the extension is what is reported (and nothing was rendered or written).
+    let o = Command::new(env!("CARGO_BIN_EXE_fray"))
+        .args([
+            "render",
+            "data/scenes/csg.ron",
+            "--backend",
+            "gpu",
+            "-o",
+            "out.bmp",
+        ])
+        .env("WGPU_BACKEND", "none")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the fray binary runs");
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("unsupported image extension") && !err.contains("no GPU adapter"),
+        "{err}"
+    );
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
+/// The README's first command, `cargo run --release` without arguments, in an empty folder:
+/// the same picture, pixel for pixel, as `fray render` of the default scene file and as the
+/// blessed full-size reference (`data/reference/default/turboprop.png`, written by
+/// `cargo xtask bless`). The CPU renders it (`WGPU_BACKEND=none`), as it would on a machine
+/// without a GPU. (Once the no-argument path built its options by hand with an exposure of 0 and
+/// wrote an all-black picture that no test saw.)
+#[test]
+fn no_arguments_in_an_empty_folder_render_the_default_scene_like_fray_render() {
+    let run = |dir: &Path, args: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_fray"))
+            .args(args)
+            .env("WGPU_BACKEND", "none")
+            .current_dir(dir)
+            .output()
+            .expect("the fray binary runs");
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    };
+    let empty = temp_dir("no-arguments");
+    let _ = std::fs::remove_dir_all(&empty);
+    std::fs::create_dir_all(&empty).unwrap();
+    run(&empty, &[]);
+    let written: Vec<_> = std::fs::read_dir(&empty)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        written,
+        ["turboprop.png"],
+        "the no-argument run writes one file"
+    );
+    let explicit = temp_dir("render-default");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/scenes/turboprop.ron");
+    let out = explicit.join("turboprop.png");
+    run(
+        &explicit,
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    let pixels = |p: &Path| image::open(p).expect("a readable PNG").to_rgb8();
+    let no_args = pixels(&empty.join("turboprop.png"));
+    assert_eq!((no_args.width(), no_args.height()), (800, 600));
+    assert!(
+        no_args.pixels().any(|p| p.0.iter().any(|&c| c > 64)),
+        "the picture is not dark"
+    );
+    assert!(no_args == pixels(&out), "no arguments ≠ fray render");
+    let reference =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/reference/default/turboprop.png");
+    assert!(
+        no_args == pixels(&reference),
+        "no arguments ≠ {} (re-bless with `cargo xtask bless` after a reviewed change)",
+        reference.display()
+    );
+    let _ = std::fs::remove_dir_all(&empty);
+    let _ = std::fs::remove_dir_all(&explicit);
 }
 
 #[test]

@@ -7,6 +7,9 @@ use fray_render::Backend;
 use fray_render::output::{PngOptions, write_png};
 use std::path::PathBuf;
 
+/// The scene the CLI renders without arguments (it embeds `data/scenes/turboprop.ron`).
+const DEFAULT_SCENE_STEM: &str = "turboprop";
+
 /// What to bless, and where.
 #[derive(Clone, Debug)]
 pub struct BlessOptions {
@@ -50,6 +53,28 @@ pub fn run(options: &BlessOptions) -> Result<(), String> {
             Err(e) => {
                 eprintln!("bless: {}: {e}", scene.stem);
                 failed.push(scene.stem.clone());
+            }
+        }
+    }
+    // The CLI's no-argument picture: the default scene at its own size, as the CLI's test
+    // compares it (tests/cli.rs), blessed together with the default scene's test-size image.
+    if let Some(scene) = scenes.iter().find(|s| s.stem == DEFAULT_SCENE_STEM) {
+        let path = options
+            .reference
+            .join("default")
+            .join(format!("{}.png", scene.stem));
+        let result = load(&scene.path).and_then(|s| {
+            let width = s.width;
+            std::fs::create_dir_all(path.parent().unwrap_or(&options.reference))
+                .map_err(|e| format!("cannot create the folder of {}: {e}", path.display()))?;
+            let r = render(&s, Backend::Cpu, width)?;
+            write_png(&r.frame, &path, &PngOptions::default()).map_err(|e| e.to_string())
+        });
+        match result {
+            Ok(()) => println!("bless: wrote {} (full size, cpu)", path.display()),
+            Err(e) => {
+                eprintln!("bless: {} (full size): {e}", scene.stem);
+                failed.push(format!("{} (full size)", scene.stem));
             }
         }
     }

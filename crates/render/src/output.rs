@@ -88,13 +88,30 @@ pub enum OutputError {
 /// Writes `frame` as a PNG or EXR, chosen by the extension of `path` (case-insensitive).
 /// `options` apply to PNG only; EXR is always linear.
 pub fn write_image(frame: &Frame, path: &Path, options: &PngOptions) -> Result<(), OutputError> {
+    match check_extension(path)? {
+        ImageFormat::Png => write_png(frame, path, options),
+        ImageFormat::Exr => write_exr(frame, path),
+    }
+}
+
+/// The formats [`write_image`] writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr,
+}
+
+/// The format [`write_image`] would choose for `path` (by its extension, case-insensitive), or
+/// [`OutputError::UnsupportedExtension`]: callers check it before rendering, so a typo in the
+/// output name costs nothing.
+pub fn check_extension(path: &Path) -> Result<ImageFormat, OutputError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("png") => write_png(frame, path, options),
-        Some("exr") => write_exr(frame, path),
+        Some("png") => Ok(ImageFormat::Png),
+        Some("exr") => Ok(ImageFormat::Exr),
         _ => Err(OutputError::UnsupportedExtension {
             path: path.to_path_buf(),
         }),
