@@ -56,8 +56,13 @@ pub fn console_line(row: &Row) -> String {
         let t = &row.thresholds;
         let _ = write!(
             line,
-            " rmse {:.3} (≤ {:.3})  bad {:.4} (≤ {:.4})  max {:>3}",
-            m.rmse, t.rmse, m.bad_fraction, t.bad_fraction, m.max_abs
+            " rmse {:.3} (≤ {:.3})  bad {:.4} (≤ {:.4})  max {:>3}{}",
+            m.rmse,
+            t.rmse,
+            m.bad_fraction,
+            t.bad_fraction,
+            m.max_abs,
+            t.max_abs.map(|x| format!(" (≤ {x})")).unwrap_or_default()
         );
     }
     if let Some((wall, _)) = &row.render {
@@ -164,7 +169,7 @@ than {BAD_PIXEL_DIFFERENCE} (of 255); the diff shows |reference − actual| × 8
         let _ = writeln!(
             page,
             "<tr><td>{}</td><td>{}</td>{}{}{}<td class=metrics>{metrics}</td>\
-             <td class=metrics>rmse ≤ {:.3}<br>bad ≤ {:.4}</td><td class={status}>{status}{message}</td>{}</tr>",
+             <td class=metrics>rmse ≤ {:.3}<br>bad ≤ {:.4}{}</td><td class={status}>{status}{message}</td>{}</tr>",
             escape(&row.scene),
             escape(&row.backend),
             image_cell(&row.reference),
@@ -172,6 +177,10 @@ than {BAD_PIXEL_DIFFERENCE} (of 255); the diff shows |reference − actual| × 8
             image_cell(&row.diff),
             row.thresholds.rmse,
             row.thresholds.bad_fraction,
+            row.thresholds
+                .max_abs
+                .map(|x| format!("<br>max ≤ {x}"))
+                .unwrap_or_default(),
             stats_cell(&row.render),
             status = row.status(),
         );

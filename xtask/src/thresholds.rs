@@ -6,8 +6,10 @@
 //! { "csg": (gpu: (rmse: 2.0, bad_fraction: 0.002), gpu_vs_cpu: (rmse: 2.0, bad_fraction: 0.002)) }
 //! ```
 //!
-//! Every comparison a scene leaves out, and every scene without an entry, gets
-//! [`Thresholds::default`]; so the CPU rows stay tight unless the file loosens them explicitly.
+//! Every comparison a scene leaves out, and every scene without an entry, gets the row's
+//! default ([`Thresholds::default_for`]): the CPU backend is deterministic, so its rows allow
+//! no channel to move by more than 1/255 ([`Thresholds::CPU`]); the other rows get
+//! [`Thresholds::default`]. The CPU rows stay that tight unless the file loosens them explicitly.
 
 use crate::compare::Metrics;
 use serde::Deserialize;
@@ -25,6 +27,9 @@ pub struct Thresholds {
     pub rmse: f64,
     /// Largest allowed fraction of bad pixels.
     pub bad_fraction: f64,
+    /// Largest allowed difference of any channel of any pixel (0–255), if limited.
+    #[serde(default)]
+    pub max_abs: Option<u8>,
 }
 
 impl Default for Thresholds {
@@ -32,14 +37,37 @@ impl Default for Thresholds {
         Self {
             rmse: 1.0,
             bad_fraction: 0.002,
+            max_abs: None,
         }
     }
 }
 
 impl Thresholds {
-    /// Whether `metrics` pass: both RMSE and bad-pixel fraction within their limits.
+    /// The CPU rows' default: the CPU backend is deterministic (the same bytes whatever the
+    /// thread count), so against its own references no channel may move by more than 1/255
+    /// (a rounding of the last code value) and no pixel may be bad.
+    pub const CPU: Self = Self {
+        rmse: 1.0,
+        bad_fraction: 0.0,
+        max_abs: Some(1),
+    };
+
+    /// The default of the regress row named `row`: [`Thresholds::CPU`] for `cpu`, else
+    /// [`Thresholds::default`].
+    pub fn default_for(row: &str) -> Self {
+        if row == "cpu" {
+            Self::CPU
+        } else {
+            Self::default()
+        }
+    }
+
+    /// Whether `metrics` pass: RMSE, bad-pixel fraction and (if limited) the largest channel
+    /// difference within their limits.
     pub fn pass(&self, metrics: &Metrics) -> bool {
-        metrics.rmse <= self.rmse && metrics.bad_fraction <= self.bad_fraction
+        metrics.rmse <= self.rmse
+            && metrics.bad_fraction <= self.bad_fraction
+            && self.max_abs.is_none_or(|m| metrics.max_abs <= m)
     }
 }
 
@@ -60,7 +88,8 @@ pub struct SceneThresholds {
 
 impl SceneThresholds {
     /// The thresholds of the regress row named `row` (`cpu`, `gpu`, `gpu vs cpu`; any other row,
-    /// e.g. a backend compared with itself, gets the defaults).
+    /// e.g. a backend compared with itself, gets the defaults): the file's entry, else
+    /// [`Thresholds::default_for`] the row.
     pub fn for_row(&self, row: &str) -> Thresholds {
         match row {
             "cpu" => self.cpu,
@@ -68,7 +97,7 @@ impl SceneThresholds {
             "gpu vs cpu" => self.gpu_vs_cpu,
             _ => None,
         }
-        .unwrap_or_default()
+        .unwrap_or_else(|| Thresholds::default_for(row))
     }
 }
 
@@ -137,14 +166,21 @@ mod tests {
             clouds.for_row("gpu"),
             Thresholds {
                 rmse: 2.5,
-                bad_fraction: 0.01
+                bad_fraction: 0.01,
+                max_abs: None,
             }
         );
         assert_eq!(clouds.for_row("gpu vs cpu").rmse, 3.0);
-        // The CPU row is not loosened by the GPU's entries.
-        assert_eq!(clouds.for_row("cpu"), Thresholds::default());
+        // The CPU row is not loosened by the GPU's entries: at most 1/255 anywhere.
+        assert_eq!(clouds.for_row("cpu"), Thresholds::CPU);
+        assert_eq!(Thresholds::CPU.max_abs, Some(1));
         assert_eq!(clouds.for_row("cpu vs cpu"), Thresholds::default());
         assert_eq!(t.get("fog").for_row("cpu").bad_fraction, 0.0);
+        assert_eq!(t.get("fog").for_row("cpu").max_abs, None);
+        let t =
+            ThresholdTable::parse(r#"{ "x": (gpu: (rmse: 2.0, bad_fraction: 0.0, max_abs: 9)) }"#)
+                .unwrap();
+        assert_eq!(t.get("x").for_row("gpu").max_abs, Some(9));
         assert_eq!(t.get("fog").for_row("gpu"), Thresholds::default());
         assert_eq!(t.get("empty"), SceneThresholds::default());
         assert_eq!(t.get("sphere").for_row("gpu"), Thresholds::default());
@@ -183,5 +219,13 @@ mod tests {
         assert!(!t.pass(&m(1.01, 0.0)));
         assert!(!t.pass(&m(0.0, 0.003)));
         assert!(!t.pass(&m(f64::NAN, 0.0)));
+        // The CPU rows: one pixel off by 2/255 fails, even with a tiny RMSE.
+        let off_by = |max_abs| Metrics {
+            rmse: 0.01,
+            max_abs,
+            bad_fraction: 0.0,
+        };
+        assert!(Thresholds::CPU.pass(&off_by(1)));
+        assert!(!Thresholds::CPU.pass(&off_by(2)));
     }
 }
