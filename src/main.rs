@@ -67,6 +67,10 @@ struct RenderArgs {
     /// only plain quadrics in closed form (same image to within ε; for comparisons).
     #[arg(long)]
     no_closed_form: bool,
+    /// The most a render may allocate for what grows with the input (images, work lists, height
+    /// maps): bytes with an optional K/M/G/T suffix, e.g. 8G [default: FRAY_MEMORY_BUDGET or 4G].
+    #[arg(long, value_name = "BYTES")]
+    memory_budget: Option<fray_core::MemoryBudget>,
     /// Exposure multiplier applied before tone mapping (PNG only).
     #[arg(long, default_value_t = 1.0)]
     exposure: f32,
@@ -185,6 +189,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         shadows: args.no_shadows.then_some(false),
         culling: args.no_culling.then_some(false),
         closed_form: args.no_closed_form.then_some(false),
+        memory_budget: args.memory_budget,
     });
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);

@@ -7,6 +7,7 @@ use std::process::{Command, Output};
 fn fray(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_fray"))
         .args(args)
+        .env_remove("FRAY_MEMORY_BUDGET")
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("the fray binary runs")
@@ -326,4 +327,52 @@ fn without_any_gpu_adapter_auto_warns_and_renders_on_the_cpu_and_gpu_is_a_clear_
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A size the scene validation accepts but the memory budget does not: a clear error before
+/// anything large is allocated (never an abort in the allocator); a larger budget is an option.
+#[test]
+fn a_frame_over_the_memory_budget_is_a_clear_error() {
+    let o = fray(&[
+        "render",
+        "data/scenes/csg.ron",
+        "--width",
+        "16384",
+        "--height",
+        "16384",
+        "--backend",
+        "cpu",
+        "-o",
+        "never-written.png",
+    ]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("memory budget of 4.00 GiB") && err.contains("--memory-budget"),
+        "{err}"
+    );
+    let o = fray(&[
+        "render",
+        "data/scenes/csg.ron",
+        "--width",
+        "64",
+        "--memory-budget",
+        "1K",
+        "-o",
+        "never-written.png",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("memory budget of 1.00 KiB"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fray(&["render", "--memory-budget", "4X", "-o", "never-written.png"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("K, M, G or T suffix"), "{}", stderr(&o));
+    assert!(
+        !Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("never-written.png")
+            .exists()
+    );
 }

@@ -66,7 +66,7 @@ fn turboprop_work_list(c: &mut Criterion) {
                 let list = build(
                     &scene.camera,
                     (1024, 1024),
-                    &QuadtreeConfig { cell_size: cell },
+                    &QuadtreeConfig::new(cell),
                     &root,
                     test,
                 );
@@ -87,7 +87,7 @@ fn turboprop_work_list(c: &mut Criterion) {
                         build_parallel(
                             &scene.camera,
                             (1024, 1024),
-                            &QuadtreeConfig { cell_size: cell },
+                            &QuadtreeConfig::new(cell),
                             &root,
                             || test,
                         )

@@ -2,8 +2,8 @@
 //! which candidates each cell's ray bundle may meet, drop cells with none, emit leaf cells — on one
 //! thread (`build`) or with the subtrees on the rayon pool (`build_parallel`, the same list).
 
-use crate::{Candidates, QuadtreeError, RayBundle, WorkList};
-use fray_core::Projector;
+use crate::{Candidate, Candidates, QuadtreeError, RayBundle, WorkItem, WorkList};
+use fray_core::{MemoryBudget, Projector};
 
 /// How far to subdivide.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -11,11 +11,37 @@ pub struct QuadtreeConfig {
     /// Cells no wider and no taller than this (pixels) are not split further: they become work
     /// items.
     pub cell_size: u32,
+    /// The most the work list may take. Checked before the build against its largest possible
+    /// size — every grid cell of `cell_size` a work item holding all of the root's candidates
+    /// and index lists (the cell test only ever keeps a subset of its parent's) — so a build
+    /// that could exceed it is refused instead of growing without a bound.
+    pub memory_budget: MemoryBudget,
+}
+
+impl QuadtreeConfig {
+    /// Cells of at most `cell_size` pixels, the default memory budget.
+    pub fn new(cell_size: u32) -> Self {
+        Self {
+            cell_size,
+            memory_budget: MemoryBudget::default(),
+        }
+    }
+
+    /// The largest work list a build over a `width × height` image can make from `root`:
+    /// one item per grid cell, each with every root candidate and index.
+    pub fn largest_work_list_bytes(&self, (width, height): (u32, u32), root: &Candidates) -> u64 {
+        let cell = u64::from(self.cell_size.max(1));
+        let cells = u64::from(width).div_ceil(cell) * u64::from(height).div_ceil(cell);
+        let per_item = std::mem::size_of::<WorkItem>() as u64
+            + std::mem::size_of::<Candidate>() as u64 * root.candidates.len() as u64
+            + 4 * (root.leaves.len() + root.perturbations.len()) as u64;
+        cells.saturating_mul(per_item)
+    }
 }
 
 impl Default for QuadtreeConfig {
     fn default() -> Self {
-        Self { cell_size: 8 }
+        Self::new(8)
     }
 }
 
@@ -36,7 +62,7 @@ pub fn build<F>(
 where
     F: FnMut(&RayBundle, &Candidates, &mut Candidates),
 {
-    check(config, width, height)?;
+    check(config, width, height, root)?;
     let mut out = WorkList::default();
     let mut scratch: Vec<Candidates> = Vec::new();
     let mut state = State {
@@ -69,7 +95,7 @@ where
     F: FnMut(&RayBundle, &Candidates, &mut Candidates),
 {
     use rayon::prelude::*;
-    check(config, width, height)?;
+    check(config, width, height, root)?;
     // Enough subtrees to keep every thread busy when some are culled early: 4^depth ≥ 8 × threads.
     let threads = rayon::current_num_threads().max(1);
     let mut frontier = 0usize;
@@ -125,14 +151,27 @@ where
     Ok(out)
 }
 
-/// The configuration and image size errors both builds report.
-fn check(config: &QuadtreeConfig, width: u32, height: u32) -> Result<(), QuadtreeError> {
+/// The configuration, image size and memory errors both builds report.
+fn check(
+    config: &QuadtreeConfig,
+    width: u32,
+    height: u32,
+    root: &Candidates,
+) -> Result<(), QuadtreeError> {
     if config.cell_size == 0 {
         return Err(QuadtreeError::ZeroCellSize);
     }
     if width == 0 || height == 0 {
         return Err(QuadtreeError::EmptyImage(width, height));
     }
+    config.memory_budget.check(
+        format!(
+            "the quadtree work list ({width} × {height} pixels in cells of {}, {} candidates at most per cell)",
+            config.cell_size,
+            root.candidates.len()
+        ),
+        config.largest_work_list_bytes((width, height), root),
+    )?;
     Ok(())
 }
 
@@ -258,7 +297,7 @@ mod tests {
             let list = build(
                 &camera(),
                 (w, h),
-                &QuadtreeConfig { cell_size: cell },
+                &QuadtreeConfig::new(cell),
                 &everything(),
                 |_, parent, out| out.clone_from(parent),
             )
@@ -324,7 +363,7 @@ mod tests {
                 (1, 1, 1),
                 (1000, 3, 4),
             ] {
-                let config = QuadtreeConfig { cell_size: cell };
+                let config = QuadtreeConfig::new(cell);
                 let sequential = build(&camera(), (w, h), &config, &root, patchy).unwrap();
                 let parallel = pool
                     .install(|| build_parallel(&camera(), (w, h), &config, &root, || patchy))
@@ -335,7 +374,7 @@ mod tests {
                 );
             }
         }
-        let zero = QuadtreeConfig { cell_size: 0 };
+        let zero = QuadtreeConfig::new(0);
         let e = build_parallel(&camera(), (4, 4), &zero, &root, || patchy);
         assert_eq!(e, Err(QuadtreeError::ZeroCellSize));
         let e = build_parallel(&camera(), (0, 4), &QuadtreeConfig::default(), &root, || {
@@ -349,7 +388,7 @@ mod tests {
         let list = build(
             &camera(),
             (64, 64),
-            &QuadtreeConfig { cell_size: 8 },
+            &QuadtreeConfig::new(8),
             &everything(),
             |b, parent, out| {
                 if b.x0 < 32 {
@@ -364,7 +403,7 @@ mod tests {
         let e = build(
             &camera(),
             (4, 4),
-            &QuadtreeConfig { cell_size: 0 },
+            &QuadtreeConfig::new(0),
             &everything(),
             |_, _, _| {},
         );
@@ -377,5 +416,43 @@ mod tests {
             |_, _, _| {},
         );
         assert_eq!(e, Err(QuadtreeError::EmptyImage(0, 4)));
+    }
+
+    /// A work list that could outgrow its budget is refused before the build, naming it; one
+    /// within is built, and its real size is within the estimate.
+    #[test]
+    fn a_work_list_over_its_budget_is_refused_before_it_is_built() {
+        let mut root = Candidates::new();
+        for object in 0..3 {
+            root.begin(object, 0.0, f64::INFINITY);
+            root.push_leaf(0);
+            root.push_perturbation(object);
+        }
+        let keep_all =
+            |_: &RayBundle, parent: &Candidates, out: &mut Candidates| out.clone_from(parent);
+        let mut config = QuadtreeConfig::new(8);
+        let largest = config.largest_work_list_bytes((64, 48), &root);
+        // 8 × 6 cells of (32 + 3 × 32 + 4 × 6) bytes.
+        assert_eq!(largest, 48 * (32 + 96 + 24));
+        config.memory_budget = MemoryBudget::new(largest);
+        let list = build(&camera(), (64, 48), &config, &root, keep_all).unwrap();
+        let bytes = list.items.len() * 32
+            + list.candidates.len() * 32
+            + 4 * (list.leaves.len() + list.perturbations.len());
+        assert_eq!(
+            bytes as u64, largest,
+            "keeping everything reaches the estimate"
+        );
+        config.memory_budget = MemoryBudget::new(largest - 1);
+        for e in [
+            build(&camera(), (64, 48), &config, &root, keep_all).unwrap_err(),
+            build_parallel(&camera(), (64, 48), &config, &root, || keep_all).unwrap_err(),
+        ] {
+            let QuadtreeError::Budget(b) = &e else {
+                panic!("expected a budget error, got {e}");
+            };
+            assert_eq!((b.needed, b.limit), (largest, largest - 1));
+            assert!(e.to_string().contains("quadtree work list"), "{e}");
+        }
     }
 }

@@ -7,4 +7,6 @@ pub enum QuadtreeError {
     ZeroCellSize,
     #[error("image size must be at least 1 × 1, got {0} × {1}")]
     EmptyImage(u32, u32),
+    #[error(transparent)]
+    Budget(#[from] fray_core::BudgetError),
 }

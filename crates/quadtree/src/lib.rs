@@ -18,7 +18,7 @@
 //! let object = Aabb::new(DVec3::splat(-0.5), DVec3::splat(0.5));
 //! let mut root = Candidates::new();
 //! root.begin(0, 0.0, f64::INFINITY);
-//! let list = build(&camera, (256, 256), &QuadtreeConfig { cell_size: 16 }, &root,
+//! let list = build(&camera, (256, 256), &QuadtreeConfig::new(16), &root,
 //!     |bundle, parent, out| {
 //!         for c in &parent.candidates {
 //!             if let Some(t) = bundle.box_range(&object) {

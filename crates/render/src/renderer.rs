@@ -53,6 +53,9 @@ pub struct RenderOptions {
     /// CPU only: answer rays that meet only plain quadrics in closed form (default on); off, the
     /// CPU searches every ray by halving, as the GPU does (the same image to within ε).
     pub closed_form: Option<bool>,
+    /// The most a render may allocate for what grows with the input (frames, work lists);
+    /// `None`: `FRAY_MEMORY_BUDGET` or 4 GiB ([`fray_core::MemoryBudget::default`]).
+    pub memory_budget: Option<fray_core::MemoryBudget>,
 }
 
 /// Why a render failed.
@@ -110,6 +113,9 @@ impl Renderer {
             settings.epsilon = eps;
         }
         settings.threads = self.options.threads;
+        if let Some(budget) = self.options.memory_budget {
+            settings.memory_budget = budget;
+        }
         if let Some(s) = self.options.shadows {
             settings.shadows = s;
         }

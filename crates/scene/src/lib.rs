@@ -47,4 +47,4 @@ pub use features::FeatureSet;
 pub use load::{load, parse, parse_description};
 pub use resolve::MAX_IMAGE_SIDE;
 pub use scene::{Light, Material, Object, Scene, Settings, TerrainObject};
-pub use work::work_list;
+pub use work::{work_list, work_list_within};

@@ -80,6 +80,15 @@ fn terrain_boxes(scene: &Scene) -> Vec<TerrainBoxes> {
 /// `scene.objects.len() + k` is `scene.terrains[k]` (no leaves, no perturbations). A cell keeps
 /// a terrain when its bundle meets the terrain's box and one of its coarse max columns.
 pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtree::QuadtreeError> {
+    work_list_within(scene, &QuadtreeConfig::new(cell_size))
+}
+
+/// [`work_list`] with the quadtree's configuration: cell size and memory budget (a list that
+/// could outgrow the budget is refused before it is built).
+pub fn work_list_within(
+    scene: &Scene,
+    config: &QuadtreeConfig,
+) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     let boxes = object_boxes(scene);
     let terrains = terrain_boxes(scene);
     let first_terrain = scene.objects.len();
@@ -159,7 +168,7 @@ pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtre
     build_parallel(
         &scene.camera,
         (scene.width, scene.height),
-        &QuadtreeConfig { cell_size },
+        config,
         &root,
         make_test,
     )

@@ -11,12 +11,16 @@ use crate::terrain_hit::TerrainCast;
 use crate::{TraceError, TraceSettings};
 use fray_core::{CameraRay, Frame, Image, RenderStats, Rgb};
 use fray_geometry::{ActiveSet, CastStats, RayCaster};
+use fray_quadtree::QuadtreeConfig;
 use fray_quadtree::WorkList;
-use fray_scene::{Scene, work_list};
+use fray_scene::{Scene, work_list_within};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
+
+/// Bytes per pixel of a frame's images: colour (3 × f32), depth (f64), normal (3 × f32).
+pub const FRAME_BYTES_PER_PIXEL: u64 = 32;
 
 /// Called after each finished tile with (pixels done, pixels in total).
 pub type Progress<'a> = &'a (dyn Fn(u64, u64) + Sync);
@@ -85,6 +89,19 @@ pub fn render_into(
         return Err(TraceError::BadTileSize);
     }
     let start = Instant::now();
+    let (width, height) = (scene.width, scene.height);
+    let n = width as usize * height as usize;
+    let sized = |w: u32, h: u32| w == width && h == height;
+    let resized = !(sized(frame.colour.width(), frame.colour.height())
+        && sized(frame.depth.width(), frame.depth.height())
+        && sized(frame.normals.width(), frame.normals.height()));
+    if resized {
+        settings.memory_budget.check_elements(
+            format!("the frame's colour, depth and normal images ({width} × {height} pixels, 32 bytes each)"),
+            n as u64,
+            FRAME_BYTES_PER_PIXEL,
+        )?;
+    }
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();
         if let Some(n) = settings.threads {
@@ -95,13 +112,16 @@ pub fn render_into(
             reason: e.to_string(),
         })?
     };
-    let (width, height) = (scene.width, scene.height);
     let ts = settings.tile_size;
     let total = u64::from(width) * u64::from(height);
     let done = AtomicU64::new(0);
     // Tiles `(x0, y0, x1, y1)`, with the index of their work item when culling.
     let (tiles, list): (Vec<Tile>, _) = if settings.culling {
-        let list = pool.install(|| work_list(scene, ts))?;
+        let config = QuadtreeConfig {
+            cell_size: ts,
+            memory_budget: settings.memory_budget,
+        };
+        let list = pool.install(|| work_list_within(scene, &config))?;
         let tiles = list
             .items
             .iter()
@@ -133,12 +153,7 @@ pub fn render_into(
     // which cost a 1024² frame as much as a fifth of its tracing in page faults and copies.
     let band_rows = ts as usize;
     let bands = tiles_by_band(&tiles, height, ts);
-    let n = width as usize * height as usize;
-    let sized = |w: u32, h: u32| w == width && h == height;
-    if !(sized(frame.colour.width(), frame.colour.height())
-        && sized(frame.depth.width(), frame.depth.height())
-        && sized(frame.normals.width(), frame.normals.height()))
-    {
+    if resized {
         // New buffers from zeroed allocations: the kernel maps their pages when a band task
         // first writes its rows (in parallel, once), instead of in a fill pass before that.
         let zeroed = || {

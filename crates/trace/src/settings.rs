@@ -1,5 +1,6 @@
 //! Settings of the CPU backend.
 
+use fray_core::{BudgetError, MemoryBudget};
 use fray_geometry::CastMethod;
 
 /// How the CPU backend renders. Scene settings feed the defaults; the caller may override.
@@ -24,6 +25,9 @@ pub struct TraceSettings {
     /// How rays that meet only plain quadrics are answered: the certified closed form (the
     /// default) or the halving search everywhere, as the GPU does.
     pub method: CastMethod,
+    /// The most a frame may allocate for what grows with the image: its colour, depth and normal
+    /// images (32 bytes per pixel) and the quadtree's work list, each checked before it is made.
+    pub memory_budget: MemoryBudget,
 }
 
 impl TraceSettings {
@@ -37,6 +41,7 @@ impl TraceSettings {
             culling: true,
             shading: true,
             method: CastMethod::ClosedForm,
+            memory_budget: MemoryBudget::default(),
         }
     }
 }
@@ -54,4 +59,6 @@ pub enum TraceError {
     Quadtree(#[from] fray_quadtree::QuadtreeError),
     #[error("could not start {threads} worker threads: {reason}")]
     ThreadPool { threads: usize, reason: String },
+    #[error(transparent)]
+    Budget(#[from] BudgetError),
 }
