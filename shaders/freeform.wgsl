@@ -699,8 +699,8 @@ fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) ->
     var terrain_listed = false;
     for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
         let cand = candidates[c];
-        if cand.object >= frame.size.w {
-            // The terrain (an id past the solids): cast after the free forms.
+        if cand.kind == KIND_TERRAIN {
+            // The terrain: cast after the free forms.
             terrain_listed = true;
             continue;
         }

@@ -57,6 +57,10 @@ struct RenderArgs {
     /// Which backend renders.
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
     backend: BackendArg,
+    /// Anti-aliasing: stratified samples per pixel, box-filtered, in 1..=1024 [default: the
+    /// scene's `settings.samples`, else 1]. Depth and normals come from the pixel centre.
+    #[arg(long, value_name = "N", value_parser = parse_samples)]
+    samples: Option<fray_core::PixelSamples>,
     /// Turn shadow rays off.
     #[arg(long)]
     no_shadows: bool,
@@ -130,6 +134,13 @@ fn main() -> ExitCode {
     }
 }
 
+fn parse_samples(text: &str) -> Result<fray_core::PixelSamples, String> {
+    let n: u32 = text
+        .parse()
+        .map_err(|_| format!("a whole number of samples is needed, got {text:?}"))?;
+    fray_core::PixelSamples::new(n).map_err(|e| e.to_string())
+}
+
 fn load(path: Option<&Path>) -> Result<(fray_scene::Scene, String), String> {
     match path {
         Some(p) => fray_scene::load(p)
@@ -190,6 +201,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         culling: args.no_culling.then_some(false),
         closed_form: args.no_closed_form.then_some(false),
         memory_budget: args.memory_budget,
+        samples: args.samples,
     });
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);

@@ -27,11 +27,13 @@ pub mod budget;
 mod colour;
 mod footprint;
 mod frame;
+pub mod gpu_struct;
 mod image;
 mod interval;
 mod projector;
 mod ray;
 pub mod root;
+pub mod samples;
 
 pub use aabb::Aabb;
 pub use budget::{BudgetError, MemoryBudget};
@@ -45,3 +47,4 @@ pub use projector::{
     CameraRay, Parallel, Pinhole, Projector, ProjectorError, SphereSurface, ViewBasis,
 };
 pub use ray::Ray;
+pub use samples::{PixelSample, PixelSamples};

@@ -11,7 +11,9 @@ pub struct Ray {
 
 impl Ray {
     /// A ray from `origin` along `dir`; `dir` is normalised here. Returns `None` for a zero or
-    /// non-finite direction, so a degenerate camera can never produce NaN points.
+    /// non-finite direction, so a degenerate camera can never produce NaN points. Inlined: an
+    /// `Option<Ray>` returned through memory and reloaded stalls store forwarding.
+    #[inline]
     pub fn new(origin: DVec3, dir: DVec3) -> Option<Self> {
         Self::with_length(origin, dir, dir.length())
     }

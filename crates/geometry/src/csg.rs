@@ -159,8 +159,9 @@ impl Solid {
 
     /// [`Solid::surface_at`] evaluating each leaf with only the perturbations `active` lists for
     /// it: bit-identical when every perturbation left out is zero at `p` (as for a point on a ray
-    /// that misses its support) — and as cheap as the active perturbations.
-    #[inline]
+    /// that misses its support) — and as cheap as the active perturbations. Always inlined: a
+    /// frame loop calls it per hit, and a returned normal reloaded from memory stalls.
+    #[inline(always)]
     pub fn surface_at_with(
         &self,
         p: DVec3,

@@ -25,15 +25,18 @@ pub struct GpuSettings {
     /// Render from the quadtree work list (`fray_scene::work_list`): culled tiles run nothing
     /// and each tile casts only its candidates' active parts. Lossless: the same image as off.
     pub culling: bool,
+    /// Anti-aliasing samples per pixel.
+    pub samples: fray_core::PixelSamples,
 }
 
 impl GpuSettings {
-    /// The scene's own ε and shadow switch.
+    /// The scene's own ε, shadow switch and samples.
     pub fn for_scene(scene: &Scene) -> Self {
         Self {
             epsilon: scene.epsilon(),
             shadows: scene.settings.shadows,
             culling: true,
+            samples: scene.settings.samples,
         }
     }
 }
@@ -84,6 +87,11 @@ impl GpuRenderer {
         }
         if scene.width == 0 || scene.height == 0 {
             return Err(GpuError::EmptyImage(scene.width, scene.height));
+        }
+        if settings.samples.count() > 1 {
+            return Err(GpuError::Unsupported {
+                feature: "anti-aliasing (samples > 1)",
+            });
         }
         let eps = gpu_epsilon(scene, settings.epsilon);
         let spec = Specialisation::for_scene(scene, settings.shadows);

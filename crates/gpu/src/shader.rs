@@ -84,6 +84,12 @@ pub fn prelude(sizes: ArraySizes) -> String {
         s.push_str(&format!("const {name}: u32 = {value}u;\n"));
     }
     for (name, value) in [
+        ("KIND_FREE_FORM", fray_scene::PrimitiveKind::FreeForm.code()),
+        ("KIND_TERRAIN", fray_scene::PrimitiveKind::Terrain.code()),
+    ] {
+        s.push_str(&format!("const {name}: u32 = {value}u;\n"));
+    }
+    for (name, value) in [
         ("MAX_LEAVES", sizes.max_leaves),
         ("MAX_PERTURBATIONS", sizes.max_perturbations),
         ("MAX_STACK", sizes.max_stack),

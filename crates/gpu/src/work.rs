@@ -13,7 +13,7 @@ use fray_geometry::gpu_layout::{GpuSolids, WgslStruct, program_word};
 #[cfg(test)]
 use fray_geometry::gpu_layout::{OP_BITS, OP_LEAF};
 use fray_quadtree::{Candidate, QuadtreeError, QuadtreeStats, WorkItem};
-use fray_scene::Scene;
+use fray_scene::{PrimitiveKind, Scene};
 
 /// Side of a work item's tile in pixels, and of the workgroup that renders it.
 pub const TILE: u32 = 8;
@@ -54,7 +54,7 @@ impl GpuWork {
         for item in &list.items {
             let candidate_start = work.candidates.len() as u32;
             for c in list.candidates_of(item) {
-                if c.object as usize >= scene.objects.len() {
+                if c.kind == PrimitiveKind::Terrain.code() {
                     work.push_terrain(c.object);
                     continue;
                 }
@@ -116,6 +116,7 @@ impl GpuWork {
                 leaf_count: leaves,
                 perturbation_count: perturbations,
                 ..Candidate::new(
+                    PrimitiveKind::FreeForm.code(),
                     i as u32,
                     leaf_start as u32,
                     perturbation_start as u32,
@@ -128,7 +129,7 @@ impl GpuWork {
             work.programs.push([flat.info[2], flat.info[3]]);
         }
         for k in 0..scene.terrains.len() {
-            work.push_terrain((scene.objects.len() + k) as u32);
+            work.push_terrain(k as u32);
         }
         if work.candidates.is_empty() {
             return work;
@@ -150,12 +151,12 @@ impl GpuWork {
         work
     }
 
-    /// Lists terrain `object` (an id past the scene's objects): no leaves, no perturbations,
-    /// an empty program.
-    fn push_terrain(&mut self, object: u32) {
+    /// Lists terrain `index`: no leaves, no perturbations, an empty program.
+    fn push_terrain(&mut self, index: u32) {
         let (leaf_start, perturbation_start) = (self.leaves.len(), self.perturbations.len());
         self.candidates.push(Candidate::new(
-            object,
+            PrimitiveKind::Terrain.code(),
+            index,
             leaf_start as u32,
             perturbation_start as u32,
             0.0,
@@ -191,6 +192,7 @@ pub const WGSL_STRUCTS: [WgslStruct; 2] = [
     WgslStruct {
         name: "Candidate",
         fields: &[
+            ("kind", "u32"),
             ("object", "u32"),
             ("leaf_start", "u32"),
             ("leaf_count", "u32"),
@@ -198,7 +200,6 @@ pub const WGSL_STRUCTS: [WgslStruct; 2] = [
             ("perturbation_count", "u32"),
             ("t_min", "f32"),
             ("t_max", "f32"),
-            ("_pad", "u32"),
         ],
     },
 ];
@@ -227,6 +228,7 @@ mod tests {
             (
                 size_of::<Candidate>(),
                 vec![
+                    offset_of!(Candidate, kind),
                     offset_of!(Candidate, object),
                     offset_of!(Candidate, leaf_start),
                     offset_of!(Candidate, leaf_count),
@@ -234,7 +236,6 @@ mod tests {
                     offset_of!(Candidate, perturbation_count),
                     offset_of!(Candidate, t_min),
                     offset_of!(Candidate, t_max),
-                    offset_of!(Candidate, _pad),
                 ],
             ),
         ];
@@ -315,7 +316,7 @@ mod tests {
 
     #[test]
     fn terrain_candidates_reach_the_gpu_where_listed() {
-        // The scheduler's list names the terrain (id past the objects) where it may be hit: the
+        // The scheduler's list names the terrain (its kind) where it may be hit: the
         // pass keeps it there, with an empty program, and the same items.
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
@@ -326,8 +327,8 @@ mod tests {
         let list = fray_scene::work_list(&s, TILE).unwrap();
         let w = GpuWork::culled(&s, &flat(&s)).unwrap();
         assert_eq!(w.candidates.len(), w.programs.len());
-        let terrain = s.objects.len() as u32;
-        let listed = |cands: &[Candidate]| cands.iter().any(|c| c.object == terrain);
+        let terrain = PrimitiveKind::Terrain.code();
+        let listed = |cands: &[Candidate]| cands.iter().any(|c| c.kind == terrain);
         let kept: Vec<&WorkItem> = list
             .items
             .iter()
@@ -344,14 +345,14 @@ mod tests {
             assert_eq!(listed(gpu), listed(list.candidates_of(c)));
             let range =
                 g.candidate_start as usize..(g.candidate_start + g.candidate_count) as usize;
-            for k in range.filter(|&k| w.candidates[k].object == terrain) {
+            for k in range.filter(|&k| w.candidates[k].kind == terrain) {
                 assert_eq!(w.programs[k], [0, 0]);
             }
         }
         // Some tiles list the terrain alone.
         assert!(w.items.iter().any(|i| {
             let c = &w.candidates[i.candidate_start as usize..][..i.candidate_count as usize];
-            c.len() == 1 && c[0].object == terrain
+            c.len() == 1 && c[0].kind == terrain
         }));
         assert_eq!(w.stats.unwrap().items as usize, w.items.len());
         // Without culling every tile lists every object and the terrain.

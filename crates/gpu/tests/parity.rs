@@ -15,7 +15,6 @@ mod common;
 use libtest_mimic::{Arguments, Trial};
 
 use fray_core::{Frame, Interval};
-use fray_geometry::{CastStats, RayCaster};
 use fray_gpu::{GpuRenderer, GpuSettings, gpu_epsilon};
 use fray_scene::Scene;
 use fray_trace::TraceSettings;
@@ -25,10 +24,9 @@ const DEPTH_REL: f64 = 2e-5;
 const COLOUR_ABS: f32 = 2e-3;
 const COLOUR_REL: f32 = 2e-3;
 
-/// The CPU's object id per pixel (`u32::MAX` for a miss).
+/// The CPU's primitive per pixel as one label (`u32::MAX` for a miss).
 fn cpu_ids(scene: &Scene, eps: f64) -> Vec<u32> {
-    let mut caster = RayCaster::new();
-    let mut stats = CastStats::default();
+    let mut ctx = fray_trace::TraceContext::default();
     let mut ids = Vec::new();
     for y in 0..scene.height {
         for x in 0..scene.width {
@@ -38,14 +36,15 @@ fn cpu_ids(scene: &Scene, eps: f64) -> Vec<u32> {
                 .and_then(|r| {
                     fray_trace::nearest_hit(
                         scene,
-                        &mut caster,
+                        &mut ctx,
                         &r.ray,
                         Interval::new(r.t_near, f64::INFINITY),
                         eps,
-                        &mut stats,
                     )
                 })
-                .map_or(u32::MAX, |h| h.object);
+                .map_or(u32::MAX, |h| {
+                    (h.primitive.kind.code() << 24) | h.primitive.index
+                });
             ids.push(id);
         }
     }
@@ -405,8 +404,8 @@ fn terrain_scenes_match_the_cpu_reference() {
             frame.stats.passes
         );
         let ids = cpu_ids(&scene, TraceSettings::for_scene(&scene).epsilon);
-        let first = scene.objects.len() as u32;
-        let terrain_pixels = ids.iter().filter(|&&id| id == first).count();
+        let terrain = fray_scene::PrimitiveKind::Terrain.code() << 24;
+        let terrain_pixels = ids.iter().filter(|&&id| id == terrain).count();
         assert!(terrain_pixels * 2 > ids.len(), "{file}: {terrain_pixels}");
         let r = compare(file, &scene, &gpu);
         assert!(r.both_hit > 0, "{file}: nothing hit");

@@ -36,7 +36,7 @@ fn turboprop_work_list(c: &mut Criterion) {
         .collect();
     let mut root = Candidates::new();
     for (i, (_, leaves, perts)) in objects.iter().enumerate() {
-        root.begin(i as u32, 0.0, f64::INFINITY);
+        root.begin(0, i as u32, 0.0, f64::INFINITY);
         (0..leaves.len() as u32).for_each(|l| root.push_leaf(l));
         (0..perts.len() as u32).for_each(|p| root.push_perturbation(p));
     }
@@ -46,7 +46,7 @@ fn turboprop_work_list(c: &mut Criterion) {
             let Some(t) = b.box_range(solid) else {
                 continue;
             };
-            out.begin(c.object, t.lo, t.hi);
+            out.begin(c.kind, c.object, t.lo, t.hi);
             for &l in c.leaves(&parent.leaves) {
                 if b.box_range(&leaves[l as usize]).is_some() {
                     out.push_leaf(l);

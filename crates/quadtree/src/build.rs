@@ -2,7 +2,7 @@
 //! which candidates each cell's ray bundle may meet, drop cells with none, emit leaf cells — on one
 //! thread (`build`) or with the subtrees on the rayon pool (`build_parallel`, the same list).
 
-use crate::{Candidate, Candidates, QuadtreeError, RayBundle, WorkItem, WorkList};
+use crate::{Candidate, Candidates, PixelCoverage, QuadtreeError, RayBundle, WorkItem, WorkList};
 use fray_core::{MemoryBudget, Projector};
 
 /// How far to subdivide.
@@ -16,14 +16,19 @@ pub struct QuadtreeConfig {
     /// and index lists (the cell test only ever keeps a subset of its parent's) — so a build
     /// that could exceed it is refused instead of growing without a bound.
     pub memory_budget: MemoryBudget,
+    /// Which points of its pixels a cell's rays pass through: the centres (one ray per pixel),
+    /// or anywhere (anti-aliasing samples).
+    pub coverage: PixelCoverage,
 }
 
 impl QuadtreeConfig {
-    /// Cells of at most `cell_size` pixels, the default memory budget.
+    /// Cells of at most `cell_size` pixels, rays through the pixel centres, the default memory
+    /// budget.
     pub fn new(cell_size: u32) -> Self {
         Self {
             cell_size,
             memory_budget: MemoryBudget::default(),
+            coverage: PixelCoverage::Centres,
         }
     }
 
@@ -69,6 +74,7 @@ where
         projector,
         size: (width, height),
         cell_size: config.cell_size,
+        coverage: config.coverage,
         test: &mut test,
         out: &mut out,
         scratch: &mut scratch,
@@ -110,6 +116,7 @@ where
         projector,
         size: (width, height),
         cell_size: config.cell_size,
+        coverage: config.coverage,
         test: &mut test,
         out: &mut top,
         scratch: &mut Vec::new(),
@@ -129,6 +136,7 @@ where
                             projector,
                             size: (width, height),
                             cell_size: config.cell_size,
+                            coverage: config.coverage,
                             test,
                             out: &mut out,
                             scratch,
@@ -221,6 +229,7 @@ struct State<'a, F> {
     projector: &'a Projector,
     size: (u32, u32),
     cell_size: u32,
+    coverage: PixelCoverage,
     test: &'a mut F,
     out: &'a mut WorkList,
     /// One candidate list per depth, reused.
@@ -242,7 +251,7 @@ where
             return;
         }
         self.out.stats.cells_visited += 1;
-        let bundle = RayBundle::of_cell(self.projector, self.size, cell);
+        let bundle = RayBundle::covering(self.projector, self.size, cell, self.coverage);
         if self.scratch.len() <= depth {
             self.scratch.resize_with(depth + 1, Candidates::new);
         }
@@ -287,7 +296,7 @@ mod tests {
 
     fn everything() -> Candidates {
         let mut c = Candidates::new();
-        c.begin(0, 0.0, f64::INFINITY);
+        c.begin(0, 0, 0.0, f64::INFINITY);
         c
     }
 
@@ -325,7 +334,12 @@ mod tests {
             if h(c.object) == 0 && b.x1 - b.x0 < 40 {
                 continue;
             }
-            out.begin(c.object, f64::from(c.t_min) + 0.5, f64::from(c.t_max));
+            out.begin(
+                c.kind,
+                c.object,
+                f64::from(c.t_min) + 0.5,
+                f64::from(c.t_max),
+            );
             for &l in c.leaves(&parent.leaves) {
                 if h(l + 7) != 0 {
                     out.push_leaf(l);
@@ -343,7 +357,7 @@ mod tests {
     fn the_parallel_build_makes_the_sequential_list() {
         let mut root = Candidates::new();
         for object in 0..6 {
-            root.begin(object, 0.0, 100.0);
+            root.begin(0, object, 0.0, 100.0);
             for l in 0..3 {
                 root.push_leaf(l);
             }
@@ -424,7 +438,7 @@ mod tests {
     fn a_work_list_over_its_budget_is_refused_before_it_is_built() {
         let mut root = Candidates::new();
         for object in 0..3 {
-            root.begin(object, 0.0, f64::INFINITY);
+            root.begin(0, object, 0.0, f64::INFINITY);
             root.push_leaf(0);
             root.push_perturbation(object);
         }

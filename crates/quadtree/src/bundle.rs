@@ -22,6 +22,16 @@ const ANGLE_SLACK: f64 = 1e-7;
 /// Relative slack on distances: covers rounding in the projector and in the callers' evaluations.
 const RELATIVE_SLACK: f64 = 1e-7;
 
+/// Which points of a cell's pixels its rays pass through.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PixelCoverage {
+    /// The pixel centres: one ray per pixel.
+    #[default]
+    Centres,
+    /// Any point of the pixels (several samples per pixel, anywhere in it).
+    Area,
+}
+
 /// A conservative description of all rays through the pixel centres of the cell
 /// `[x0, x1) × [y0, y1)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,14 +53,26 @@ pub struct RayBundle {
 }
 
 impl RayBundle {
-    /// The bundle of the cell `[x0, x1) × [y0, y1)` (non-empty) of a `width × height` image.
-    pub fn of_cell(
+    /// The bundle of the rays through the pixel centres of the cell `[x0, x1) × [y0, y1)`
+    /// (non-empty) of a `width × height` image.
+    pub fn of_cell(projector: &Projector, size: (u32, u32), cell: (u32, u32, u32, u32)) -> Self {
+        Self::covering(projector, size, cell, PixelCoverage::Centres)
+    }
+
+    /// The bundle of the cell's rays through the points `coverage` names: the pixel centres,
+    /// or every point of its pixels (the rays of anti-aliasing samples anywhere in a pixel).
+    pub fn covering(
         projector: &Projector,
         (width, height): (u32, u32),
         (x0, y0, x1, y1): (u32, u32, u32, u32),
+        coverage: PixelCoverage,
     ) -> Self {
-        let (xa, xb) = (f64::from(x0) + 0.5, f64::from(x1.max(x0 + 1)) - 0.5);
-        let (ya, yb) = (f64::from(y0) + 0.5, f64::from(y1.max(y0 + 1)) - 0.5);
+        let inset = match coverage {
+            PixelCoverage::Centres => 0.5,
+            PixelCoverage::Area => 0.0,
+        };
+        let (xa, xb) = (f64::from(x0) + inset, f64::from(x1.max(x0 + 1)) - inset);
+        let (ya, yb) = (f64::from(y0) + inset, f64::from(y1.max(y0 + 1)) - inset);
         let mut bundle = Self {
             x0,
             y0,

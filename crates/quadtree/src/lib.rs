@@ -17,12 +17,12 @@
 //! // One object: a small box at the centre of the view.
 //! let object = Aabb::new(DVec3::splat(-0.5), DVec3::splat(0.5));
 //! let mut root = Candidates::new();
-//! root.begin(0, 0.0, f64::INFINITY);
+//! root.begin(0, 0, 0.0, f64::INFINITY);
 //! let list = build(&camera, (256, 256), &QuadtreeConfig::new(16), &root,
 //!     |bundle, parent, out| {
 //!         for c in &parent.candidates {
 //!             if let Some(t) = bundle.box_range(&object) {
-//!                 out.begin(c.object, t.lo, t.hi);
+//!                 out.begin(c.kind, c.object, t.lo, t.hi);
 //!             }
 //!         }
 //!     })?;
@@ -38,6 +38,6 @@ mod trig;
 mod work;
 
 pub use build::{QuadtreeConfig, build, build_parallel};
-pub use bundle::RayBundle;
+pub use bundle::{PixelCoverage, RayBundle};
 pub use error::QuadtreeError;
 pub use work::{Candidate, Candidates, QuadtreeStats, WorkItem, WorkList};

@@ -1,9 +1,11 @@
 //! The flat, GPU-uploadable work list: work items (tiles), their candidates, and index arrays.
 //!
 //! Everything is plain `#[repr(C)]` u32/f32 (`bytemuck::Pod`), so the arrays upload as they are.
-//! The scheduler does not know what a candidate *is*: it is a caller-given `object` id with two
-//! caller-given index lists, called `leaves` and `perturbations` after their use in fray (the
-//! leaves of a CSG solid that may matter in the tile and the perturbations that may matter there).
+//! The scheduler does not know what a candidate *is*: it is a caller-given `(kind, object)` id
+//! with two caller-given index lists, called `leaves` and `perturbations` after their use in fray
+//! (the leaves of a CSG solid that may matter in the tile and the perturbations that may matter
+//! there; fray's kinds are its primitive kinds — free form, terrain — and `object` the index
+//! within the kind).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -27,6 +29,9 @@ pub struct WorkItem {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Candidate {
+    /// The caller's kind of object (fray: its primitive kind).
+    pub kind: u32,
+    /// The object's index (fray: within its kind).
     pub object: u32,
     pub leaf_start: u32,
     pub leaf_count: u32,
@@ -35,14 +40,14 @@ pub struct Candidate {
     /// Conservative range of ray parameters where this object can be, for the tile's rays.
     pub t_min: f32,
     pub t_max: f32,
-    pub _pad: u32,
 }
 
 impl Candidate {
-    /// A candidate for `object` with no leaves or perturbations yet, whose lists will start at
-    /// `leaf_start` and `perturbation_start` in their index arrays, and whose rays can meet it
-    /// for `t ∈ [t_min, t_max]` (rounded outward to f32).
+    /// A candidate for `object` of `kind` with no leaves or perturbations yet, whose lists will
+    /// start at `leaf_start` and `perturbation_start` in their index arrays, and whose rays can
+    /// meet it for `t ∈ [t_min, t_max]` (rounded outward to f32).
     pub fn new(
+        kind: u32,
         object: u32,
         leaf_start: u32,
         perturbation_start: u32,
@@ -50,6 +55,7 @@ impl Candidate {
         t_max: f64,
     ) -> Self {
         Self {
+            kind,
             object,
             leaf_start,
             leaf_count: 0,
@@ -57,7 +63,6 @@ impl Candidate {
             perturbation_count: 0,
             t_min: round_down(t_min),
             t_max: round_up(t_max),
-            _pad: 0,
         }
     }
 
@@ -101,11 +106,12 @@ impl Candidates {
         self.candidates.len()
     }
 
-    /// Starts a candidate for `object` whose rays can meet it for `t ∈ [t_min, t_max]`; the
-    /// following [`Candidates::push_leaf`] / [`Candidates::push_perturbation`] calls fill it.
-    pub fn begin(&mut self, object: u32, t_min: f64, t_max: f64) {
+    /// Starts a candidate for `object` of `kind` whose rays can meet it for `t ∈ [t_min, t_max]`;
+    /// the following [`Candidates::push_leaf`] / [`Candidates::push_perturbation`] calls fill it.
+    pub fn begin(&mut self, kind: u32, object: u32, t_min: f64, t_max: f64) {
         let (leaf_start, perturbation_start) = (self.leaves.len(), self.perturbations.len());
         self.candidates.push(Candidate::new(
+            kind,
             object,
             leaf_start as u32,
             perturbation_start as u32,

@@ -2,7 +2,7 @@
 //! fields of view included), and a box the bundle is said to miss is missed by every such ray.
 
 use fray_core::{Aabb, Interval, Parallel, Pinhole, Projector, SphereSurface};
-use fray_quadtree::RayBundle;
+use fray_quadtree::{PixelCoverage, RayBundle};
 use glam::DVec3;
 
 fn projectors() -> Vec<Projector> {
@@ -69,6 +69,45 @@ fn every_pixel_centre_ray_is_inside_its_cells_bundle() {
                         "{p:?} cell {cell:?} pixel ({x}, {y}): {b:?}"
                     );
                 }
+            }
+        }
+    }
+}
+
+/// With [`PixelCoverage::Area`] the bundle holds the rays through every point of the cell's
+/// pixels — their corners and random points, where anti-aliasing samples go — not only the
+/// centres.
+#[test]
+fn every_ray_through_a_cells_pixels_is_inside_its_area_bundle() {
+    let (w, h) = (97, 61);
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for p in projectors() {
+        for cell in cells(w, h) {
+            let b = RayBundle::covering(&p, (w, h), cell, PixelCoverage::Area);
+            let (x0, y0, x1, y1) = (
+                f64::from(cell.0),
+                f64::from(cell.1),
+                f64::from(cell.2),
+                f64::from(cell.3),
+            );
+            let mut points = vec![(x0, y0), (x1, y0), (x0, y1), (x1, y1)];
+            for _ in 0..64 {
+                points.push((x0 + (x1 - x0) * next(), y0 + (y1 - y0) * next()));
+            }
+            for (x, y) in points {
+                let Some(r) = p.ray(x, y, w, h) else {
+                    continue;
+                };
+                assert!(
+                    b.contains(&r.ray),
+                    "{p:?} cell {cell:?} point ({x}, {y}): {b:?}"
+                );
             }
         }
     }

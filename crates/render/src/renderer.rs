@@ -56,6 +56,8 @@ pub struct RenderOptions {
     /// The most a render may allocate for what grows with the input (frames, work lists);
     /// `None`: `FRAY_MEMORY_BUDGET` or 4 GiB ([`fray_core::MemoryBudget::default`]).
     pub memory_budget: Option<fray_core::MemoryBudget>,
+    /// Anti-aliasing samples per pixel (overrides the scene's `settings.samples`).
+    pub samples: Option<fray_core::PixelSamples>,
 }
 
 /// Why a render failed.
@@ -116,6 +118,9 @@ impl Renderer {
         if let Some(budget) = self.options.memory_budget {
             settings.memory_budget = budget;
         }
+        if let Some(samples) = self.options.samples {
+            settings.samples = samples;
+        }
         if let Some(s) = self.options.shadows {
             settings.shadows = s;
         }
@@ -147,6 +152,7 @@ impl Renderer {
                     epsilon: settings.epsilon,
                     shadows: settings.shadows,
                     culling: settings.culling,
+                    samples: settings.samples,
                 };
                 let gpu = || {
                     let frame = fray_gpu::render(&scene, &gpu_settings)?;

@@ -385,6 +385,10 @@ pub struct Settings {
     pub epsilon: Option<f64>,
     #[serde(default = "yes")]
     pub shadows: bool,
+    /// Anti-aliasing samples per pixel, a whole number in `1..=1024` (read as any number so a
+    /// bad value gets a clear message); default 1 (the pixel centre).
+    #[serde(default)]
+    pub samples: Option<f64>,
 }
 
 impl Default for Settings {
@@ -392,6 +396,7 @@ impl Default for Settings {
         Self {
             epsilon: None,
             shadows: true,
+            samples: None,
         }
     }
 }

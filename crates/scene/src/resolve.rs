@@ -5,7 +5,9 @@
 use crate::description::{self, Vec3};
 use crate::path::FieldPath;
 use crate::{FeatureSet, Light, Material, Object, Scene, Settings, TerrainObject};
-use fray_core::{Aabb, Parallel, Pinhole, Projector, ProjectorError, Rgb, SphereSurface};
+use fray_core::{
+    Aabb, Parallel, Pinhole, PixelSamples, Projector, ProjectorError, Rgb, SphereSurface,
+};
 use fray_geometry::{FreeForm, GeometryError, Perturbation, Quadric, Shape, Sheets, Solid};
 use glam::{DAffine3, DMat3, DVec3};
 use std::collections::BTreeMap;
@@ -124,9 +126,26 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
         Some(e) => Some(positive(&settings_path.field("epsilon"), e)?),
         None => None,
     };
+    let samples = match d.settings.samples {
+        None => PixelSamples::ONE,
+        Some(n) => {
+            let path = settings_path.field("samples");
+            let max = fray_core::samples::MAX_SAMPLES;
+            match PixelSamples::new(n as u32) {
+                Ok(samples) if n.fract() == 0.0 && n >= 1.0 && n <= f64::from(max) => samples,
+                _ => {
+                    return invalid(
+                        &path,
+                        format!("must be a whole number in 1..={max}, got {n}"),
+                    );
+                }
+            }
+        }
+    };
     let settings = Settings {
         epsilon,
         shadows: d.settings.shadows,
+        samples,
     };
     features.shadows = settings.shadows && !lights.is_empty();
 

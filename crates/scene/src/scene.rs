@@ -1,8 +1,8 @@
 //! The resolved scene: what a scene file means once parsed and validated, ready for a backend.
 
-use crate::FeatureSet;
 use crate::description::TerrainLod;
-use fray_core::{Projector, Rgb};
+use crate::{FeatureSet, PrimitiveId, PrimitiveKind};
+use fray_core::{PixelSamples, Projector, Rgb};
 use fray_geometry::Solid;
 use fray_terrain::Terrain;
 use glam::DVec3;
@@ -36,6 +36,9 @@ pub struct Settings {
     pub epsilon: Option<f64>,
     /// Whether lights cast shadows (shadow rays).
     pub shadows: bool,
+    /// Anti-aliasing: stratified samples per pixel, box-filtered (depth and normals still come
+    /// from the pixel centre). One sample is the pixel centre.
+    pub samples: PixelSamples,
 }
 
 impl Default for Settings {
@@ -43,6 +46,7 @@ impl Default for Settings {
         Self {
             epsilon: None,
             shadows: true,
+            samples: PixelSamples::ONE,
         }
     }
 }
@@ -117,6 +121,47 @@ impl Scene {
         self.terrains
             .iter()
             .fold(objects, |b, t| b.union(&t.terrain.bounds()))
+    }
+
+    /// Every primitive, kind by kind in [`PrimitiveKind::ALL`] order.
+    pub fn primitives(&self) -> impl Iterator<Item = PrimitiveId> + '_ {
+        let free_forms = (0..self.objects.len() as u32).map(PrimitiveId::free_form);
+        let terrains = (0..self.terrains.len() as u32).map(PrimitiveId::terrain);
+        free_forms.chain(terrains)
+    }
+
+    /// How many primitives of `kind` the scene holds.
+    pub fn count(&self, kind: PrimitiveKind) -> usize {
+        match kind {
+            PrimitiveKind::FreeForm => self.objects.len(),
+            PrimitiveKind::Terrain => self.terrains.len(),
+        }
+    }
+
+    /// The box of primitive `id` (`None` if the scene has no such primitive).
+    pub fn primitive_bounds(&self, id: PrimitiveId) -> Option<fray_core::Aabb> {
+        match id.kind {
+            PrimitiveKind::FreeForm => self
+                .objects
+                .get(id.index as usize)
+                .map(|o| o.solid.bounds()),
+            PrimitiveKind::Terrain => self
+                .terrains
+                .get(id.index as usize)
+                .map(|t| t.terrain.bounds()),
+        }
+    }
+
+    /// The material index of `part` of primitive `id` (a free form's leaf; terrains have one
+    /// part, 0), or `None` for a primitive or part the scene does not have.
+    pub fn material_of(&self, id: PrimitiveId, part: u32) -> Option<u32> {
+        match id.kind {
+            PrimitiveKind::FreeForm => self
+                .objects
+                .get(id.index as usize)
+                .and_then(|o| o.leaf_materials.get(part as usize).copied()),
+            PrimitiveKind::Terrain => self.terrains.get(id.index as usize).map(|t| t.material),
+        }
     }
 
     /// The tolerance to use: the setting, or `1e-10 ×` the scene's diagonal (1e-10 if empty).

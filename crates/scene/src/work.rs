@@ -7,7 +7,7 @@
 //! misses is missed by every ray of the cell, with a margin), so casting a tile's pixels with its
 //! [`ActiveSet`]s gives exactly the image of casting with everything.
 
-use crate::Scene;
+use crate::{PrimitiveKind, Scene};
 use fray_core::Aabb;
 use fray_geometry::ActiveSet;
 use fray_quadtree::{Candidates, QuadtreeConfig, RayBundle, WorkList, build_parallel};
@@ -76,9 +76,10 @@ fn terrain_boxes(scene: &Scene) -> Vec<TerrainBoxes> {
 /// The quadtree work list the backends render from when culling: tiles of at most
 /// `cell_size` pixels with their candidate objects, active leaves and perturbations.
 ///
-/// Terrains are candidates too, with ids after the objects: candidate `object` id
-/// `scene.objects.len() + k` is `scene.terrains[k]` (no leaves, no perturbations). A cell keeps
-/// a terrain when its bundle meets the terrain's box and one of its coarse max columns.
+/// Candidates carry their primitive kind ([`crate::PrimitiveId::of_candidate`]): free forms (with their
+/// active leaves and perturbations) first, in scene order, then terrains (no leaves, no
+/// perturbations). A cell keeps a terrain when its bundle meets the terrain's box and one of its
+/// coarse max columns.
 pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     work_list_within(scene, &QuadtreeConfig::new(cell_size))
 }
@@ -91,10 +92,13 @@ pub fn work_list_within(
 ) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     let boxes = object_boxes(scene);
     let terrains = terrain_boxes(scene);
-    let first_terrain = scene.objects.len();
+    let (free_form, terrain) = (
+        PrimitiveKind::FreeForm.code(),
+        PrimitiveKind::Terrain.code(),
+    );
     let mut root = Candidates::new();
     for (i, (object, b)) in scene.objects.iter().zip(&boxes).enumerate() {
-        root.begin(i as u32, 0.0, f64::INFINITY);
+        root.begin(free_form, i as u32, 0.0, f64::INFINITY);
         for l in 0..b.leaves.len() as u32 {
             root.push_leaf(l);
         }
@@ -105,7 +109,7 @@ pub fn work_list_within(
         }
     }
     for k in 0..terrains.len() {
-        root.begin((first_terrain + k) as u32, 0.0, f64::INFINITY);
+        root.begin(terrain, k as u32, 0.0, f64::INFINITY);
     }
     // One test per worker of the parallel build_parallel, each with its own scratch set.
     let make_test =
@@ -115,16 +119,16 @@ pub fn work_list_within(
             let terrains = &terrains;
             move |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
                 for c in &parent.candidates {
-                    if let Some(t) = (c.object as usize)
-                        .checked_sub(first_terrain)
-                        .and_then(|k| terrains.get(k))
-                    {
+                    if c.kind == terrain {
+                        let Some(t) = terrains.get(c.object as usize) else {
+                            continue;
+                        };
                         if bundle.box_range(&t.bounds).is_some() {
                             let hull = t.columns.iter().filter_map(|b| bundle.box_range(b)).reduce(
                                 |a, b| fray_core::Interval::new(a.lo.min(b.lo), a.hi.max(b.hi)),
                             );
                             if let Some(range) = hull {
-                                out.begin(c.object, range.lo, range.hi);
+                                out.begin(terrain, c.object, range.lo, range.hi);
                             }
                         }
                         continue;
@@ -135,7 +139,7 @@ pub fn work_list_within(
                     let Some(t) = bundle.box_range(&b.solid) else {
                         continue;
                     };
-                    out.begin(c.object, t.lo, t.hi);
+                    out.begin(free_form, c.object, t.lo, t.hi);
                     for &l in c.leaves(&parent.leaves) {
                         if bundle.box_range(&b.leaves[l as usize]).is_some() {
                             out.push_leaf(l);

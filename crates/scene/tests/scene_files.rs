@@ -95,10 +95,13 @@ fn empty_scene_and_named_struct_and_extension_attribute() {
         s.settings,
         fray_scene::Settings {
             epsilon: Some(1e-6),
-            shadows: false
+            shadows: false,
+            samples: fray_core::PixelSamples::ONE,
         }
     );
     assert_eq!(s.epsilon(), 1e-6);
+    let s = ok("(settings: (samples: 16))");
+    assert_eq!(s.settings.samples.count(), 16);
 }
 
 const FULL: &str = r#"Scene(
@@ -433,6 +436,13 @@ fn non_finite_numbers_are_rejected() {
         "camera.fov_y",
     );
     invalid("(\n  settings: (epsilon: inf),\n)", 2, "settings.epsilon");
+    for bad in ["0", "2.5", "-4", "1025"] {
+        invalid(
+            &format!("(\n  settings: (samples: {bad}),\n)"),
+            2,
+            "settings.samples",
+        );
+    }
 }
 
 #[test]

@@ -1,291 +1,357 @@
-//! The nearest hit over all objects of a scene: the pair (ray parameter, primitive).
+//! The scene-wide ray queries over every primitive kind: the nearest hit — the pair (ray
+//! parameter, primitive), narrowed kind by kind in [`PrimitiveKind::ALL`] order, so a tie keeps
+//! the earlier kind's hit —, the surface interaction at it, and the transmittance along a ray.
 
-use crate::terrain_hit::{TerrainCast, nearer_terrain_hit, terrain_occludes};
-use fray_core::{CameraRay, Interval, Ray};
-use fray_geometry::{ActiveSet, CastPlan, CastStats, RayCaster};
-use fray_scene::Scene;
-use glam::DVec3;
+use crate::freeform::FreeFormPrimitive;
+use crate::interaction::SurfaceInteraction;
+use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
+use crate::terrain::TerrainPrimitive;
+use fray_core::{Aabb, CameraRay, Interval, PixelFootprint, Ray, Rgb};
+use fray_geometry::ActiveSet;
+use fray_scene::{PrimitiveId, PrimitiveKind, Scene};
 
-/// The nearest surface along a ray: distance `t`, the object and the leaf (free form) hit, and
-/// the outward unit normal there. `object ≥ scene.objects.len()` is terrain
-/// `scene.terrains[object − objects.len()]` (leaf 0).
+/// A hit of the scene whose surface is still to come: the primitive and its kind's hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneHit {
-    pub t: f64,
-    pub object: u32,
-    pub leaf: u32,
-    pub normal: glam::DVec3,
+    pub primitive: PrimitiveId,
+    pub hit: KindHit,
 }
 
-/// The nearest hit in `range` over every object of `scene`. Each object is searched only up to
-/// the best hit so far, so occluded objects cost little. Terrains are cast exactly.
+/// A work item's candidates: each primitive (in the work list's order: kind by kind) with its
+/// active subset (free forms; ignored for the other kinds).
+pub type Candidates = [(PrimitiveId, ActiveSet)];
+
+/// One primitive of the scene as its kind's [`Primitive`]: the static dispatch every scene-wide
+/// query goes through (a new kind is one more variant).
+#[derive(Clone, Copy, Debug)]
+pub enum AnyPrimitive<'a> {
+    FreeForm(FreeFormPrimitive<'a>),
+    Terrain(TerrainPrimitive<'a>),
+}
+
+impl<'a> AnyPrimitive<'a> {
+    /// Primitive `id` of `scene`, restricted to `active` (free forms) and cast at the level of
+    /// detail of `footprint` (terrains; [`PixelFootprint::ZERO`]: exactly). `None` if the scene
+    /// has no such primitive.
+    #[inline]
+    pub fn of(
+        scene: &'a Scene,
+        id: PrimitiveId,
+        active: Option<&'a ActiveSet>,
+        footprint: PixelFootprint,
+    ) -> Option<Self> {
+        let i = id.index as usize;
+        match id.kind {
+            PrimitiveKind::FreeForm => scene
+                .objects
+                .get(i)
+                .map(|object| Self::FreeForm(FreeFormPrimitive { object, active })),
+            PrimitiveKind::Terrain => scene
+                .terrains
+                .get(i)
+                .map(|t| Self::Terrain(TerrainPrimitive::for_camera(t, footprint))),
+        }
+    }
+}
+
+impl Primitive for AnyPrimitive<'_> {
+    fn bounds(&self) -> Aabb {
+        match self {
+            Self::FreeForm(p) => p.bounds(),
+            Self::Terrain(p) => p.bounds(),
+        }
+    }
+
+    #[inline]
+    fn nearest_hit(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        ctx: &mut TraceContext,
+    ) -> Option<KindHit> {
+        match self {
+            Self::FreeForm(p) => p.nearest_hit(ray, range, eps, ctx),
+            Self::Terrain(p) => p.nearest_hit(ray, range, eps, ctx),
+        }
+    }
+
+    fn transmittance(&self, ray: &Ray, range: Interval, eps: f64, ctx: &mut TraceContext) -> Rgb {
+        match self {
+            Self::FreeForm(p) => p.transmittance(ray, range, eps, ctx),
+            Self::Terrain(p) => p.transmittance(ray, range, eps, ctx),
+        }
+    }
+
+    #[inline]
+    fn surface(&self, ray: &Ray, hit: &KindHit) -> Surface {
+        match self {
+            Self::FreeForm(p) => p.surface(ray, hit),
+            Self::Terrain(p) => p.surface(ray, hit),
+        }
+    }
+}
+
+/// The nearest hit in `range` over every primitive of `scene`, exactly (terrains at their
+/// finest level), with its surface. Each primitive is searched only up to the best hit so far,
+/// so occluded ones cost little.
 pub fn nearest_hit(
     scene: &Scene,
-    caster: &mut RayCaster,
+    ctx: &mut TraceContext,
     ray: &Ray,
     range: Interval,
     eps: f64,
-    stats: &mut CastStats,
-) -> Option<SceneHit> {
-    let mut exact = TerrainCast::default();
-    nearest_hit_lod(scene, caster, ray, range, eps, None, stats, &mut exact)
+) -> Option<SurfaceInteraction> {
+    let hit = nearest_pending(scene, ctx, ray, range, eps, None, PixelFootprint::ZERO)?;
+    Some(interaction(scene, ray, range.lo, &hit, None))
 }
 
-/// [`nearest_hit`] (`candidates: None`) or [`nearest_hit_among`] (`Some`), with the terrains
-/// cast at their level of detail for `terrain.footprint` and their work counted into `terrain`.
-#[allow(clippy::too_many_arguments)]
-pub fn nearest_hit_lod(
-    scene: &Scene,
-    caster: &mut RayCaster,
-    ray: &Ray,
-    range: Interval,
-    eps: f64,
-    candidates: Option<&[(u32, ActiveSet)]>,
-    stats: &mut CastStats,
-    terrain: &mut TerrainCast,
-) -> Option<SceneHit> {
-    let best = match candidates {
-        None => {
-            let all = (0..scene.objects.len()).map(|i| (i, None));
-            nearest_over(scene, caster, ray, range, eps, all, stats)
-        }
-        Some(candidates) => {
-            let listed = candidates
-                .iter()
-                .map(|(index, active)| (*index as usize, Some(active)));
-            nearest_over(scene, caster, ray, range, eps, listed, stats)
-        }
-    };
-    let mut hit = terrain_pass(
-        scene,
-        ray,
-        range,
-        eps,
-        best.map(pending),
-        candidates,
-        terrain,
-    );
-    if let Some(h) = hit.as_mut() {
-        finish_surface(scene, ray, candidates, h);
-    }
-    hit
-}
-
-/// The terrains' pass after the free forms: the nearer of `best` and the terrains' hits
-/// (terrain candidates have ids after the objects; without candidates, every terrain).
-fn terrain_pass(
-    scene: &Scene,
-    ray: &Ray,
-    range: Interval,
-    eps: f64,
-    best: Option<SceneHit>,
-    candidates: Option<&[(u32, ActiveSet)]>,
-    terrain: &mut TerrainCast,
-) -> Option<SceneHit> {
-    if scene.terrains.is_empty() {
-        return best; // no terrain pass: skip walking the list again
-    }
-    match candidates {
-        None => {
-            let terrains = scene.objects.len()..scene.objects.len() + scene.terrains.len();
-            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
-        }
-        Some(listed) => {
-            let terrains = listed.iter().map(|(index, _)| *index as usize);
-            nearer_terrain_hit(scene, ray, range, eps, best, terrains, terrain)
-        }
-    }
-}
-
-/// [`nearest_hit_lod`] for every camera ray of a tile at once (`pixels`: each ray and its hit
-/// slot, overwritten) with the same answers — per pixel the same casts in the same order, each
-/// ending at that pixel's best so far — except that a free-form hit's surface (normal and leaf)
-/// is left for [`finish_surface`], which the frame loop runs over all of a tile's hits
-/// afterwards. The loops are candidates outer, pixels inner: a pixel's next cast depends on
-/// its last (its range ends at the best hit) while the next pixel's does not, so consecutive
-/// casts are independent and the processor overlaps their long chains of dependent arithmetic
-/// (root, square root, division, certification); so do consecutive surfaces.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn nearest_hits_deferred(
-    scene: &Scene,
-    caster: &mut RayCaster,
-    pixels: &mut [(Option<CameraRay>, Option<SceneHit>)],
-    eps: f64,
-    candidates: Option<&[(u32, ActiveSet)]>,
-    stats: &mut CastStats,
-    terrain: &mut TerrainCast,
-) {
-    for (_, hit) in pixels.iter_mut() {
-        *hit = None;
-    }
-    let mut cast_all = |index: usize, active: Option<&ActiveSet>| {
-        let Some(object) = scene.objects.get(index) else {
-            return;
-        };
-        let mut plan = CastPlan::new(&object.solid, active);
-        for (camera_ray, hit) in pixels.iter_mut() {
-            let Some(c) = camera_ray else {
-                continue;
-            };
-            let hi = hit.map_or(f64::INFINITY, |h| h.t);
-            let segment = Interval { lo: c.t_near, hi };
-            let found = caster.cast_planned(&mut plan, &c.ray, segment, eps, stats);
-            if let Some(t) = found
-                && hit.is_none_or(|h| t < h.t)
-            {
-                *hit = Some(pending((t, index as u32)));
-            }
-        }
-    };
-    match candidates {
-        None => (0..scene.objects.len()).for_each(|i| cast_all(i, None)),
-        Some(listed) => listed
-            .iter()
-            .for_each(|(index, active)| cast_all(*index as usize, Some(active))),
-    }
-    if scene.terrains.is_empty() {
-        return;
-    }
-    for (camera_ray, hit) in pixels.iter_mut() {
-        if let Some(c) = camera_ray {
-            let range = Interval::new(c.t_near, f64::INFINITY);
-            *hit = terrain_pass(scene, &c.ray, range, eps, *hit, candidates, terrain);
-        }
-    }
-}
-
-/// Marks a free-form hit whose surface [`finish_surface`] has yet to compute.
-const SURFACE_PENDING: u32 = u32::MAX;
-
-/// Completes a hit whose surface is pending: a free-form hit gets the normal and the leaf of
-/// its solid at the hit point (evaluated with the candidate's active subset, when culling);
-/// terrain hits come complete.
-#[inline]
-pub(crate) fn finish_surface(
-    scene: &Scene,
-    ray: &Ray,
-    candidates: Option<&[(u32, ActiveSet)]>,
-    hit: &mut SceneHit,
-) {
-    if hit.leaf != SURFACE_PENDING {
-        return;
-    }
-    let Some(object) = scene.objects.get(hit.object as usize) else {
-        return;
-    };
-    let active = candidates.and_then(|c| {
-        c.iter()
-            .find(|(index, _)| *index == hit.object)
-            .map(|(_, active)| active)
-    });
-    let p = ray.at(hit.t);
-    (hit.normal, hit.leaf) = match active {
-        Some(active) => object.solid.surface_at_with(p, -ray.dir, active),
-        None => object.solid.surface_at(p, -ray.dir),
-    };
-}
-
-/// [`nearest_hit`] over a subset: only the listed objects (increasing indices), each cast with
-/// its [`ActiveSet`]. The same hit as [`nearest_hit`] when the subset is conservative for the ray
-/// (objects left out cannot be hit, sets hold what the ray may need) — what a quadtree work item
-/// guarantees for the rays of its tile. Terrains are cast exactly.
+/// [`nearest_hit`] over a subset: only the listed primitives, free forms restricted to their
+/// [`ActiveSet`]s. The same hit as [`nearest_hit`] when the subset is conservative for the ray
+/// (primitives left out cannot be hit, sets hold what the ray may need) — what a quadtree work
+/// item guarantees for the rays of its tile.
 pub fn nearest_hit_among(
     scene: &Scene,
-    caster: &mut RayCaster,
+    ctx: &mut TraceContext,
     ray: &Ray,
     range: Interval,
     eps: f64,
-    candidates: &[(u32, ActiveSet)],
-    stats: &mut CastStats,
-) -> Option<SceneHit> {
-    let mut exact = TerrainCast::default();
+    candidates: &Candidates,
+) -> Option<SurfaceInteraction> {
     let some = Some(candidates);
-    nearest_hit_lod(scene, caster, ray, range, eps, some, stats, &mut exact)
+    let hit = nearest_pending(scene, ctx, ray, range, eps, some, PixelFootprint::ZERO)?;
+    Some(interaction(scene, ray, range.lo, &hit, some))
 }
 
-/// The nearest hit over `candidates` (object index, and the active subset or `None` for all of
-/// it): `(t, object)`, the hit's surface still to come. On a tie the earlier object keeps the
-/// hit: each later search ends at the best so far.
-fn nearest_over<'a>(
+/// The nearest hit over `candidates` (all primitives for `None`), terrains at the level of
+/// detail of `footprint`, its surface still to come.
+pub(crate) fn nearest_pending(
     scene: &Scene,
-    caster: &mut RayCaster,
+    ctx: &mut TraceContext,
     ray: &Ray,
     range: Interval,
     eps: f64,
-    candidates: impl Iterator<Item = (usize, Option<&'a ActiveSet>)>,
-    stats: &mut CastStats,
-) -> Option<(f64, u32)> {
-    let mut best: Option<(f64, u32)> = None;
-    let mut hi = range.hi;
-    for (index, active) in candidates {
-        let Some(object) = scene.objects.get(index) else {
-            continue;
+    candidates: Option<&Candidates>,
+    footprint: PixelFootprint,
+) -> Option<SceneHit> {
+    let mut best: Option<SceneHit> = None;
+    let mut narrow = |id: PrimitiveId, active: Option<&ActiveSet>| {
+        let Some(primitive) = AnyPrimitive::of(scene, id, active, footprint) else {
+            return;
         };
-        let segment = Interval { lo: range.lo, hi };
-        let found = match active {
-            Some(active) => caster.cast_with(&object.solid, ray, segment, eps, active, stats),
-            None => caster.cast(&object.solid, ray, segment, eps, stats),
-        };
-        if let Some(t) = found
-            && best.is_none_or(|(bt, _)| t < bt)
+        let hi = best.map_or(range.hi, |b| b.hit.t);
+        if let Some(hit) = primitive.nearest_hit(ray, Interval { lo: range.lo, hi }, eps, ctx)
+            && best.is_none_or(|b| hit.t < b.hit.t)
         {
-            hi = t;
-            best = Some((t, index as u32));
+            best = Some(SceneHit { primitive: id, hit });
         }
+    };
+    match candidates {
+        None => scene.primitives().for_each(|id| narrow(id, None)),
+        Some(listed) => listed.iter().for_each(|(id, a)| narrow(*id, Some(a))),
     }
     best
 }
 
-/// A free-form hit `(t, object)` whose surface is still to come.
-#[inline]
-fn pending((t, object): (f64, u32)) -> SceneHit {
-    SceneHit {
-        t,
-        object,
-        leaf: SURFACE_PENDING,
-        normal: DVec3::ZERO,
+/// [`nearest_pending`] for every camera ray of a tile at once (`pixels`: each ray and its hit
+/// slot, overwritten) with the same answers — per pixel the same casts in the same order, each
+/// ending at that pixel's best so far — candidates outer, pixels inner (free forms through
+/// [`FreeFormPrimitive::narrow_tile`]). A free-form hit's leaf and normal are left for
+/// [`complete_surface`], which the frame loop runs over all of a tile's hits afterwards.
+pub(crate) fn nearest_hits_deferred(
+    scene: &Scene,
+    ctx: &mut TraceContext,
+    pixels: &mut [(Option<CameraRay>, Option<SceneHit>)],
+    eps: f64,
+    candidates: Option<&Candidates>,
+    footprint: PixelFootprint,
+) {
+    for (_, hit) in pixels.iter_mut() {
+        *hit = None;
+    }
+    let mut narrow_all = |id: PrimitiveId, active: Option<&ActiveSet>| match AnyPrimitive::of(
+        scene, id, active, footprint,
+    ) {
+        Some(AnyPrimitive::FreeForm(p)) => p.narrow_tile(id.index, pixels, eps, ctx),
+        Some(other) => {
+            for (camera_ray, best) in pixels.iter_mut() {
+                let Some(c) = camera_ray else {
+                    continue;
+                };
+                let hi = best.map_or(f64::INFINITY, |b| b.hit.t);
+                let range = Interval { lo: c.t_near, hi };
+                if let Some(hit) = other.nearest_hit(&c.ray, range, eps, ctx)
+                    && best.is_none_or(|b| hit.t < b.hit.t)
+                {
+                    *best = Some(SceneHit { primitive: id, hit });
+                }
+            }
+        }
+        None => {}
+    };
+    match candidates {
+        None => scene.primitives().for_each(|id| narrow_all(id, None)),
+        Some(listed) => listed.iter().for_each(|(id, a)| narrow_all(*id, Some(a))),
     }
 }
 
-/// [`occluded`] testing only the listed objects (increasing indices) and the terrains: the same
-/// answer whenever the objects left out cannot be hit by the ray (as `shadow_cull` ensures).
-pub fn occluded_among(
+/// The active subset `candidates` lists for `id`, if any.
+#[inline]
+fn active_of(candidates: Option<&Candidates>, id: PrimitiveId) -> Option<&ActiveSet> {
+    candidates?
+        .iter()
+        .find(|(c, _)| *c == id)
+        .map(|(_, active)| active)
+}
+
+/// Completes a free-form hit in place (its leaf and outward normal, evaluated with the
+/// candidate's active subset when culling) — the deferred pass of the frame loop; other kinds'
+/// hits come complete.
+#[inline]
+pub(crate) fn complete_surface(
     scene: &Scene,
-    caster: &mut RayCaster,
+    ray: &Ray,
+    candidates: Option<&Candidates>,
+    hit: &mut SceneHit,
+) {
+    if hit.primitive.kind != PrimitiveKind::FreeForm
+        || hit.hit.part != crate::primitive::PART_PENDING
+    {
+        return;
+    }
+    let Some(object) = scene.objects.get(hit.primitive.index as usize) else {
+        return;
+    };
+    let active = active_of(candidates, hit.primitive);
+    let p = FreeFormPrimitive { object, active };
+    (hit.hit.detail, hit.hit.part) = p.normal_and_leaf(ray, hit.hit.t);
+}
+
+/// The outward shading normal of a completed `hit` on `ray` (cast from `range_start`): what
+/// [`interaction`] would give as `shading_normal`, without the rest of the record.
+#[inline]
+pub(crate) fn shading_normal(
+    scene: &Scene,
+    ray: &Ray,
+    range_start: f64,
+    hit: &SceneHit,
+) -> glam::DVec3 {
+    if hit.hit.t <= range_start {
+        return -ray.dir;
+    }
+    if hit.primitive.kind == PrimitiveKind::FreeForm
+        && hit.hit.part != crate::primitive::PART_PENDING
+    {
+        return hit.hit.detail;
+    }
+    match AnyPrimitive::of(scene, hit.primitive, None, PixelFootprint::ZERO) {
+        Some(p) => p.surface(ray, &hit.hit).shading_normal,
+        None => -ray.dir,
+    }
+}
+
+/// The surface interaction of `hit` on `ray` (cast over a range starting at `range_start`),
+/// with the material of the part hit.
+#[inline]
+pub fn interaction(
+    scene: &Scene,
+    ray: &Ray,
+    range_start: f64,
+    hit: &SceneHit,
+    candidates: Option<&Candidates>,
+) -> SurfaceInteraction {
+    let complete_free_form = hit.primitive.kind == PrimitiveKind::FreeForm
+        && hit.hit.part != crate::primitive::PART_PENDING;
+    let surface = if complete_free_form {
+        // The frame loop's hits come complete: normal and leaf are known.
+        Surface {
+            geometric_normal: hit.hit.detail,
+            shading_normal: hit.hit.detail,
+            part: hit.hit.part,
+            uv: None,
+        }
+    } else {
+        // Only a pending free-form hit needs its active subset (a linear search of the list).
+        let active = active_of(candidates, hit.primitive);
+        match AnyPrimitive::of(scene, hit.primitive, active, PixelFootprint::ZERO) {
+            Some(p) => p.surface(ray, &hit.hit),
+            // Never for a hit the scene made; a normal facing back keeps shading defined.
+            None => Surface {
+                geometric_normal: -ray.dir,
+                shading_normal: -ray.dir,
+                part: 0,
+                uv: None,
+            },
+        }
+    };
+    let material = scene
+        .material_of(hit.primitive, surface.part)
+        .unwrap_or(u32::MAX);
+    SurfaceInteraction::new(
+        ray,
+        range_start,
+        hit.hit.t,
+        hit.primitive,
+        surface,
+        material,
+    )
+}
+
+/// The RGB transmittance along `range` of the ray through every primitive of `scene` (shadow
+/// rays): the product over primitives, kind by kind, stopping at the first that blocks all
+/// light.
+pub fn transmittance(
+    scene: &Scene,
+    ctx: &mut TraceContext,
     ray: &Ray,
     range: Interval,
     eps: f64,
-    objects: &[u32],
-    stats: &mut CastStats,
-) -> bool {
-    let listed = objects
+) -> Rgb {
+    transmittance_through(scene, ctx, ray, range, eps, scene.objects.iter())
+}
+
+/// [`transmittance`] through only the listed free forms (increasing indices) and every other
+/// primitive: the same answer whenever the free forms left out cannot be hit by the ray (as the
+/// per-tile shadow culling ensures).
+pub fn transmittance_among(
+    scene: &Scene,
+    ctx: &mut TraceContext,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    free_forms: &[u32],
+) -> Rgb {
+    let listed = free_forms
         .iter()
         .filter_map(|&k| scene.objects.get(k as usize));
-    occluded_by(scene, caster, ray, range, eps, listed, stats)
+    transmittance_through(scene, ctx, ray, range, eps, listed)
 }
 
-/// Whether anything lies on the ray within `range` (for shadow rays): stops at the first hit.
-pub fn occluded(
-    scene: &Scene,
-    caster: &mut RayCaster,
+/// The transmittance through `free_forms` and every primitive of the other kinds.
+fn transmittance_through<'a>(
+    scene: &'a Scene,
+    ctx: &mut TraceContext,
     ray: &Ray,
     range: Interval,
     eps: f64,
-    stats: &mut CastStats,
-) -> bool {
-    occluded_by(scene, caster, ray, range, eps, scene.objects.iter(), stats)
-}
-
-/// Whether one of `objects` or a terrain lies on the ray within `range`.
-fn occluded_by<'a>(
-    scene: &Scene,
-    caster: &mut RayCaster,
-    ray: &Ray,
-    range: Interval,
-    eps: f64,
-    mut objects: impl Iterator<Item = &'a fray_scene::Object>,
-    stats: &mut CastStats,
-) -> bool {
-    objects.any(|object| caster.cast(&object.solid, ray, range, eps, stats).is_some())
-        || terrain_occludes(scene, ray, range, eps)
+    free_forms: impl Iterator<Item = &'a fray_scene::Object>,
+) -> Rgb {
+    let mut total = Rgb::ONE;
+    for object in free_forms {
+        let p = FreeFormPrimitive {
+            object,
+            active: None,
+        };
+        total *= p.transmittance(ray, range, eps, ctx);
+        if total == Rgb::ZERO {
+            return total;
+        }
+    }
+    for terrain in &scene.terrains {
+        total *= TerrainPrimitive::exact(terrain).transmittance(ray, range, eps, ctx);
+        if total == Rgb::ZERO {
+            return total;
+        }
+    }
+    total
 }

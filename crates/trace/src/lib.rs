@@ -1,10 +1,12 @@
-//! `fray-trace`: the CPU backend and f64 reference renderer. For every pixel the projector's ray
-//! is cast against every object by binary search (`fray-geometry`); the nearest hit is shaded
-//! with ambient + Lambert (albedo/π) + normalised Phong light and hard shadows. Tiles render in
-//! parallel with rayon; the image does not depend on the thread count. With
-//! [`TraceSettings::culling`] (the default) the tiles come from the `fray-quadtree` scheduler:
-//! empty tiles are skipped and each tile casts only the objects, CSG leaves and perturbations its
-//! rays may meet — the same image, less work.
+//! `fray-trace`: the CPU backend and f64 reference renderer. Every primitive kind — free-form
+//! CSG solids (`fray-geometry`), height-map terrains (`fray-terrain`) — answers the same few
+//! queries ([`Primitive`]: bounds, nearest hit over a ray range, transmittance, the surface at a
+//! hit); the nearest hit over all of them becomes a [`SurfaceInteraction`], which the one
+//! [`Integrator`] shades: ambient + Lambert (albedo/π) + normalised Phong light, each light
+//! through the RGB transmittance of a shadow ray. Tiles render in parallel with rayon; the image
+//! does not depend on the thread count. With [`TraceSettings::culling`] (the default) the tiles
+//! come from the `fray-quadtree` scheduler: empty tiles are skipped and each tile casts only the
+//! primitives, CSG leaves and perturbations its rays may meet — the same image, less work.
 //!
 //! ```
 //! use fray_trace::{render, TraceSettings};
@@ -25,21 +27,30 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod freeform;
 mod hit;
+mod integrator;
+mod interaction;
+mod primitive;
 mod render;
 mod settings;
 mod shade;
 mod shadow_cull;
-mod terrain_hit;
+mod terrain;
 
 /// How the caster answers plain rays ([`TraceSettings::method`]), re-exported.
 pub use fray_geometry::CastMethod;
 /// The work list (moved to `fray-scene`, which both backends share), re-exported.
 pub use fray_scene::work_list;
+pub use freeform::FreeFormPrimitive;
 pub use hit::{
-    SceneHit, nearest_hit, nearest_hit_among, nearest_hit_lod, occluded, occluded_among,
+    AnyPrimitive, Candidates, SceneHit, interaction, nearest_hit, nearest_hit_among, transmittance,
+    transmittance_among,
 };
-pub use render::{Progress, render, render_into};
+pub use integrator::Integrator;
+pub use interaction::SurfaceInteraction;
+pub use primitive::{KindHit, PART_PENDING, Primitive, RayCounts, Surface, TraceContext};
+pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
 pub use settings::{TraceError, TraceSettings};
-pub use shade::{ShadeContext, SurfacePoint};
-pub use terrain_hit::TerrainCast;
+pub use shade::Reflectance;
+pub use terrain::TerrainPrimitive;

@@ -4,17 +4,16 @@
 //! on the thread count or the tile size.
 
 use crate::SceneHit;
-use crate::hit::{finish_surface, nearest_hits_deferred};
-use crate::shade::{ShadeContext, SurfacePoint};
+use crate::hit::{complete_surface, interaction, nearest_hits_deferred, shading_normal};
+use crate::integrator::Integrator;
+use crate::primitive::{RayCounts, TraceContext};
 use crate::shadow_cull;
-use crate::terrain_hit::TerrainCast;
 use crate::{TraceError, TraceSettings};
 use fray_core::{CameraRay, Frame, Image, RenderStats, Rgb};
-use fray_geometry::{ActiveSet, CastStats, RayCaster};
-use fray_quadtree::QuadtreeConfig;
-use fray_quadtree::WorkList;
-use fray_scene::{Scene, work_list_within};
-use glam::{DVec3, Vec3};
+use fray_geometry::ActiveSet;
+use fray_quadtree::{PixelCoverage, QuadtreeConfig, WorkList};
+use fray_scene::{PrimitiveId, PrimitiveKind, Scene, work_list_within};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -25,21 +24,12 @@ pub const FRAME_BYTES_PER_PIXEL: u64 = 32;
 /// Called after each finished tile with (pixels done, pixels in total).
 pub type Progress<'a> = &'a (dyn Fn(u64, u64) + Sync);
 
-/// A band's counters, summed over its tiles.
-#[derive(Default)]
-struct Counters {
-    hits: u64,
-    shadow_rays: u64,
-    cast: CastStats,
-    terrain_rays: u64,
-    terrain: fray_terrain::TerrainStats,
-}
-
-/// One thread's reusable scratch space: nothing in it outlives a tile.
+/// One thread's reusable scratch space (nothing in it outlives a tile) and its counters.
 struct Scratch {
-    caster: RayCaster,
+    ctx: TraceContext,
+    hits_found: u64,
     /// The current tile's candidates, with their active sets (reused: sets keep their buffers).
-    candidates: Vec<(u32, ActiveSet)>,
+    candidates: Vec<(PrimitiveId, ActiveSet)>,
     hits: Vec<(Option<CameraRay>, Option<SceneHit>)>,
 }
 
@@ -120,6 +110,12 @@ pub fn render_into(
         let config = QuadtreeConfig {
             cell_size: ts,
             memory_budget: settings.memory_budget,
+            // Samples anywhere in a pixel need bundles over the whole pixel.
+            coverage: if settings.samples.count() > 1 {
+                PixelCoverage::Area
+            } else {
+                PixelCoverage::Centres
+            },
         };
         let list = pool.install(|| work_list_within(scene, &config))?;
         let tiles = list
@@ -169,7 +165,8 @@ pub fn render_into(
             .unwrap_or_else(|| Image::filled(width, height, Vec3::ZERO));
     }
     let w = width as usize;
-    let counters: Vec<Counters> = pool.install(|| {
+    let integrator = Integrator::new(scene, settings);
+    let counters: Vec<(RayCounts, u64)> = pool.install(|| {
         frame
             .colour
             .pixels_mut()
@@ -180,7 +177,8 @@ pub fn render_into(
             .enumerate()
             .map_init(
                 || Scratch {
-                    caster: RayCaster::with_method(settings.method),
+                    ctx: TraceContext::new(settings.method),
+                    hits_found: 0,
                     candidates: Vec::new(),
                     hits: Vec::new(),
                 },
@@ -198,7 +196,6 @@ pub fn render_into(
                         normals,
                     };
                     let y1 = (y0 + ts).min(height);
-                    let mut counters = Counters::default();
                     for &ti in band {
                         let t = &tiles[ti as usize];
                         let (x0, ty0, x1, ty1) = t.rect;
@@ -212,18 +209,22 @@ pub fn render_into(
                         render_tile(
                             scene,
                             settings,
+                            &integrator,
                             scratch,
                             rect,
                             listed,
                             &mut out,
-                            &mut counters,
                         );
                         if let Some(report) = progress {
                             let n = u64::from(rect.2 - rect.0) * u64::from(rect.3 - rect.1);
                             report(done.fetch_add(n, Ordering::Relaxed) + n, total);
                         }
                     }
-                    counters
+                    // The band's counters; the scratch space goes on to the thread's next band.
+                    (
+                        scratch.ctx.take_counts(),
+                        std::mem::take(&mut scratch.hits_found),
+                    )
                 },
             )
             .collect()
@@ -236,7 +237,7 @@ pub fn render_into(
     let mut stats = RenderStats {
         backend: "cpu".into(),
         threads: pool.current_num_threads(),
-        primary_rays: total,
+        primary_rays: total * rays_per_pixel(settings.samples) as u64,
         epsilon: settings.epsilon,
         ..RenderStats::default()
     };
@@ -245,8 +246,8 @@ pub fn render_into(
         stats.cells_culled = list.stats.cells_culled;
         stats.work_items = list.stats.items;
     }
-    for t in &counters {
-        stats.hits += t.hits;
+    for (t, hits) in &counters {
+        stats.hits += hits;
         stats.shadow_rays += t.shadow_rays;
         stats.bound_evaluations += t.cast.bound_evaluations;
         stats.point_evaluations += t.cast.point_evaluations;
@@ -261,6 +262,11 @@ pub fn render_into(
         stats.passes.push("quadtree".into());
     }
     stats.passes.push("primary".into());
+    if settings.samples.count() > 1 {
+        stats
+            .passes
+            .push(format!("{} samples per pixel", settings.samples.count()));
+    }
     if stats.closed_form_casts > 0 {
         stats.passes.push("closed-form".into());
     }
@@ -300,23 +306,35 @@ fn tiles_by_band(tiles: &[Tile], height: u32, rows: u32) -> Vec<Vec<u32>> {
 
 /// Work item `k`'s candidates with their active sets, into the front of `out` (whose sets are
 /// reused, so their buffers are too); returns how many.
-fn active_sets(scene: &Scene, list: &WorkList, k: usize, out: &mut Vec<(u32, ActiveSet)>) -> usize {
-    let listed = list.candidates_of(&list.items[k]);
-    if out.len() < listed.len() {
-        out.resize_with(listed.len(), || (0, ActiveSet::new()));
-    }
-    for (c, (object, active)) in listed.iter().zip(out.iter_mut()) {
-        *object = c.object;
-        // Terrain candidates (ids after the objects) have no solid.
-        if let Some(o) = scene.objects.get(c.object as usize) {
+fn active_sets(
+    scene: &Scene,
+    list: &WorkList,
+    k: usize,
+    out: &mut Vec<(PrimitiveId, ActiveSet)>,
+) -> usize {
+    let mut n = 0;
+    for c in list.candidates_of(&list.items[k]) {
+        let Some(id) = PrimitiveId::of_candidate(c) else {
+            continue;
+        };
+        if out.len() <= n {
+            out.push((id, ActiveSet::new()));
+        }
+        let (slot, active) = &mut out[n];
+        *slot = id;
+        // Only free forms have active subsets.
+        if id.kind == PrimitiveKind::FreeForm
+            && let Some(o) = scene.objects.get(id.index as usize)
+        {
             active.set(
                 &o.solid,
                 c.leaves(&list.leaves),
                 c.perturbations(&list.perturbations),
             );
         }
+        n += 1;
     }
-    listed.len()
+    n
 }
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` and its work item, if culled.
@@ -326,67 +344,85 @@ struct Tile {
 }
 
 /// Renders the pixels of `rect` into `out`: with culling, `listed` is how many of
-/// `scratch.candidates` are the tile's candidate objects; `None` tests every object.
+/// `scratch.candidates` are the tile's candidates; `None` tests every primitive.
 fn render_tile(
     scene: &Scene,
     settings: &TraceSettings,
+    integrator: &Integrator<'_>,
     scratch: &mut Scratch,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
     listed: Option<usize>,
     out: &mut BandImages<'_>,
-    counters: &mut Counters,
 ) {
     let Scratch {
-        caster,
+        ctx,
+        hits_found,
         candidates,
         hits,
     } = scratch;
     let candidates = listed.map(|n| &candidates[..n]);
-    let mut terrain =
-        TerrainCast::with_footprint(scene.camera.pixel_footprint(scene.width, scene.height));
-    let mut shade = ShadeContext {
-        scene,
-        shadows: settings.shading && settings.shadows && scene.features.shadows,
-        epsilon: settings.epsilon,
-        shadow_rays: 0,
-        cast: CastStats::default(),
-        occluders: None,
-    };
+    let footprint = scene.camera.pixel_footprint(scene.width, scene.height);
     // In passes: every pixel's camera ray, the hits, their surfaces, then (with culling) the
-    // objects the tile's shadow rays can meet, then the shading. The camera rays get a pass of
-    // their own so that the casts read them from the cache, not from stores still in flight
+    // free forms the tile's shadow rays can meet, then the shading. The camera rays get a pass
+    // of their own so that the casts read them from the cache, not from stores still in flight
     // (3-float vectors stored and reloaded in other widths stall store forwarding).
+    // With anti-aliasing each pixel casts its centre (depth and normal) and then its samples
+    // (colour): `per_pixel` rays in a row.
+    let samples = settings.samples;
+    let per_pixel = rays_per_pixel(samples);
     hits.clear();
-    for py in y0..y1 {
-        for px in x0..x1 {
-            let camera_ray = scene.camera.pixel_ray(px, py, scene.width, scene.height);
-            hits.push((camera_ray, None));
+    if per_pixel == 1 {
+        for py in y0..y1 {
+            for px in x0..x1 {
+                let camera_ray = scene.camera.pixel_ray(px, py, scene.width, scene.height);
+                hits.push((camera_ray, None));
+            }
         }
+    } else {
+        push_sampled_rays(scene, samples, (x0, y0, x1, y1), hits);
     }
-    nearest_hits_deferred(
-        scene,
-        caster,
-        hits,
-        settings.epsilon,
-        candidates,
-        &mut counters.cast,
-        &mut terrain,
-    );
+    nearest_hits_deferred(scene, ctx, hits, settings.epsilon, candidates, footprint);
     for (camera_ray, hit) in hits.iter_mut() {
         if let (Some(c), Some(h)) = (camera_ray, hit) {
-            finish_surface(scene, &c.ray, candidates, h);
+            complete_surface(scene, &c.ray, candidates, h);
         }
     }
-    if shade.shadows && settings.culling && !scene.lights.is_empty() {
-        // The surface points again (cheap, and only here): storing them for every pixel would
+    let shading = settings.shading;
+    let occluders = if integrator.shadows() && settings.culling && !scene.lights.is_empty() {
+        // The interactions again (cheap, and only here): storing them for every pixel would
         // cost the visibility-only frame more than recomputing costs the shaded one.
         let mut reach = 0.0f64;
-        let origins = shadow_cull::bounding_box(hits.iter().filter_map(|(c, hit)| {
-            let (point, _) = surface_point(c.as_ref()?, hit.as_ref()?);
-            reach = reach.max(shade.shadow_offset(&point));
-            Some(shade.shadow_origin(&point))
+        // The rays that are shaded: every one without anti-aliasing, else the samples.
+        let shaded = hits
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| per_pixel == 1 || k % per_pixel != 0);
+        let origins = shadow_cull::bounding_box(shaded.filter_map(|(_, (c, hit))| {
+            let (c, hit) = (c.as_ref()?, hit.as_ref()?);
+            let p = c.ray.at(hit.hit.t);
+            let n = shading_normal(scene, &c.ray, c.t_near, hit);
+            let n = if n.dot(-c.ray.dir) < 0.0 { -n } else { n };
+            let offset = integrator.shadow_offset_at(p);
+            reach = reach.max(offset);
+            Some(p + n * offset)
         }));
-        shade.occluders = Some(shadow_cull::occluders(scene, origins, reach));
+        Some(shadow_cull::occluders(scene, origins, reach))
+    } else {
+        None
+    };
+    if per_pixel > 1 {
+        write_sampled_pixels(
+            scene,
+            settings,
+            integrator,
+            ctx,
+            hits,
+            occluders.as_deref(),
+            (x0, y0, x1, y1),
+            out,
+            hits_found,
+        );
+        return;
     }
     let w = (x1 - x0) as usize;
     for (row, py) in (y0..y1).enumerate() {
@@ -396,71 +432,109 @@ fn render_tile(
         let depth = out.depth[at..at + w].iter_mut();
         let normals = out.normals[at..at + w].iter_mut();
         for ((((camera_ray, hit), c), d), nrm) in pixels.zip(colour).zip(depth).zip(normals) {
-            if let (Some(camera_ray), Some(hit)) = (camera_ray, hit) {
-                let (rgb, t, n) = shade_hit(scene, settings, caster, &mut shade, camera_ray, hit);
-                if t.is_finite() {
-                    counters.hits += 1;
-                }
-                (*c, *d, *nrm) = (rgb, t, n);
+            let (Some(camera_ray), Some(hit)) = (camera_ray, hit) else {
+                continue;
+            };
+            // The surfaces are complete: no active subsets needed.
+            let (t, n) = if shading {
+                let si = interaction(scene, &camera_ray.ray, camera_ray.t_near, hit, None);
+                let wo = -camera_ray.ray.dir;
+                *c = integrator
+                    .surface_radiance(ctx, &si, wo, occluders.as_deref())
+                    .as_vec3();
+                (si.t, si.shading_normal.as_vec3())
+            } else {
+                // Visibility only: the normal as a colour.
+                let n = shading_normal(scene, &camera_ray.ray, camera_ray.t_near, hit).as_vec3();
+                *c = Vec3::splat(0.5) + 0.5 * n;
+                (hit.hit.t, n)
+            };
+            (*d, *nrm) = (t, n);
+            if t.is_finite() {
+                *hits_found += 1;
             }
         }
     }
-    counters.shadow_rays += shade.shadow_rays;
-    counters.cast += shade.cast;
-    counters.terrain_rays += terrain.rays;
-    counters.terrain += terrain.stats;
 }
 
-/// The shading frame of a camera ray's hit: the surface point (normal facing the viewer) and
-/// the outward normal the frame stores.
-fn surface_point(camera_ray: &CameraRay, hit: &SceneHit) -> (SurfacePoint, DVec3) {
-    let ray = camera_ray.ray;
-    let position = ray.at(hit.t);
-    let to_viewer = -ray.dir;
-    let normal = if hit.t <= camera_ray.t_near {
-        // The picture surface cuts the object: show the cut face, facing the viewer.
-        to_viewer
+/// Camera rays per pixel: the centre alone, or the centre and `N` samples.
+fn rays_per_pixel(samples: fray_core::PixelSamples) -> usize {
+    if samples.count() == 1 {
+        1
     } else {
-        hit.normal
-    };
-    let shading_normal = if normal.dot(to_viewer) < 0.0 {
-        -normal
-    } else {
-        normal
-    };
-    let point = SurfacePoint {
-        position,
-        normal: shading_normal,
-        to_viewer,
-    };
-    (point, normal)
+        1 + samples.count() as usize
+    }
 }
 
-/// The colour, depth and normal of a pixel whose camera ray hit `hit`.
-fn shade_hit(
+/// Each pixel's camera rays with anti-aliasing: its centre, then its samples.
+#[cold]
+fn push_sampled_rays(
+    scene: &Scene,
+    samples: fray_core::PixelSamples,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    hits: &mut Vec<(Option<CameraRay>, Option<SceneHit>)>,
+) {
+    for py in y0..y1 {
+        for px in x0..x1 {
+            hits.push((
+                scene.camera.pixel_ray(px, py, scene.width, scene.height),
+                None,
+            ));
+            for k in 0..samples.count() {
+                let q = samples.sample(px, py, k);
+                let (x, y) = (f64::from(px) + q.dx, f64::from(py) + q.dy);
+                hits.push((scene.camera.ray(x, y, scene.width, scene.height), None));
+            }
+        }
+    }
+}
+
+/// The pixels of an anti-aliased tile (`hits`: per pixel the centre ray, then its samples):
+/// depth and normal from the centre, colour the samples' box-filtered radiance (the background
+/// where a sample hits nothing).
+#[allow(clippy::too_many_arguments)]
+fn write_sampled_pixels(
     scene: &Scene,
     settings: &TraceSettings,
-    caster: &mut RayCaster,
-    shade: &mut ShadeContext<'_>,
-    camera_ray: &CameraRay,
-    hit: &SceneHit,
-) -> (Rgb, f64, Vec3) {
-    let (point, normal) = surface_point(camera_ray, hit);
-    if !settings.shading {
-        let n = normal.as_vec3();
-        return (Vec3::splat(0.5) + 0.5 * n, hit.t, n);
-    }
-    // Borrowed, not cloned: a clone allocates the material's name for every hit pixel.
-    let material = crate::terrain_hit::material_of(scene, hit.object, hit.leaf)
-        .and_then(|m| scene.materials.get(m as usize));
-    let fallback;
-    let material = match material {
-        Some(m) => m,
-        None => {
-            fallback = fray_scene::Material::default();
-            &fallback
+    integrator: &Integrator<'_>,
+    ctx: &mut TraceContext,
+    hits: &[(Option<CameraRay>, Option<SceneHit>)],
+    occluders: Option<&[Vec<u32>]>,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    out: &mut BandImages<'_>,
+    hits_found: &mut u64,
+) {
+    let samples = settings.samples;
+    let per_pixel = rays_per_pixel(samples);
+    let background = scene.background.as_dvec3();
+    let w = (x1 - x0) as usize;
+    for (row, py) in (y0..y1).enumerate() {
+        for (column, px) in (x0..x1).enumerate() {
+            let rays = &hits[(row * w + column) * per_pixel..][..per_pixel];
+            let at = (py - out.y0) as usize * out.width as usize + px as usize;
+            let mut colour = glam::DVec3::ZERO;
+            for (k, (camera_ray, hit)) in rays[1..].iter().enumerate() {
+                let weight = samples.sample(px, py, k as u32).weight;
+                let radiance = match (camera_ray, hit) {
+                    (Some(c), Some(hit)) if settings.shading => {
+                        let si = interaction(scene, &c.ray, c.t_near, hit, None);
+                        integrator.surface_radiance(ctx, &si, -c.ray.dir, occluders)
+                    }
+                    (Some(c), Some(hit)) => {
+                        let si = interaction(scene, &c.ray, c.t_near, hit, None);
+                        glam::DVec3::splat(0.5) + 0.5 * si.shading_normal
+                    }
+                    _ => background,
+                };
+                colour += weight * radiance;
+            }
+            out.colour[at] = colour.as_vec3();
+            if let (Some(c), Some(hit)) = &rays[0] {
+                let si = interaction(scene, &c.ray, c.t_near, hit, None);
+                out.depth[at] = si.t;
+                out.normals[at] = si.shading_normal.as_vec3();
+                *hits_found += 1;
+            }
         }
-    };
-    let radiance: DVec3 = shade.radiance(caster, &point, material);
-    (radiance.as_vec3(), hit.t, normal.as_vec3())
+    }
 }

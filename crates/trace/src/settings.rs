@@ -1,6 +1,6 @@
 //! Settings of the CPU backend.
 
-use fray_core::{BudgetError, MemoryBudget};
+use fray_core::{BudgetError, MemoryBudget, PixelSamples};
 use fray_geometry::CastMethod;
 
 /// How the CPU backend renders. Scene settings feed the defaults; the caller may override.
@@ -28,6 +28,9 @@ pub struct TraceSettings {
     /// The most a frame may allocate for what grows with the image: its colour, depth and normal
     /// images (32 bytes per pixel) and the quadtree's work list, each checked before it is made.
     pub memory_budget: MemoryBudget,
+    /// Anti-aliasing samples per pixel (the scene's `settings.samples`): colour is their
+    /// box-filtered radiance; depth and normals come from the pixel centre.
+    pub samples: PixelSamples,
 }
 
 impl TraceSettings {
@@ -42,6 +45,7 @@ impl TraceSettings {
             shading: true,
             method: CastMethod::ClosedForm,
             memory_budget: MemoryBudget::default(),
+            samples: scene.settings.samples,
         }
     }
 }

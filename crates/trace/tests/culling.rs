@@ -151,6 +151,29 @@ fn every_projector_kind_is_identical_with_and_without_culling() {
     }
 }
 
+/// Anti-aliasing samples lie anywhere in their pixels, and the quadtree's bundles then cover
+/// the whole pixels: still lossless, for every projector kind and a data scene.
+#[test]
+fn anti_aliased_frames_are_identical_with_and_without_culling() {
+    for camera in [
+        "Pinhole(eye: (3, 5, -7), look_at: (0, 0, 0), fov_y: 50)",
+        "Parallel(eye: (5, 6, -7), look_at: (0, 0, 0), up: (0, 1, 0), height: 9, near: 0)",
+        "Sphere(eye: (0.3, 2.6, -1.2), centre: (0, 2.5, -1.0), look_at: (0, 0, 0), up: (0, 1, 0), \
+         fov_x: 300, fov_y: 150, radius: 1.0, ripple_amplitude: 0.3, ripple_frequency: 5)",
+    ] {
+        let mut s = scene(&bumpy(4, camera));
+        s.settings.samples = fray_core::PixelSamples::new(5).unwrap();
+        assert_lossless(&s, &format!("{camera}, 5 samples"));
+    }
+    let path = common::data_scenes()
+        .into_iter()
+        .find(|p| p.ends_with("csg.ron"))
+        .expect("csg.ron");
+    let mut s = common::load_at_height(&path, 40);
+    s.settings.samples = fray_core::PixelSamples::new(4).unwrap();
+    assert_lossless(&s, "csg.ron, 4 samples");
+}
+
 #[test]
 fn a_scene_with_256_perturbations_is_identical_with_and_without_culling() {
     let s = scene(&bumpy(

@@ -8,7 +8,7 @@ use fray_trace::{TraceSettings, nearest_hit, render};
 
 #[test]
 fn every_pixel_gets_the_hit_of_nearest_hit() {
-    let mut caster = fray_geometry::RayCaster::new();
+    let mut ctx = fray_trace::TraceContext::default();
     for path in common::data_scenes() {
         let what = path.display().to_string();
         let mut s = common::load_at_height(&path, 48);
@@ -30,19 +30,15 @@ fn every_pixel_gets_the_hit_of_nearest_hit() {
                         continue;
                     };
                     let range = fray_core::Interval::new(c.t_near, f64::INFINITY);
-                    let mut stats = fray_geometry::CastStats::default();
-                    let hit =
-                        nearest_hit(&s, &mut caster, &c.ray, range, settings.epsilon, &mut stats);
+                    let hit = nearest_hit(&s, &mut ctx, &c.ray, range, settings.epsilon);
                     let depth = *frame.depth.get(x, y);
                     assert_eq!(
                         depth.to_bits(),
                         hit.map_or(f64::INFINITY, |h| h.t).to_bits(),
                         "{what} (culling {culling}): depth at ({x}, {y})"
                     );
-                    if let Some(h) = hit
-                        && h.t > c.t_near
-                    {
-                        let n = h.normal.as_vec3().to_array().map(f32::to_bits);
+                    if let Some(h) = hit {
+                        let n = h.shading_normal.as_vec3().to_array().map(f32::to_bits);
                         assert_eq!(
                             frame.normals.get(x, y).to_array().map(f32::to_bits),
                             n,

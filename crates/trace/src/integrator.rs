@@ -1,0 +1,149 @@
+//! The CPU integrator: the radiance a ray brings back — the nearest surface over every primitive
+//! kind, shaded by its material with each light's direct light times the RGB transmittance of a
+//! shadow ray toward it, or the background where nothing is hit. Camera rays enter at
+//! [`Integrator::surface_radiance`] with hits the frame loop found a tile at a time; any other
+//! ray through [`Integrator::radiance`]. Shading happens here and nowhere else.
+
+use crate::TraceSettings;
+use crate::hit::{nearest_hit, transmittance, transmittance_among};
+use crate::interaction::SurfaceInteraction;
+use crate::primitive::TraceContext;
+use crate::shade::Reflectance;
+use fray_core::{Interval, Ray};
+use fray_scene::{Light, Material, Scene};
+use glam::DVec3;
+
+/// Shading of one scene with one set of settings.
+#[derive(Debug)]
+pub struct Integrator<'a> {
+    scene: &'a Scene,
+    /// Cast shadow rays (the settings ask for them and the scene has lights that cast them).
+    shadows: bool,
+    epsilon: f64,
+    /// Used where a part names no material.
+    default_material: Material,
+}
+
+impl<'a> Integrator<'a> {
+    pub fn new(scene: &'a Scene, settings: &TraceSettings) -> Self {
+        Self {
+            scene,
+            shadows: settings.shading && settings.shadows && scene.features.shadows,
+            epsilon: settings.epsilon,
+            default_material: Material::default(),
+        }
+    }
+
+    /// Whether shading casts shadow rays.
+    pub fn shadows(&self) -> bool {
+        self.shadows
+    }
+
+    /// The radiance arriving along `ray` from `range`: the outgoing radiance of the nearest
+    /// surface toward the ray's origin, or the scene's background.
+    pub fn radiance(&self, ctx: &mut TraceContext, ray: &Ray, range: Interval) -> DVec3 {
+        match nearest_hit(self.scene, ctx, ray, range, self.epsilon) {
+            Some(si) => self.surface_radiance(ctx, &si, -ray.dir, None),
+            None => self.scene.background.as_dvec3(),
+        }
+    }
+
+    /// The radiance leaving `si` toward `wo` (unit, away from the surface): the material's
+    /// ambient term plus, per light, its BRDF times the irradiance times the transmittance of the
+    /// shadow ray toward it. Opaque surfaces are lit on the side `wo` sees. `occluders`: per
+    /// light, the only free forms its shadow rays can meet (`None`: all).
+    pub fn surface_radiance(
+        &self,
+        ctx: &mut TraceContext,
+        si: &SurfaceInteraction,
+        wo: DVec3,
+        occluders: Option<&[Vec<u32>]>,
+    ) -> DVec3 {
+        let material = self
+            .scene
+            .materials
+            .get(si.material as usize)
+            .unwrap_or(&self.default_material);
+        let reflectance = Reflectance::of(material);
+        let n = si.shading_normal_toward(wo);
+        let mut total = reflectance.ambient(self.scene.ambient.as_dvec3());
+        for (index, light) in self.scene.lights.iter().enumerate() {
+            let (to_light, irradiance, distance) = match *light {
+                Light::Sun {
+                    direction,
+                    irradiance,
+                } => (direction, irradiance.as_dvec3(), f64::INFINITY),
+                Light::Point {
+                    position,
+                    intensity,
+                } => {
+                    let d = position - si.p;
+                    let r2 = d.length_squared();
+                    if r2 == 0.0 {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    (d / r, intensity.as_dvec3() / r2, r)
+                }
+            };
+            let cos = n.dot(to_light);
+            if cos <= 0.0 {
+                continue;
+            }
+            let mut light_in = irradiance;
+            if self.shadows {
+                let lists = occluders.and_then(|l| l.get(index));
+                let through = self.shadow_transmittance(ctx, si, n, to_light, distance, lists);
+                if through == DVec3::ZERO {
+                    continue;
+                }
+                light_in *= through;
+            }
+            total += reflectance.brdf(n, to_light, cos, wo) * light_in * cos;
+        }
+        total
+    }
+
+    /// Where the shadow rays of `si` start, `n` its shading normal on the lit side: off the
+    /// surface by far more than the hit error (≤ ε), so a shadow ray does not find the surface
+    /// it starts on.
+    pub fn shadow_origin(&self, si: &SurfaceInteraction, n: DVec3) -> DVec3 {
+        si.p + n * self.shadow_offset_at(si.p)
+    }
+
+    /// The distance of [`Integrator::shadow_origin`] from the surface point.
+    pub fn shadow_offset(&self, si: &SurfaceInteraction) -> f64 {
+        self.shadow_offset_at(si.p)
+    }
+
+    /// The shadow rays' offset from a surface point `p`: far beyond the hit error (≤ ε) and
+    /// the rounding of `p`'s coordinates.
+    #[inline]
+    pub fn shadow_offset_at(&self, p: DVec3) -> f64 {
+        1e3 * self.epsilon + 1e-12 * p.abs().max_element()
+    }
+
+    /// The transmittance from `si` toward a light `distance` away in direction `to_light`.
+    #[inline]
+    fn shadow_transmittance(
+        &self,
+        ctx: &mut TraceContext,
+        si: &SurfaceInteraction,
+        n: DVec3,
+        to_light: DVec3,
+        distance: f64,
+        occluders: Option<&Vec<u32>>,
+    ) -> DVec3 {
+        let Some(ray) = Ray::new(self.shadow_origin(si, n), to_light) else {
+            return DVec3::ONE;
+        };
+        ctx.counts.shadow_rays += 1;
+        let range = Interval::new(0.0, distance);
+        let (scene, eps) = (self.scene, self.epsilon);
+        match occluders {
+            Some(free_forms) => transmittance_among(scene, ctx, &ray, range, eps, free_forms),
+            None => transmittance(scene, ctx, &ray, range, eps),
+        }
+        .as_dvec3()
+    }
+}

@@ -1,0 +1,98 @@
+//! Terrains as a primitive kind: a height map cast by `fray-terrain` — camera rays at the
+//! terrain's level of detail, everything else exactly.
+//!
+//! Camera rays use the terrain's [`TerrainLod`]: `Pixel` casts with the camera's pixel footprint
+//! made `2^lod_bias` times wider (the bias shifts the pixel level by whole levels), `Exact` with
+//! none (the finest level, or `n − lod_bias`). Shadow rays are always exact: a LOD hit lies on a
+//! max-column top at or above the surface, so an exact shadow ray from it never starts
+//! underground, and shadows keep the true terrain's shape. LOD hits (on flat max-column faces)
+//! are shaded with the normal of the surface beneath them, so relief shading survives a coarse
+//! level.
+
+use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
+use fray_core::{Aabb, Interval, PixelFootprint, Ray, Rgb};
+use fray_scene::{TerrainLod, TerrainObject};
+use glam::DVec2;
+
+/// One terrain, cast with a pixel footprint (camera rays) or exactly.
+#[derive(Clone, Copy, Debug)]
+pub struct TerrainPrimitive<'a> {
+    pub terrain: &'a TerrainObject,
+    /// The footprint its nearest-hit searches use: [`PixelFootprint::ZERO`] casts exactly.
+    pub footprint: PixelFootprint,
+}
+
+impl<'a> TerrainPrimitive<'a> {
+    /// The terrain cast exactly (shadow rays, the per-ray API).
+    pub fn exact(terrain: &'a TerrainObject) -> Self {
+        Self {
+            terrain,
+            footprint: PixelFootprint::ZERO,
+        }
+    }
+
+    /// The terrain as camera rays see it: at its level of detail for the camera's `footprint`.
+    pub fn for_camera(terrain: &'a TerrainObject, footprint: PixelFootprint) -> Self {
+        let footprint = match terrain.lod {
+            TerrainLod::Pixel => footprint.coarser(terrain.terrain.options().lod_bias),
+            TerrainLod::Exact => PixelFootprint::ZERO,
+        };
+        Self { terrain, footprint }
+    }
+}
+
+impl Primitive for TerrainPrimitive<'_> {
+    fn bounds(&self) -> Aabb {
+        self.terrain.terrain.bounds()
+    }
+
+    fn nearest_hit(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        ctx: &mut TraceContext,
+    ) -> Option<KindHit> {
+        ctx.counts.terrain_rays += 1;
+        let h = self.terrain.terrain.cast_footprint(
+            ray,
+            range,
+            eps,
+            self.footprint,
+            &mut ctx.counts.terrain,
+        )?;
+        Some(KindHit {
+            t: h.t,
+            part: h.levels_above_finest,
+            detail: h.normal,
+        })
+    }
+
+    fn transmittance(&self, ray: &Ray, range: Interval, eps: f64, _ctx: &mut TraceContext) -> Rgb {
+        if self.terrain.terrain.occluded(ray, range, eps) {
+            Rgb::ZERO
+        } else {
+            Rgb::ONE
+        }
+    }
+
+    fn surface(&self, ray: &Ray, hit: &KindHit) -> Surface {
+        let terrain = &self.terrain.terrain;
+        let p = ray.at(hit.t);
+        // `part` is the hit's level above the finest: a LOD hit is on a flat max-column face,
+        // shaded with the surface's normal beneath.
+        let shading_normal = if hit.part > 0 {
+            terrain.surface_normal_at(p).unwrap_or(hit.detail)
+        } else {
+            hit.detail
+        };
+        let (columns, rows) = terrain.map().cells();
+        let q = terrain.placement().to_map(p);
+        Surface {
+            geometric_normal: hit.detail,
+            shading_normal,
+            part: 0,
+            uv: Some(DVec2::new(q.x / columns as f64, q.y / rows as f64)),
+        }
+    }
+}
