@@ -21,8 +21,21 @@
 //! the fallback wherever rounding leaves the closed form unsure. [`CastPlan`] decides a solid's
 //! fast path once for many rays.
 //!
-//! Contract: the returned `t` is the first point of the range (up to `ε`) where `F′ ≥ 0`; it is
-//! never behind the range's start. Features thinner than `ε` along the ray may be missed.
+//! Rounding: every leaf on the ray is *widened* by `Δ`, a bound on the rounding of any f64 value
+//! of it over the range (`K u Φ(‖o − origin‖₁ + T)`: `Φ` bounds the size of the quadric's terms
+//! at that distance from its origin, `K = 24` counts the roundings, perturbations add theirs;
+//! docs/accuracy.md) — raised, or lowered under an odd number of negations — so the computed `F′`
+//! is never below the exact `F′`. Then nothing rounding hides is lost: a grazing span whose
+//! values all round negative (`√(u·S/|a|)` wide: `4·10⁻⁷` for a unit sphere 10 m away) is still
+//! inside for the search's bounds and points and for the closed form's roots alike.
+//!
+//! Contract (docs/accuracy.md; "exact": the f64 inputs taken as exact reals):
+//! - `t` is a number in the range: never behind its start;
+//! - if the exact solid has a span at least `ε` long in the range, starting at `t₁`, there is a
+//!   hit and `t ≤ t₁ + ε`; spans shorter than `ε` may be skipped;
+//! - the hit lies in the solid with every leaf grown by `2Δ`: `t ≥ t* − ρ`, `ρ ≈ 2Δ / |dF′/dt|` at
+//!   a simple root. A ray that misses the exact solid by less than that may hit, within
+//!   `~2Δ/|∇F|` of the surface.
 
 use crate::closed_form::{Certified, SpanSet, certify, program_set};
 use crate::quadric::{Magnitude, ROUNDING_UNITS, UNIT_ROUNDOFF};
@@ -171,7 +184,9 @@ impl RayCaster {
         self.method
     }
 
-    /// The first `t` in `range` where `solid` is non-negative, to within `eps` (world units).
+    /// The first `t` in `range` where `solid` is non-negative, to within `eps` (world units), up
+    /// to the rounding of the inputs (module docs): never past a span at least `eps` long by more
+    /// than `eps`, never behind `range.lo`.
     pub fn cast(
         &mut self,
         solid: &Solid,
