@@ -21,11 +21,25 @@
 //! the fallback wherever rounding leaves the closed form unsure. [`CastPlan`] decides a solid's
 //! fast path once for many rays.
 //!
-//! Contract: the returned `t` is the first point of the range (up to `ε`) where `F′ ≥ 0`; it is
-//! never behind the range's start. Features thinner than `ε` along the ray may be missed.
+//! Rounding: every leaf on the ray is *widened* by `Δ`, a bound on the rounding of any f64 value
+//! of it over the range (`K u Φ(‖o − origin‖₁ + T)`: `Φ` bounds the size of the quadric's terms
+//! at that distance from its origin, `K = 24` counts the roundings, perturbations add theirs;
+//! docs/accuracy.md) — raised, or lowered under an odd number of negations — so the computed `F′`
+//! is never below the exact `F′`. Then nothing rounding hides is lost: a grazing span whose
+//! values all round negative (`√(u·S/|a|)` wide: `4·10⁻⁷` for a unit sphere 10 m away) is still
+//! inside for the search's bounds and points and for the closed form's roots alike.
+//!
+//! Contract (docs/accuracy.md; "exact": the f64 inputs taken as exact reals):
+//! - `t` is a number in the range: never behind its start;
+//! - if the exact solid has a span at least `ε` long in the range, starting at `t₁`, there is a
+//!   hit and `t ≤ t₁ + ε`; spans shorter than `ε` may be skipped;
+//! - the hit lies in the solid with every leaf grown by `2Δ`: `t ≥ t* − ρ`, `ρ ≈ 2Δ / |dF′/dt|` at
+//!   a simple root. A ray that misses the exact solid by less than that may hit, within
+//!   `~2Δ/|∇F|` of the surface.
 
 use crate::closed_form::{Certified, SpanSet, certify, program_set};
-use crate::{ActiveSet, CsgOp, FreeForm, OriginTerms, RayQuadratic, Solid};
+use crate::quadric::{Magnitude, ROUNDING_UNITS, UNIT_ROUNDOFF};
+use crate::{ActiveSet, CsgOp, FreeForm, OriginTerms, Perturbation, RayQuadratic, Solid};
 use fray_core::root::illinois;
 use fray_core::{Interval, Ray};
 use glam::DVec3;
@@ -170,7 +184,9 @@ impl RayCaster {
         self.method
     }
 
-    /// The first `t` in `range` where `solid` is non-negative, to within `eps` (world units).
+    /// The first `t` in `range` where `solid` is non-negative, to within `eps` (world units), up
+    /// to the rounding of the inputs (module docs): never past a span at least `eps` long by more
+    /// than `eps`, never behind `range.lo`.
     pub fn cast(
         &mut self,
         solid: &Solid,
@@ -213,9 +229,11 @@ impl RayCaster {
         let program = active.map_or(solid.program(), ActiveSet::program);
         // The common case — one leaf and no perturbation — needs no scratch space and no program:
         // the same search over the same leaf, monomorphised (bit-identical to the general path).
-        if let Some((leaf, covers)) = plain_leaf(solid, program, active) {
+        if let Some((leaf, covers, magnitude)) = plain_leaf(solid, program, active) {
             let terms = leaf.base().at_origin(ray.origin);
-            return self.cast_plain_leaf(leaf, covers, &terms, ray, inv_dir, range, eps, stats);
+            return self.cast_plain_leaf(
+                leaf, covers, magnitude, &terms, ray, inv_dir, range, eps, stats,
+            );
         }
         if !self.prepare(solid, ray, inv_dir, range, active) {
             return None;
@@ -262,7 +280,8 @@ impl RayCaster {
     }
 
     /// Casts one leaf without perturbations over `range` (already clipped to the solid's box);
-    /// `covers`: the leaf's box contains the solid's; `terms`: its quadric at the ray's origin.
+    /// `covers`: the leaf's box contains the solid's; `magnitude`: its quadric's term bounds;
+    /// `terms`: its quadric at the ray's origin.
     /// Shared by [`RayCaster::cast_with`] and [`RayCaster::cast_planned`], so both give the same
     /// bits.
     #[allow(clippy::too_many_arguments)]
@@ -271,6 +290,7 @@ impl RayCaster {
         &mut self,
         leaf: &FreeForm,
         covers: bool,
+        magnitude: Magnitude,
         terms: &OriginTerms,
         ray: &Ray,
         inv_dir: DVec3,
@@ -284,11 +304,13 @@ impl RayCaster {
             leaf.bounds_ref()
                 .clip_ray_with_inverse(ray, inv_dir, range)?
         };
+        let mut base = leaf.base().on_ray_from(terms, ray.dir);
+        base.c += magnitude.rounding(terms.distance + reach(range));
         let mut f = PlainLeaf {
             leaf: LeafOnRay {
                 present: Some(present),
                 clips: leaf.clips(),
-                base: leaf.base().on_ray_from(terms, ray.dir),
+                base,
                 perturbations: (0, 0),
             },
             stats,
@@ -319,7 +341,7 @@ impl RayCaster {
         eps: f64,
         stats: &mut CastStats,
     ) -> Option<f64> {
-        let Some((leaf, covers)) = plan.plain else {
+        let Some((leaf, covers, magnitude)) = plan.plain else {
             return self.cast_program(plan.solid, ray, range, eps, plan.active, stats);
         };
         let inv_dir = self.inverse_of(ray.dir);
@@ -337,7 +359,9 @@ impl RayCaster {
                 terms
             }
         };
-        self.cast_plain_leaf(leaf, covers, &terms, ray, inv_dir, range, eps, stats)
+        self.cast_plain_leaf(
+            leaf, covers, magnitude, &terms, ray, inv_dir, range, eps, stats,
+        )
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
@@ -391,6 +415,7 @@ impl RayCaster {
         self.leaves.clear();
         self.perturbations.clear();
         let mut any = false;
+        let reach = reach(range);
         for (i, leaf) in solid.leaves().iter().enumerate() {
             // The slab test as two bare floats (an `Option` here is spilled and reloaded).
             let slab = match active {
@@ -400,45 +425,113 @@ impl RayCaster {
             };
             let present = (slab.lo <= slab.hi).then_some(slab);
             let start = self.perturbations.len() as u32;
+            // An absent leaf's quadric is never read: skip restricting it.
+            let mut base = RayQuadratic {
+                a: 0.0,
+                b: 0.0,
+                c: 0.0,
+            };
             if let Some(present) = present {
                 any = true;
+                let terms = leaf.base().at_origin(ray.origin);
+                base = leaf.base().on_ray_from(&terms, ray.dir);
+                // The leaf widened by the rounding of its value (module docs), away from the
+                // solid's outside: up, or down under an odd number of negations.
+                let widening = solid
+                    .leaf_widening(i)
+                    .map_or(0.0, |w| w.rounding(terms.distance + reach));
                 let all = leaf.perturbations();
                 let subset = active.map(|a| a.leaf_perturbations(i));
                 let count = subset.map_or(all.len(), <[u32]>::len);
-                for k in 0..count {
-                    let p = match subset {
-                        Some(s) => match all.get(s[k] as usize) {
-                            Some(p) => p,
-                            None => continue,
-                        },
-                        None => &all[k],
+                if count > 0 {
+                    let more = push_perturbations(
+                        &mut self.perturbations,
+                        all,
+                        solid.perturbation_magnitudes(i),
+                        subset,
+                        ray,
+                        present,
+                        reach,
+                        widening.abs(),
+                    );
+                    base.c += if solid.leaf_is_negated(i) {
+                        -more
+                    } else {
+                        more
                     };
-                    let q = p.quadric.on_ray(ray);
-                    // Per-ray pruning: a support the ray never enters inside the leaf's box
-                    // contributes 0 there. (Outside a derived box the pruned F′ stays < 0:
-                    // F < 0 there and the supports of bumps lie inside the box.)
-                    if p.form_factor != 0.0 && q.range(present).hi > 0.0 {
-                        self.perturbations.push((p.form_factor, q));
-                    }
                 }
+                base.c += widening;
             }
             self.leaves.push(LeafOnRay {
                 present,
                 clips: leaf.clips(),
-                // An absent leaf's quadric is never read: skip restricting it.
-                base: if present.is_some() {
-                    leaf.base().on_ray(ray)
-                } else {
-                    RayQuadratic {
-                        a: 0.0,
-                        b: 0.0,
-                        c: 0.0,
-                    }
-                },
+                base,
                 perturbations: (start, self.perturbations.len() as u32),
             });
         }
         any
+    }
+}
+
+/// Restricts a leaf's perturbations (all, or `subset`) to the ray and pushes those whose support
+/// the ray enters within `present` onto `out`; returns what they add to the leaf's widening
+/// (`base`: the base quadric's): for each, `f·Q³` with `Q ≤ q̄` known to `δ_Q`, and the rounding of
+/// the sum. Kept out of line: most leaves have none on the ray.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn push_perturbations(
+    out: &mut Vec<(f64, RayQuadratic)>,
+    all: &[Perturbation],
+    magnitudes: &[Magnitude],
+    subset: Option<&[u32]>,
+    ray: &Ray,
+    present: Interval,
+    reach: f64,
+    base: f64,
+) -> f64 {
+    let count = subset.map_or(all.len(), <[u32]>::len);
+    let (mut terms_rounding, mut terms_size, mut n) = (0.0, 0.0, 0u32);
+    for k in 0..count {
+        let index = match subset {
+            Some(s) => s[k] as usize,
+            None => k,
+        };
+        let (Some(p), Some(magnitude)) = (all.get(index), magnitudes.get(index)) else {
+            continue;
+        };
+        let origin_terms = p.quadric.at_origin(ray.origin);
+        let q = p.quadric.on_ray_from(&origin_terms, ray.dir);
+        let hi = q.range(present).hi;
+        // Per-ray pruning: a support the ray never enters inside the leaf's box contributes 0
+        // there. (Outside a derived box the pruned F′ stays < 0: F < 0 there and the supports of
+        // bumps lie inside the box.)
+        if p.form_factor != 0.0 && hi > 0.0 {
+            out.push((p.form_factor, q));
+            let dq = magnitude.rounding(origin_terms.distance + reach);
+            let qb = hi + 2.0 * dq;
+            let f = p.form_factor.abs();
+            terms_rounding += f
+                * (dq * (3.0 * qb * qb + dq * (3.0 * qb + dq))
+                    + 4.0 * UNIT_ROUNDOFF * qb * qb * qb);
+            terms_size += f * qb * qb * qb;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        return 0.0;
+    }
+    // The rounding of the sum: `n` additions of terms up to the base's and the perturbations'.
+    terms_rounding + f64::from(n) * (base / ROUNDING_UNITS + UNIT_ROUNDOFF * terms_size)
+}
+
+/// The largest `|t|` of `range` (`lo ≤ hi`, not NaN): how far along the ray the rounding bounds
+/// must hold. A comparison rather than `f64::max`, whose NaN handling costs four instructions.
+#[inline]
+fn reach(range: Interval) -> f64 {
+    if range.hi >= -range.lo {
+        range.hi
+    } else {
+        -range.lo
     }
 }
 
@@ -449,8 +542,8 @@ impl RayCaster {
 pub struct CastPlan<'a> {
     solid: &'a Solid,
     active: Option<&'a ActiveSet>,
-    /// The single plain leaf and whether its box contains the solid's.
-    plain: Option<(&'a FreeForm, bool)>,
+    /// The single plain leaf, whether its box contains the solid's, and its term bounds.
+    plain: Option<(&'a FreeForm, bool, Magnitude)>,
     /// That leaf's quadric at the last ray origin.
     origin: Option<(DVec3, OriginTerms)>,
 }
@@ -469,19 +562,21 @@ impl<'a> CastPlan<'a> {
 }
 
 /// The leaf of a one-leaf `program` that has no perturbation (none active, or none at all when
-/// casting the whole solid), with whether its box contains the solid's.
+/// casting the whole solid), with whether its box contains the solid's and its quadric's term
+/// bounds.
 #[inline]
 fn plain_leaf<'a>(
     solid: &'a Solid,
     program: &[CsgOp],
     active: Option<&ActiveSet>,
-) -> Option<(&'a FreeForm, bool)> {
+) -> Option<(&'a FreeForm, bool, Magnitude)> {
     if let [CsgOp::Leaf(i)] = *program
         && let Some(leaf) = solid.leaves().get(i as usize)
+        && let Some(&widening) = solid.leaf_widening(i as usize)
         && active.is_none_or(|a| a.leaf_perturbations(i as usize).is_empty())
         && (active.is_some() || leaf.perturbations().is_empty())
     {
-        return Some((leaf, solid.leaf_covers_solid(i as usize)));
+        return Some((leaf, solid.leaf_covers_solid(i as usize), widening));
     }
     None
 }

@@ -8,6 +8,16 @@
 //! leaves it uncertain, or a set outgrows its fixed capacity, the caller falls back to the
 //! halving search.
 //!
+//! What is guaranteed (docs/accuracy.md): the quadratics arrive *widened* by a bound `Δ` on their
+//! rounding (module `cast`), so each leaf's computed set contains the exact one — a grazing span
+//! whose discriminant would round negative unwidened (its peak `|a| w²/4` below the rounding of
+//! `b² − 4ac`) now has a positive one — and the roots' own rounding (at most 6 u S in value, the
+//! discriminant's 3 u S) is within `Δ`. The first point of the combined set is therefore never
+//! after the exact first hit; the certificate keeps it within `ε` of the first span at least `ε`
+//! long, or hands the ray to the search. What may be reported: a point up to `2Δ` outside the
+//! exact solid (a near-tangent ray that misses by less than the rounding hits at its vertex
+//! region).
+//!
 //! Why: on plain quadrics the halving search spends two or three bounds and four or five point
 //! evaluations to land on the same closed-form root that its `finish` certifies; a root and a
 //! set operation per leaf cost a fraction of that. Everything here is exact selection between

@@ -3,6 +3,7 @@
 //! Union is `max`, intersection `min`, difference `min(a, −b)`. The tree is compiled once into a
 //! postfix program over the leaves — the form that the ray caster and the GPU both evaluate.
 
+use crate::quadric::Magnitude;
 use crate::{FreeForm, GeometryError};
 use fray_core::Aabb;
 use glam::DVec3;
@@ -42,6 +43,36 @@ pub struct Solid {
     /// Per leaf: its box contains the solid's box, so a ray's range clipped to the solid is
     /// already clipped to the leaf (the caster skips that slab test).
     leaf_covers_solid: Vec<bool>,
+    /// Per leaf: an odd number of negations lies between it and the result, so the solid's
+    /// value *decreases* with the leaf's (the caster widens such a leaf downwards).
+    leaf_negated: Vec<bool>,
+    /// Per leaf, the term bounds of its base quadric for the caster's widening (module
+    /// `cast`), negated for a negated leaf so that they widen it downwards; and of each of its
+    /// perturbations' quadrics.
+    widenings: Vec<Magnitude>,
+    perturbation_magnitudes: Vec<Vec<Magnitude>>,
+}
+
+/// The leaves' signed base term bounds and their perturbations' (see [`Solid`]'s fields).
+fn magnitudes(leaves: &[FreeForm], negated: &[bool]) -> (Vec<Magnitude>, Vec<Vec<Magnitude>>) {
+    let widenings = leaves
+        .iter()
+        .zip(negated)
+        .map(|(l, &n)| {
+            let m = l.base().magnitude();
+            if n { m.negated() } else { m }
+        })
+        .collect();
+    let perturbations = leaves
+        .iter()
+        .map(|l| {
+            l.perturbations()
+                .iter()
+                .map(|p| p.quadric.magnitude())
+                .collect()
+        })
+        .collect();
+    (widenings, perturbations)
 }
 
 impl Solid {
@@ -61,12 +92,17 @@ impl Solid {
             max_stack = max_stack.max(depth);
         }
         let leaf_covers_solid = covers(&leaves, &bounds);
+        let leaf_negated = negated(&program, leaves.len());
+        let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &leaf_negated);
         Ok(Self {
+            widenings,
+            perturbation_magnitudes,
             leaves,
             program,
             bounds,
             max_stack,
             leaf_covers_solid,
+            leaf_negated,
         })
     }
 
@@ -75,12 +111,16 @@ impl Solid {
         let bounds = f.bounds();
         let leaves = vec![f];
         let leaf_covers_solid = covers(&leaves, &bounds);
+        let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &[false]);
         Self {
+            widenings,
+            perturbation_magnitudes,
             leaves,
             program: vec![CsgOp::Leaf(0)],
             bounds,
             max_stack: 1,
             leaf_covers_solid,
+            leaf_negated: vec![false],
         }
     }
 
@@ -108,6 +148,27 @@ impl Solid {
     #[inline]
     pub fn leaf_covers_solid(&self, i: usize) -> bool {
         self.leaf_covers_solid.get(i).copied().unwrap_or(false)
+    }
+
+    /// Whether leaf `i` reaches the solid's value through an odd number of negations (the
+    /// subtrahend of a difference): the solid's value decreases as the leaf's increases.
+    #[inline]
+    pub fn leaf_is_negated(&self, i: usize) -> bool {
+        self.leaf_negated.get(i).copied().unwrap_or(false)
+    }
+
+    /// Leaf `i`'s base term bounds, negated if the leaf is (the direction the caster widens it).
+    #[inline]
+    pub(crate) fn leaf_widening(&self, i: usize) -> Option<&Magnitude> {
+        self.widenings.get(i)
+    }
+
+    /// The term bounds of leaf `i`'s perturbations' quadrics.
+    #[inline]
+    pub(crate) fn perturbation_magnitudes(&self, i: usize) -> &[Magnitude] {
+        self.perturbation_magnitudes
+            .get(i)
+            .map_or(&[], Vec::as_slice)
     }
 
     /// The deepest the evaluation stack gets.
@@ -281,6 +342,34 @@ fn covers(leaves: &[FreeForm], bounds: &Aabb) -> Vec<bool> {
         .collect()
 }
 
+/// Per leaf, whether an odd number of `Neg`s lies above it in `program` (`leaves` leaves).
+fn negated(program: &[CsgOp], leaves: usize) -> Vec<bool> {
+    let mut negated = vec![false; leaves];
+    // Each stack entry: the leaves of one operand.
+    let mut stack: Vec<Vec<u32>> = Vec::new();
+    for op in program {
+        match *op {
+            CsgOp::Leaf(i) => stack.push(vec![i]),
+            CsgOp::Neg => {
+                for &i in stack.last().into_iter().flatten() {
+                    if let Some(n) = negated.get_mut(i as usize) {
+                        *n = !*n;
+                    }
+                }
+            }
+            CsgOp::Max | CsgOp::Min => {
+                if stack.len() >= 2 {
+                    let b = stack.pop().unwrap_or_default();
+                    if let Some(a) = stack.last_mut() {
+                        a.extend(b);
+                    }
+                }
+            }
+        }
+    }
+    negated
+}
+
 fn compile(
     shape: Shape,
     leaves: &mut Vec<FreeForm>,
@@ -359,6 +448,16 @@ mod tests {
             d.program(),
             &[CsgOp::Leaf(0), CsgOp::Leaf(1), CsgOp::Neg, CsgOp::Min]
         );
+        assert!(!d.leaf_is_negated(0) && d.leaf_is_negated(1));
+        // a − (b − c): c is negated twice.
+        let c = ball(DVec3::new(2.0, 0.0, 0.0), 1.0);
+        let nested = Shape::Difference(
+            Box::new(a.clone()),
+            Box::new(Shape::Difference(Box::new(b.clone()), Box::new(c))),
+        );
+        let nested = Solid::new(Shape::Union(vec![nested, b.clone()])).unwrap();
+        let flags: Vec<bool> = (0..4).map(|i| nested.leaf_is_negated(i)).collect();
+        assert_eq!(flags, [false, true, false, false]);
         assert_eq!(
             Solid::new(Shape::Union(vec![a])).unwrap_err(),
             GeometryError::TooFewOperands {

@@ -189,8 +189,10 @@ impl FreeForm {
         g
     }
 
-    /// The closed-form first entry for an object with no perturbations (the accuracy
-    /// reference): the first point of the box's ray range where the quadratic is `≥ 0`, which
+    /// The closed-form first entry for an object with no perturbations, in f64 and without the
+    /// caster's widening (docs/accuracy.md; a cross-check, not the accuracy tests' reference,
+    /// which is double-double): the first point of the box's ray range where the quadratic is
+    /// `≥ 0`, which
     /// for a clipping box is the box face when the ray enters the box inside the quadric.
     /// `None` if the object has perturbations or nothing is hit.
     pub fn closed_form_hit(&self, ray: &fray_core::Ray, range: fray_core::Interval) -> Option<f64> {

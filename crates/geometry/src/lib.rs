@@ -3,8 +3,10 @@
 //! A base quadric `F` (ten coefficients, `F ≥ 0` inside) is deformed by perturbations
 //! `F′ = F + Σ fᵢ Rᵢ`, `Rᵢ = Qᵢ³` where `Qᵢ > 0`; objects combine by CSG (union = max,
 //! intersection = min, difference = min(a, −b)). Rays find the first point with `F′ ≥ 0` by binary
-//! search on the ray segment with exact per-term bounds ([`RayCaster`]); plain quadrics also have
-//! a closed-form hit, the accuracy reference. Usable alone: no GPU, no scene files.
+//! search on the ray segment with exact per-term bounds ([`RayCaster`]), or in closed form where
+//! only plain quadrics meet the ray; every leaf is widened by a bound on its rounding, so no span
+//! at least ε long is missed, grazing or not (docs/accuracy.md). Usable alone: no GPU, no scene
+//! files.
 //!
 //! ```
 //! use fray_core::{Interval, Ray};

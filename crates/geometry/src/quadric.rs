@@ -31,6 +31,47 @@ pub enum Sheets {
 pub struct OriginTerms {
     pub value: f64,
     pub gradient: DVec3,
+    /// `‖o − origin‖₁`, a bound on the distance from the quadric's origin: the scale of the
+    /// rounding of `value` and `gradient` (docs/accuracy.md).
+    pub distance: f64,
+}
+
+/// The unit roundoff of f64, `2⁻⁵³`.
+pub(crate) const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
+
+/// Rounding units per unit of term magnitude in one f64 value of a quadric on a ray: the
+/// subtraction `o − origin` (1), `F(o)`, `∇F(o)·d`, `dᵀAd` (≤ 9 more), Horner in `t` (≤ 4),
+/// and, where the caster stands a computed root, vertex or bound for the value, the rounding of
+/// that root or vertex in value terms (≤ 10 more). Derived in docs/accuracy.md.
+pub(crate) const ROUNDING_UNITS: f64 = 24.0;
+
+/// Bounds on the size of a quadric's terms, scaled to a rounding bound: `Φ(r) = K u (α r² + λ r +
+/// κ)` bounds `K u` times the sum of the absolute values of the terms of `F(p)` at every point
+/// `p` within distance `r` of its origin (`α`: the largest row sum of `|M|`, which bounds
+/// `|v|ᵀ|M||v| ≤ α ‖v‖²`; `λ = ‖b‖₂`; `κ = |k|`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Magnitude {
+    alpha: f64,
+    lambda: f64,
+    kappa: f64,
+}
+
+impl Magnitude {
+    /// `Φ(r)`: the rounding bound of one f64 value of the quadric on a unit-direction ray, at
+    /// every parameter `t` with `‖o − origin‖₁ + |t| ≤ r`.
+    #[inline]
+    pub(crate) fn rounding(&self, r: f64) -> f64 {
+        (self.alpha * r + self.lambda) * r + self.kappa
+    }
+
+    /// The same bounds negated: [`Magnitude::rounding`] gives `−Φ(r)`.
+    pub(crate) fn negated(self) -> Self {
+        Self {
+            alpha: -self.alpha,
+            lambda: -self.lambda,
+            kappa: -self.kappa,
+        }
+    }
 }
 
 impl Quadric {
@@ -187,8 +228,28 @@ impl Quadric {
     /// pinhole camera's) can share it.
     #[inline]
     pub fn at_origin(&self, origin: DVec3) -> OriginTerms {
-        let (value, gradient) = self.eval_and_gradient(origin);
-        OriginTerms { value, gradient }
+        let x = origin - self.origin;
+        OriginTerms {
+            value: self.eval_local(x),
+            gradient: self.gradient_local(x),
+            distance: x.abs().element_sum(),
+        }
+    }
+
+    /// The term bounds of `F` for rounding bounds (kept by a free form for its quadrics).
+    pub(crate) fn magnitude(&self) -> Magnitude {
+        let [a11, a22, a33, a12, a13, a23, a14, a24, a34, a44] = self.coefficients.map(f64::abs);
+        let rows = [
+            a11 + 0.5 * (a12 + a13),
+            a22 + 0.5 * (a12 + a23),
+            a33 + 0.5 * (a13 + a23),
+        ];
+        let k = ROUNDING_UNITS * UNIT_ROUNDOFF;
+        Magnitude {
+            alpha: k * rows[0].max(rows[1]).max(rows[2]),
+            lambda: k * DVec3::new(a14, a24, a34).length(),
+            kappa: k * a44,
+        }
     }
 
     /// [`Quadric::on_ray`] of the ray along `dir` from the origin of `terms`: the same bits.

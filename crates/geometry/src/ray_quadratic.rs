@@ -1,5 +1,6 @@
 //! A quadric restricted to a ray: the quadratic `a t² + b t + c`, with exact ranges over a
-//! parameter interval and the closed-form first entry (the accuracy reference).
+//! parameter interval and the closed-form first entry (in f64, unwidened; the accuracy tests'
+//! reference is double-double, docs/accuracy.md).
 
 use fray_core::Interval;
 
