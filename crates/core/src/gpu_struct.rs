@@ -24,22 +24,45 @@
 
 /// A Rust type that has a WGSL counterpart with the same size (host-shareable, storage layout).
 pub trait WgslType: bytemuck::Pod {
-    /// The WGSL type's name, e.g. `vec4<f32>`.
-    const WGSL: &'static str;
     /// Its alignment in WGSL's storage layout.
     const ALIGN: usize;
     /// Its size in WGSL's storage layout.
     const SIZE: usize;
+    /// The WGSL type, e.g. `vec4<f32>`.
+    fn wgsl() -> String;
 }
 
 macro_rules! wgsl_scalar {
     ($($rust:ty => $wgsl:literal, $align:literal, $size:literal;)*) => {
         $(impl WgslType for $rust {
-            const WGSL: &'static str = $wgsl;
             const ALIGN: usize = $align;
             const SIZE: usize = $size;
+            fn wgsl() -> String {
+                $wgsl.to_owned()
+            }
         })*
     };
+}
+
+/// Fixed arrays of 4-vectors: WGSL `array<vec4<…>, N>` (stride 16, as in Rust).
+macro_rules! wgsl_vec4_array {
+    ($($element:ty => $wgsl:literal;)*) => {
+        $(impl<const N: usize> WgslType for [$element; N]
+        where
+            [$element; N]: bytemuck::Pod,
+        {
+            const ALIGN: usize = 16;
+            const SIZE: usize = 16 * N;
+            fn wgsl() -> String {
+                format!("array<{}, {N}>", $wgsl)
+            }
+        })*
+    };
+}
+
+wgsl_vec4_array! {
+    [f32; 4] => "vec4<f32>";
+    [u32; 4] => "vec4<u32>";
 }
 
 wgsl_scalar! {
@@ -54,11 +77,11 @@ wgsl_scalar! {
 }
 
 /// One field of a [`GpuStruct`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct WgslField {
     pub name: &'static str,
     /// The WGSL type.
-    pub ty: &'static str,
+    pub ty: String,
     /// Where Rust puts it (`offset_of!`).
     pub rust_offset: usize,
     pub wgsl_align: usize,
@@ -72,7 +95,7 @@ pub trait GpuStruct: WgslType {
 
     /// The WGSL declaration, e.g. `struct Light {\n    position: vec4<f32>,\n}\n`.
     fn declaration() -> String {
-        let mut s = format!("struct {} {{\n", Self::WGSL);
+        let mut s = format!("struct {} {{\n", Self::wgsl());
         for f in Self::fields() {
             s.push_str(&format!("    {}: {},\n", f.name, f.ty));
         }
@@ -103,7 +126,7 @@ pub trait GpuStruct: WgslType {
             if f.rust_offset != *wgsl {
                 return Err(format!(
                     "{}.{}: Rust offset {}, WGSL offset {wgsl}",
-                    Self::WGSL,
+                    Self::wgsl(),
                     f.name,
                     f.rust_offset
                 ));
@@ -113,7 +136,7 @@ pub trait GpuStruct: WgslType {
         if rust != size || Self::SIZE != size {
             return Err(format!(
                 "{}: Rust size {rust}, WGSL size {size}",
-                Self::WGSL
+                Self::wgsl()
             ));
         }
         Ok(())
@@ -122,7 +145,8 @@ pub trait GpuStruct: WgslType {
 
 /// Declares a `#[repr(C)]`, `Pod` struct and its WGSL twin ([`GpuStruct`]) from one field list.
 /// Field types must implement [`WgslType`]: `f32`, `u32`, `i32`, `[f32; 2|4]`, `[u32; 2|4]`,
-/// `[i32; 4]`, or another `gpu_struct!` (3-vectors are left out on purpose: WGSL pads them).
+/// `[i32; 4]`, arrays of 4-vectors `[[f32; 4]; N]`, `[[u32; 4]; N]`, or another `gpu_struct!`
+/// (3-vectors are left out on purpose: WGSL pads them).
 /// The calling crate needs `bytemuck` (with `derive`) as a dependency.
 #[macro_export]
 macro_rules! gpu_struct {
@@ -140,7 +164,6 @@ macro_rules! gpu_struct {
         }
 
         impl $crate::gpu_struct::WgslType for $name {
-            const WGSL: &'static str = stringify!($name);
             const ALIGN: usize = {
                 let mut a = 1;
                 $(if <$ty as $crate::gpu_struct::WgslType>::ALIGN > a {
@@ -149,13 +172,16 @@ macro_rules! gpu_struct {
                 a
             };
             const SIZE: usize = std::mem::size_of::<$name>();
+            fn wgsl() -> String {
+                stringify!($name).to_owned()
+            }
         }
 
         impl $crate::gpu_struct::GpuStruct for $name {
             fn fields() -> Vec<$crate::gpu_struct::WgslField> {
                 vec![$($crate::gpu_struct::WgslField {
                     name: stringify!($field),
-                    ty: <$ty as $crate::gpu_struct::WgslType>::WGSL,
+                    ty: <$ty as $crate::gpu_struct::WgslType>::wgsl(),
                     rust_offset: std::mem::offset_of!($name, $field),
                     wgsl_align: <$ty as $crate::gpu_struct::WgslType>::ALIGN,
                     wgsl_size: <$ty as $crate::gpu_struct::WgslType>::SIZE,
@@ -197,6 +223,17 @@ mod tests {
         assert_eq!(Nested::wgsl_layout(), (vec![0, 4, 8, 16], 48));
         Nested::check_layout().unwrap();
         assert!(Nested::declaration().contains("    inner: Outer,\n"));
+        crate::gpu_struct! {
+            struct WithArray {
+                head: u32,
+                tail: u32,
+                pad: [u32; 2],
+                levels: [[u32; 4]; 3],
+            }
+        }
+        assert!(WithArray::declaration().contains("    levels: array<vec4<u32>, 3>,\n"));
+        assert_eq!(WithArray::wgsl_layout(), (vec![0, 4, 12, 16], 64));
+        WithArray::check_layout().unwrap();
     }
 
     /// A struct whose fields WGSL would place elsewhere than Rust fails the check: a `u32`
