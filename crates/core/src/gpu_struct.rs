@@ -232,7 +232,7 @@ mod tests {
             }
         }
         assert!(WithArray::declaration().contains("    levels: array<vec4<u32>, 3>,\n"));
-        assert_eq!(WithArray::wgsl_layout(), (vec![0, 4, 12, 16], 64));
+        assert_eq!(WithArray::wgsl_layout(), (vec![0, 4, 8, 16], 64));
         WithArray::check_layout().unwrap();
     }
 
