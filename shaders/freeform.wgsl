@@ -17,10 +17,10 @@ override SHADOWS: bool = true;
 override HAS_SUN: bool = true;
 override HAS_POINT: bool = true;
 override PROJECTOR: u32 = 0u;
-// The scene's terrain (terrain.wgsl's cast_terrain; without terrain a stub that always misses):
-// cast after the free forms, nearest hit wins (a tie keeps the free form); shadow rays test it.
+// The scene's terrains (terrain.wgsl's cast_terrain(k, …); without terrain a stub that always
+// misses): each listed one cast after the free forms, nearest hit wins (a tie keeps the earlier
+// candidate); shadow rays test every terrain.
 override HAS_TERRAIN: bool = false;
-override TERRAIN_MATERIAL: u32 = 0u;
 
 const BIG: f32 = 1.0e30;
 const NO_HIT: f32 = -1.0;
@@ -676,8 +676,9 @@ fn surface_at(si: u32, p: vec3<f32>, fallback: vec3<f32>) -> Surface {
 
 struct Hit {
     t: f32,
+    // The solid hit, or for a terrain hit the terrain's index k (its candidate's `object`).
     solid: u32,
-    // A terrain hit (its normal below); else solid `solid`.
+    // A terrain hit (its shading normal below); else solid `solid`.
     terrain: bool,
     normal: vec3<f32>,
 }
@@ -691,17 +692,16 @@ fn all_parts(si: u32) -> Parts {
 }
 
 // The nearest hit over the candidates of `item` (objects in increasing order, each with its
-// active parts; on a tie the earlier object keeps the hit), then the terrain if the item lists it.
+// active parts; on a tie the earlier object keeps the hit), then the terrains the item lists.
 fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) -> Hit {
     var best: Hit;
     best.t = NO_HIT;
     var hi = BIG;
-    var terrain_listed = false;
-    for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
+    let end = item.candidate_start + item.candidate_count;
+    for (var c = item.candidate_start; c < end; c++) {
         let cand = candidates[c];
         if cand.kind == KIND_TERRAIN {
-            // The terrain: cast after the free forms.
-            terrain_listed = true;
+            // A terrain: cast after the free forms.
             continue;
         }
         var parts: Parts;
@@ -719,13 +719,21 @@ fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) ->
             best.solid = si;
         }
     }
-    if HAS_TERRAIN && terrain_listed {
-        // The terrain over [lo, best so far]: nearer hits only, a tie keeps the free form.
-        let th = cast_terrain(o, d, lo, select(BIG, best.t, best.t >= 0.0), true);
-        if th.x >= 0.0 && (best.t < 0.0 || th.x < best.t) {
-            best.t = th.x;
-            best.terrain = true;
-            best.normal = th.yzw;
+    if HAS_TERRAIN {
+        // The listed terrains k, in list order, each over [lo, best so far]: nearer hits only,
+        // a tie keeps the earlier (fray-trace's terrain pass).
+        for (var c = item.candidate_start; c < end; c++) {
+            if candidates[c].kind != KIND_TERRAIN {
+                continue;
+            }
+            let k = candidates[c].object;
+            let th = cast_terrain(k, o, d, lo, select(BIG, best.t, best.t >= 0.0), eps, true);
+            if th.t >= 0.0 && (best.t < 0.0 || th.t < best.t) {
+                best.t = th.t;
+                best.solid = k;
+                best.terrain = true;
+                best.normal = terrain_shading_normal(k, o, d, th);
+            }
         }
     }
     return best;
@@ -737,8 +745,12 @@ fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
             return true;
         }
     }
-    if HAS_TERRAIN && cast_terrain(o, d, 0.0, distance, false).x >= 0.0 {
-        return true;
+    if HAS_TERRAIN {
+        for (var k = 0u; k < terrain_count(); k++) {
+            if cast_terrain(k, o, d, 0.0, distance, eps, false).t >= 0.0 {
+                return true;
+            }
+        }
     }
     return false;
 }
@@ -840,7 +852,7 @@ fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) -> bool {
     var material: u32;
     if HAS_TERRAIN && hit.terrain {
         normal = hit.normal;
-        material = TERRAIN_MATERIAL;
+        material = terrain_material(hit.solid);
     } else {
         let surface = surface_at(hit.solid, p, to_viewer);
         normal = surface.normal;

@@ -10,6 +10,7 @@ use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams};
 use crate::readback::{map_read, read_back, readback_buffer};
 use crate::shader::{self, ArraySizes, Specialisation};
+use crate::terrain_pass::{TerrainUpload, terrain_buffers};
 use crate::timestamps::Timestamps;
 use crate::work::{GpuWork, TILE};
 use crate::{GpuContext, GpuError};
@@ -18,7 +19,6 @@ use fray_quadtree::{QuadtreeStats, WorkItem};
 use fray_scene::Scene;
 use std::sync::Mutex;
 use std::time::Duration;
-use wgpu::util::DeviceExt;
 
 const PASS: &str = "free-form";
 /// Bytes written per pixel: two `vec4<f32>` (colour + depth, normal + hit flag).
@@ -64,7 +64,7 @@ pub struct FreeFormPass {
     /// The per-frame buffers and the bind group (locked by a run: one run at a time uses
     /// them). The bind group keeps the scene buffers (bindings 1–6), the work list's
     /// (candidates, active leaves, active perturbations, candidate programs: 10–13) and the
-    /// terrain's (parameter block, max pyramid, samples: 14–16) alive.
+    /// terrains' (parameter blocks, max pyramids, samples: 14–16) alive.
     frame: Mutex<FrameResources>,
 }
 
@@ -83,41 +83,6 @@ struct FrameResources {
     counters_readback: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     timestamps: Option<Timestamps>,
-}
-
-/// The terrain's buffers for the free-form module: its parameter block relative to `reference`,
-/// the max pyramid and the samples (each within the device's storage binding limit).
-fn terrain_buffers(
-    ctx: &GpuContext,
-    terrain: &fray_terrain::Terrain,
-    reference: glam::DVec3,
-    footprint: fray_core::PixelFootprint,
-) -> Result<[wgpu::Buffer; 3], GpuError> {
-    let pyramid = fray_terrain::gpu_layout::pyramid_values(terrain);
-    let samples = terrain.map().samples();
-    let limit = ctx.limits.max_storage_buffer_binding_size;
-    let bytes = (pyramid.len().max(samples.len()) * 4) as u64;
-    if bytes > limit {
-        return Err(GpuError::TooLarge {
-            what: "terrain buffer bytes",
-            needed: bytes,
-            limit,
-        });
-    }
-    let params = fray_terrain::gpu_layout::GpuTerrainParams::new(terrain, reference, 0)
-        .with_pixel_lod(terrain, footprint);
-    let uniform = ctx
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("terrain params"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-    Ok([
-        uniform,
-        storage(ctx, "terrain pyramid", &pyramid, 0.0f32),
-        storage(ctx, "terrain samples", samples, 0.0f32),
-    ])
 }
 
 impl FreeFormPass {
@@ -150,8 +115,8 @@ impl FreeFormPass {
             GpuWork::everything(scene, &solids)
         };
         let storage_limit = ctx.limits.max_storage_buffers_per_shader_stage;
-        // The terrain adds its pyramid and samples.
-        let needed = STORAGE_BUFFERS + if scene.terrains.is_empty() { 0 } else { 2 };
+        // The terrains add their parameter blocks, pyramids and samples.
+        let needed = STORAGE_BUFFERS + if scene.terrains.is_empty() { 0 } else { 3 };
         if storage_limit < needed {
             return Err(GpuError::TooLarge {
                 what: "storage buffers per shader stage",
@@ -167,25 +132,27 @@ impl FreeFormPass {
         let device = &ctx.device;
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
-        // At most one terrain on the GPU; its buffers (checked against the device limit first).
-        let terrain = match scene.terrains.as_slice() {
-            [] => None,
-            [t] => {
-                // Camera rays cast at the terrain's level of detail, as on the CPU.
-                let footprint = match t.lod {
-                    fray_scene::TerrainLod::Pixel => scene
-                        .camera
-                        .pixel_footprint(scene.width, scene.height)
-                        .coarser(t.terrain.options().lod_bias),
-                    fray_scene::TerrainLod::Exact => fray_core::PixelFootprint::ZERO,
-                };
-                Some(terrain_buffers(ctx, &t.terrain, reference, footprint)?)
-            }
-            _ => {
-                return Err(GpuError::Unsupported {
-                    feature: "more than one terrain",
-                });
-            }
+        // Every terrain's buffers (checked against the device limits first): camera rays cast
+        // at each terrain's level of detail and shaded with its material, as on the CPU.
+        let terrain = if scene.terrains.is_empty() {
+            None
+        } else {
+            let uploads: Vec<TerrainUpload> = scene
+                .terrains
+                .iter()
+                .map(|t| TerrainUpload {
+                    terrain: &t.terrain,
+                    material: t.material.min(material_count),
+                    footprint: match t.lod {
+                        fray_scene::TerrainLod::Pixel => scene
+                            .camera
+                            .pixel_footprint(scene.width, scene.height)
+                            .coarser(t.terrain.options().lod_bias),
+                        fray_scene::TerrainLod::Exact => fray_core::PixelFootprint::ZERO,
+                    },
+                })
+                .collect();
+            Some(terrain_buffers(ctx, &uploads, reference)?)
         };
         let source = shader::freeform_source(sizes, terrain.is_some());
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -211,7 +178,7 @@ impl FreeFormPass {
                 entry(11, read),
                 entry(12, read),
                 entry(13, read),
-                entry(shader::FREEFORM_TERRAIN_BINDING, B::Uniform),
+                entry(shader::FREEFORM_TERRAIN_BINDING, read),
                 entry(shader::FREEFORM_TERRAIN_BINDING + 1, read),
                 entry(shader::FREEFORM_TERRAIN_BINDING + 2, read),
             ][..if terrain.is_some() { 17 } else { 14 }],
@@ -448,7 +415,7 @@ fn unpack(data: &[u8], colour_depth: &mut Vec<[f32; 4]>, normal: &mut Vec<[f32; 
 }
 
 /// The bind group's buffers except the per-frame ones (output, work items): bindings 0–6, 8,
-/// 10–13 and, with a terrain, 14–16.
+/// 10–13 and, with terrains, 14–16.
 fn bind_group_buffers<'a>(
     params: &'a wgpu::Buffer,
     scene: &'a [wgpu::Buffer; 6],

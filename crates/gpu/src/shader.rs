@@ -20,26 +20,35 @@ pub const SHADER_FILES: [(&str, &str); 3] = [
     ("terrain_batch.wgsl", TERRAIN_BATCH_WGSL),
 ];
 
-/// The free-form module's terrain hook for a scene without terrain: `cast_terrain` always misses
-/// (and `HAS_TERRAIN` is false), so no terrain code or binding is compiled.
+/// The free-form module's terrain hook for a scene without terrain: no terrain to count or
+/// cast (and `HAS_TERRAIN` is false), so no terrain code or binding is compiled.
 pub const NO_TERRAIN_WGSL: &str = "\n// No terrain in this scene (its counters stay 0).\n\
 var<private> terrain_rays: u32;\n\
 var<private> terrain_segments: u32;\n\
 var<private> terrain_cells: u32;\n\
 var<private> terrain_stops: u32;\n\
 var<private> terrain_stop_levels: u32;\n\
-fn cast_terrain(origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, pixel_lod: bool) -> vec4<f32> {\n\
-    return vec4<f32>(-1.0, 0.0, 0.0, 0.0);\n\
+struct TerrainHit { t: f32, normal: vec3<f32>, kind: u32, levels_above: u32, cell: vec2<u32> }\n\
+fn terrain_count() -> u32 { return 0u; }\n\
+fn terrain_material(k: u32) -> u32 { return 0u; }\n\
+fn cast_terrain(k: u32, origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, eps: f32, pixel_lod: bool) -> TerrainHit {\n\
+    var h: TerrainHit;\n\
+    h.t = -1.0;\n\
+    return h;\n\
+}\n\
+fn terrain_shading_normal(k: u32, origin: vec3<f32>, dir: vec3<f32>, h: TerrainHit) -> vec3<f32> {\n\
+    return h.normal;\n\
 }\n";
 
-/// The first binding of the terrain's buffers in the free-form module (after its 14).
+/// The first binding of the terrains' buffers in the free-form module (after its 14).
 pub const FREEFORM_TERRAIN_BINDING: u32 = 14;
 
-/// The terrain bindings terrain.wgsl reads, at `first`, `first + 1`, `first + 2` of group 0: the
-/// parameter block `P`, the max pyramid and the samples.
+/// The terrain bindings terrain.wgsl reads, at `first`, `first + 1`, `first + 2` of group 0:
+/// every terrain's parameter block (`terrains[k]`), and the concatenated max pyramids and
+/// samples.
 pub fn terrain_bindings(first: u32) -> String {
     format!(
-        "@group(0) @binding({}) var<uniform> P: TerrainParams;\n\
+        "@group(0) @binding({}) var<storage, read> terrains: array<TerrainParams>;\n\
          @group(0) @binding({}) var<storage, read> pyramid: array<f32>;\n\
          @group(0) @binding({}) var<storage, read> samples: array<f32>;\n",
         first,
@@ -126,10 +135,9 @@ pub struct Specialisation {
     pub sun: bool,
     pub point_lights: bool,
     pub projector: u32,
-    /// The scene's terrain (at most one on the GPU) is cast after the free forms.
+    /// The scene's terrains (any number; each with its material in its parameter block) are
+    /// cast after the free forms.
     pub terrain: bool,
-    /// The terrain's material index.
-    pub terrain_material: u32,
 }
 
 impl Specialisation {
@@ -144,10 +152,6 @@ impl Specialisation {
             point_lights: f.point_lights,
             projector: params::projector_kind(&scene.camera),
             terrain: !scene.terrains.is_empty(),
-            terrain_material: scene
-                .terrains
-                .first()
-                .map_or(0, |t| t.material.min(scene.materials.len() as u32)),
         }
     }
 
@@ -162,7 +166,6 @@ impl Specialisation {
             ("HAS_POINT", b(self.point_lights)),
             ("PROJECTOR", f64::from(self.projector)),
             ("HAS_TERRAIN", b(self.terrain)),
-            ("TERRAIN_MATERIAL", f64::from(self.terrain_material)),
         ]
     }
 
@@ -357,7 +360,7 @@ mod tests {
         assert!(!s.perturbations && !s.csg);
         assert_eq!(s.projector, params::PROJECTOR_PINHOLE);
         assert!(s.describe().starts_with("freeform[pinhole"));
-        assert_eq!(s.constants().len(), 8);
+        assert_eq!(s.constants().len(), 7);
         assert!(!s.terrain);
     }
 }

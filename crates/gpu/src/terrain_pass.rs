@@ -1,13 +1,16 @@
 //! The terrain pass (one struct, its pipeline and buffers): `shaders/terrain.wgsl` casts a batch
-//! of camera-relative rays against one terrain — the max pyramid as a storage buffer (levels at
-//! offsets `(4ᵏ − 1) / 3`), the samples as another — and reads back `(t, normal)` per ray. It is
-//! the f32 twin of `fray_terrain::Terrain::cast` (bilinear and B-spline bicubic); a parity test
-//! bounds the difference. The GPU frame casts terrain with the same `cast_terrain`, from the
-//! free-form module (see `shader::freeform_source`).
+//! of camera-relative rays against one terrain and reads back per ray the hit `(t, normal)` and
+//! `(kind, levels above the finest, cell)`. It is the f32 twin of
+//! `fray_terrain::Terrain::cast_footprint` (bilinear and B-spline bicubic, walls, starts, pixel
+//! LOD); a parity test bounds the difference. The GPU frame casts terrains with the same
+//! `cast_terrain`, from the free-form module (see `shader::freeform_source`), over the buffers
+//! [`terrain_buffers`] uploads for any number of terrains: their parameter blocks
+//! (`terrains[k]`), and their max pyramids (rectangular levels) and samples concatenated.
 
-use crate::bindings::{entry, storage};
+use crate::bindings::entry;
 use crate::readback::{read_back, readback_buffer};
 use crate::{GpuContext, GpuError};
+use fray_core::PixelFootprint;
 use fray_terrain::Terrain;
 use fray_terrain::gpu_layout::{self, GpuTerrainParams};
 use glam::DVec3;
@@ -29,30 +32,195 @@ pub fn terrain_source() -> String {
 /// `(unit direction, t_hi)`.
 pub type GpuRay = [[f32; 4]; 2];
 
+/// What a batch ray hit, as the GPU found it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuTerrainHit {
+    /// Distance along the ray; negative for a miss.
+    pub t: f32,
+    /// The hit's normal (`Terrain::cast`'s: a LOD hit's is its column face's).
+    pub normal: [f32; 3],
+    /// 0 surface, 1 wall, 2 the ray's start (`fray_terrain::HitKind`'s order).
+    pub kind: u32,
+    /// 0 on the exact surface, `k` on a level-`(n − k)` max column.
+    pub levels_above_finest: u32,
+    /// The cell (column) hit.
+    pub cell: [u32; 2],
+}
+
+impl GpuTerrainHit {
+    /// Whether the ray hit.
+    pub fn is_hit(&self) -> bool {
+        self.t >= 0.0
+    }
+
+    /// The kind as `fray_terrain::HitKind`.
+    pub fn hit_kind(&self) -> fray_terrain::HitKind {
+        match self.kind {
+            1 => fray_terrain::HitKind::Wall,
+            2 => fray_terrain::HitKind::Start,
+            _ => fray_terrain::HitKind::Surface,
+        }
+    }
+}
+
+/// One terrain as the GPU draws it: its material index and the pixel footprint its camera rays
+/// use ([`PixelFootprint::ZERO`]: exact).
+#[derive(Clone, Copy, Debug)]
+pub struct TerrainUpload<'a> {
+    pub terrain: &'a Terrain,
+    pub material: u32,
+    pub footprint: PixelFootprint,
+}
+
+/// Writes `values` (`f32`s, possibly produced on the fly) into a new storage buffer mapped at
+/// creation, a chunk at a time: no host copy of the whole array is made.
+fn mapped_f32_buffer(
+    ctx: &GpuContext,
+    label: &str,
+    len: u64,
+    mut fill: impl FnMut(&mut dyn FnMut(&[f32])),
+) -> wgpu::Buffer {
+    let size = (len.max(1) * 4).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: true,
+    });
+    if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
+        let mut at = 0usize;
+        fill(&mut |chunk: &[f32]| {
+            let bytes: &[u8] = bytemuck::cast_slice(chunk);
+            view.slice(at..at + bytes.len()).copy_from_slice(bytes);
+            at += bytes.len();
+        });
+    }
+    buffer.unmap();
+    buffer
+}
+
+/// The terrains' buffers for a module that includes terrain.wgsl: the parameter blocks
+/// (relative to `reference`, with each terrain's material, footprint and offsets), the
+/// concatenated max pyramids and the concatenated samples. Each is checked against the device's
+/// storage binding and buffer size limits (and the `u32` indices) before anything is allocated.
+pub(crate) fn terrain_buffers(
+    ctx: &GpuContext,
+    terrains: &[TerrainUpload<'_>],
+    reference: DVec3,
+) -> Result<[wgpu::Buffer; 3], GpuError> {
+    let limit = ctx
+        .limits
+        .max_storage_buffer_binding_size
+        .min(ctx.limits.max_buffer_size);
+    let too_large = |what, needed: u64, limit: u64| GpuError::TooLarge {
+        what,
+        needed,
+        limit,
+    };
+    let mut params = Vec::with_capacity(terrains.len());
+    let (mut pyramid, mut samples) = (0u64, 0u64);
+    for t in terrains {
+        let index =
+            |v: u64, what| u32::try_from(v).map_err(|_| too_large(what, v, u32::MAX.into()));
+        let p = GpuTerrainParams::new(t.terrain, reference)
+            .with_pixel_lod(t.terrain, t.footprint)
+            .with_material(t.material)
+            .at_offsets(
+                index(pyramid, "terrain pyramid values")?,
+                index(samples, "terrain samples")?,
+            )
+            .map_err(|e| too_large("terrain pyramid values", e.needed, u32::MAX.into()))?;
+        params.push(p);
+        pyramid += gpu_layout::pyramid_len(t.terrain) as u64;
+        samples += t.terrain.map().samples().len() as u64;
+    }
+    let block = std::mem::size_of::<GpuTerrainParams>() as u64;
+    for (what, bytes) in [
+        ("terrain pyramid bytes", pyramid * 4),
+        ("terrain sample bytes", samples * 4),
+        ("terrain parameter bytes", params.len() as u64 * block),
+    ] {
+        if bytes > limit {
+            return Err(too_large(what, bytes, limit));
+        }
+    }
+    let blocks = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("terrain params"),
+            contents: bytemuck::cast_slice(&params),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    const CHUNK: usize = 1 << 16;
+    let pyramids = mapped_f32_buffer(ctx, "terrain pyramids", pyramid, |write| {
+        let mut chunk = vec![0.0f32; CHUNK];
+        for t in terrains {
+            for src in t.terrain.max_pyramid().values().chunks(CHUNK) {
+                for (o, &v) in chunk.iter_mut().zip(src) {
+                    *o = v.max(gpu_layout::NO_SURFACE);
+                }
+                write(&chunk[..src.len()]);
+            }
+        }
+    });
+    let samples = mapped_f32_buffer(ctx, "terrain samples", samples, |write| {
+        for t in terrains {
+            for src in t.terrain.map().samples().chunks(CHUNK) {
+                write(src);
+            }
+        }
+    });
+    Ok([blocks, pyramids, samples])
+}
+
 /// The terrain pass of one terrain.
 #[derive(Debug)]
 pub struct TerrainPass {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-    params: GpuTerrainParams,
-    pyramid: wgpu::Buffer,
-    samples: wgpu::Buffer,
+    buffers: [wgpu::Buffer; 3],
+    /// Cast with the pixel footprint (1) or exactly (0).
+    pixel_lod: u32,
+    epsilon: f32,
 }
 
 impl TerrainPass {
-    /// Builds the pipeline and uploads `terrain` relative to `reference` (the camera).
+    /// Builds the pipeline and uploads `terrain` relative to `reference` (the camera), casting
+    /// exactly, with the bicubic tolerance at its f32 floor (see [`TerrainPass::with_epsilon`]).
     pub fn new(ctx: &GpuContext, terrain: &Terrain, reference: DVec3) -> Result<Self, GpuError> {
-        let pyramid = gpu_layout::pyramid_values(terrain);
-        let samples = terrain.map().samples();
-        let limit = ctx.limits.max_storage_buffer_binding_size;
-        let bytes = (pyramid.len().max(samples.len()) * 4) as u64;
-        if bytes > limit {
-            return Err(GpuError::TooLarge {
-                what: "terrain buffer bytes",
-                needed: bytes,
-                limit,
-            });
-        }
+        Self::build(ctx, terrain, reference, PixelFootprint::ZERO)
+    }
+
+    /// [`TerrainPass::new`] casting with the pixel footprint `footprint` (as
+    /// `fray_terrain::Terrain::cast_footprint` takes it: already widened by the LOD bias).
+    pub fn with_pixel_lod(
+        ctx: &GpuContext,
+        terrain: &Terrain,
+        reference: DVec3,
+        footprint: PixelFootprint,
+    ) -> Result<Self, GpuError> {
+        Self::build(ctx, terrain, reference, footprint)
+    }
+
+    /// This pass with the bicubic root tolerance `eps` (world units; `Terrain::cast`'s `eps`),
+    /// raised on the GPU to `8 ε_f32` of the piece searched.
+    pub fn with_epsilon(mut self, eps: f64) -> Self {
+        self.epsilon = eps as f32;
+        self
+    }
+
+    fn build(
+        ctx: &GpuContext,
+        terrain: &Terrain,
+        reference: DVec3,
+        footprint: PixelFootprint,
+    ) -> Result<Self, GpuError> {
+        let upload = TerrainUpload {
+            terrain,
+            material: 0,
+            footprint,
+        };
+        let buffers = terrain_buffers(ctx, &[upload], reference)?;
         let device = &ctx.device;
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -64,11 +232,12 @@ impl TerrainPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(PASS),
             entries: &[
-                entry(0, B::Uniform),
+                entry(0, read),
                 entry(1, read),
                 entry(2, read),
                 entry(3, read),
                 entry(4, B::Storage { read_only: false }),
+                entry(5, B::Uniform),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -93,23 +262,35 @@ impl TerrainPass {
         Ok(Self {
             pipeline,
             layout,
-            params: GpuTerrainParams::new(terrain, reference, 0),
-            pyramid: storage(ctx, "terrain pyramid", &pyramid, 0.0),
-            samples: storage(ctx, "terrain samples", samples, 0.0),
+            buffers,
+            pixel_lod: u32::from(!footprint.is_zero()),
+            epsilon: 0.0,
         })
     }
 
     /// Casts `rays` (relative to the reference point); per ray `(t, normal)`, `t < 0` for a miss.
     pub fn cast(&self, ctx: &GpuContext, rays: &[GpuRay]) -> Result<Vec<[f32; 4]>, GpuError> {
+        Ok(self
+            .cast_hits(ctx, rays)?
+            .iter()
+            .map(|h| [h.t, h.normal[0], h.normal[1], h.normal[2]])
+            .collect())
+    }
+
+    /// Casts `rays` (relative to the reference point): every hit with its kind and cell.
+    pub fn cast_hits(
+        &self,
+        ctx: &GpuContext,
+        rays: &[GpuRay],
+    ) -> Result<Vec<GpuTerrainHit>, GpuError> {
         if rays.is_empty() {
             return Ok(Vec::new());
         }
         let device = &ctx.device;
-        let mut params = self.params;
-        params.sizes[2] = rays.len() as u32;
+        let batch = [rays.len() as u32, 0, self.pixel_lod, self.epsilon.to_bits()];
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("terrain params"),
-            contents: bytemuck::bytes_of(&params),
+            label: Some("terrain batch"),
+            contents: bytemuck::cast_slice(&batch),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -117,7 +298,7 @@ impl TerrainPass {
             contents: bytemuck::cast_slice(rays),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let bytes = (rays.len() * 16) as u64;
+        let bytes = (rays.len() * 32) as u64;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("terrain hits"),
             size: bytes,
@@ -125,31 +306,25 @@ impl TerrainPass {
             mapped_at_creation: false,
         });
         let readback = readback_buffer(device, "terrain readback", bytes);
+        let resources = [
+            &self.buffers[0],
+            &self.buffers[1],
+            &self.buffers[2],
+            &ray_buffer,
+            &output,
+            &uniform,
+        ];
+        let entries: Vec<wgpu::BindGroupEntry> = (0..)
+            .zip(resources)
+            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(PASS),
             layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.pyramid.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.samples.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: ray_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: output.as_entire_binding(),
-                },
-            ],
+            entries: &entries,
         });
         let groups = (rays.len() as u32).div_ceil(WORKGROUP);
         let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
@@ -166,7 +341,17 @@ impl TerrainPass {
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
         ctx.queue.submit([encoder.finish()]);
-        read_back(device, &readback, bytes, PASS)
+        let raw: Vec<[[f32; 4]; 2]> = read_back(device, &readback, bytes, PASS)?;
+        Ok(raw
+            .iter()
+            .map(|[a, b]| GpuTerrainHit {
+                t: a[0],
+                normal: [a[1], a[2], a[3]],
+                kind: b[0] as u32,
+                levels_above_finest: b[1] as u32,
+                cell: [b[2] as u32, b[3] as u32],
+            })
+            .collect())
     }
 }
 
@@ -175,7 +360,8 @@ mod tests {
     use super::*;
 
     /// The terrain module (generated struct + shader) parses and validates with naga, and the
-    /// generated struct's layout is the Rust one (every field a 16-byte vector, in order).
+    /// generated struct's layout is the Rust one (every field a 16-byte vector or an array of
+    /// them, in order, at the offsets the Rust table gives).
     #[test]
     fn terrain_wgsl_validates_and_its_struct_layout_matches_rust() {
         let module = naga::front::wgsl::parse_str(&terrain_source()).expect("terrain.wgsl parses");
@@ -195,10 +381,13 @@ mod tests {
         };
         assert_eq!(*span as usize, std::mem::size_of::<GpuTerrainParams>());
         let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
-        let fields: Vec<&str> = gpu_layout::FIELDS.iter().map(|(n, _)| *n).collect();
+        let fields: Vec<&str> = gpu_layout::FIELDS.iter().map(|(n, _, _)| *n).collect();
         assert_eq!(names, fields);
-        for (k, m) in members.iter().enumerate() {
-            assert_eq!(m.offset as usize, 16 * k, "{:?}", m.name);
+        let mut offset = 0;
+        for (m, (name, _, bytes)) in members.iter().zip(gpu_layout::FIELDS) {
+            assert_eq!(m.offset as usize, offset, "{name}");
+            offset += bytes;
         }
+        assert_eq!(offset, std::mem::size_of::<GpuTerrainParams>());
     }
 }

@@ -510,23 +510,6 @@ fn terrain_work_is_counted_like_the_cpu() {
     );
 }
 
-/// The GPU draws at most one terrain: a scene with two is refused (Auto renders it on the CPU).
-fn two_terrains_are_refused() {
-    let gpu = common::gpu("two_terrains_are_refused");
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
-    let mut scene = sized(fray_scene::load(&dir.join("terrain_low.ron")).unwrap());
-    scene.terrains.push(scene.terrains[0].clone());
-    let err = gpu
-        .render(&scene, &GpuSettings::for_scene(&scene))
-        .unwrap_err();
-    assert_eq!(
-        err,
-        fray_gpu::GpuError::Unsupported {
-            feature: "more than one terrain"
-        }
-    );
-}
-
 /// A prepared pass keeps its per-frame buffers and bind group: running it again gives the same
 /// bits and counts (stale output or counters would show), culled and not. Its
 /// kernel time exists exactly when the device has timestamp queries, and is positive and within
@@ -671,7 +654,7 @@ fn two_bands_run_again_identically() {
 fn main() {
     let args = Arguments::from_args();
     let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 8] = [
+    let tests: [(&str, fn()); 7] = [
         (
             "every_data_scene_matches_the_cpu_reference",
             every_data_scene_matches_the_cpu_reference,
@@ -692,7 +675,6 @@ fn main() {
             "terrain_work_is_counted_like_the_cpu",
             terrain_work_is_counted_like_the_cpu,
         ),
-        ("two_terrains_are_refused", two_terrains_are_refused),
         (
             "a_prepared_pass_runs_again_identically",
             a_prepared_pass_runs_again_identically,

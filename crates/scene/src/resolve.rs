@@ -86,7 +86,12 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
                 .material(&path.field("material"), m)?,
                 None => 0,
             };
-            let terrain = crate::terrain::terrain(&path.field("shape"), t, base)?;
+            let terrain = crate::terrain::terrain(
+                &path.field("shape"),
+                t,
+                base,
+                &fray_core::MemoryBudget::default(),
+            )?;
             features.terrain = true;
             terrains.push(TerrainObject {
                 name: name(),

@@ -1,10 +1,12 @@
 //! Resolving a `Terrain(...)` shape: the height map is loaded (relative to the scene file),
 //! placed and its pyramid built here, once; a bad file is reported at the `path` field with the
-//! file's path and the reason.
+//! file's path and the reason, and so is a map or pyramid over the memory budget (what, how
+//! much, the limit).
 
 use crate::description::{self, TerrainInterpolation};
 use crate::path::FieldPath;
 use crate::resolve::{Result, finite, invalid, point, positive};
+use fray_core::MemoryBudget;
 use fray_terrain::{Heightmap, Interpolation, Placement, Terrain, TerrainOptions};
 use glam::{DMat3, DVec2};
 use std::path::Path;
@@ -12,7 +14,12 @@ use std::path::Path;
 /// The deepest LOD bias accepted (a pyramid has at most 16 levels).
 const MAX_LOD_BIAS: u32 = 16;
 
-pub(crate) fn terrain(path: &FieldPath, t: &description::Terrain, base: &Path) -> Result<Terrain> {
+pub(crate) fn terrain(
+    path: &FieldPath,
+    t: &description::Terrain,
+    base: &Path,
+    budget: &MemoryBudget,
+) -> Result<Terrain> {
     let spacing_path = path.field("spacing");
     let spacing = DVec2::new(
         positive(&spacing_path.index(0), t.spacing[0])?,
@@ -32,7 +39,8 @@ pub(crate) fn terrain(path: &FieldPath, t: &description::Terrain, base: &Path) -
         None => None,
     };
     let file = base.join(&t.path);
-    let map = Heightmap::load(&file).or_else(|e| invalid(&path.field("path"), e.to_string()))?;
+    let map = Heightmap::load_within(&file, budget)
+        .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
     let map = match threshold {
         Some(v) => map
             .with_threshold(v)
@@ -53,7 +61,7 @@ pub(crate) fn terrain(path: &FieldPath, t: &description::Terrain, base: &Path) -
         lod_bias: t.lod_bias,
         min_pyramid: false,
     };
-    Terrain::new(map, placement, options).or_else(|e| {
+    Terrain::new_within(map, placement, options, budget).or_else(|e| {
         let at = if t.threshold.is_some() {
             path.field("threshold")
         } else {

@@ -1,6 +1,7 @@
 //! Terrain errors: a bad height-map file names its path and the reason; bad parameters name the
-//! parameter.
+//! parameter; an allocation over the memory budget names what, how much, the limit and the path.
 
+use fray_core::BudgetError;
 use std::path::PathBuf;
 
 /// Why a height map or a terrain cannot be built.
@@ -50,6 +51,14 @@ pub enum TerrainError {
     /// A placement or option value is out of range.
     #[error("{name}: {message}")]
     Parameter { name: &'static str, message: String },
+    /// An allocation that grows with the input (the file's bytes, the decoded image, the `f32`
+    /// samples, the pyramids) would exceed the memory budget; estimated before it is made.
+    /// `path` is the height map's file, when it came from one.
+    #[error("{}{source}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
+    Budget {
+        path: Option<PathBuf>,
+        source: BudgetError,
+    },
     /// Reading the file failed with a path attached (wraps the other variants).
     #[error("{}: {source}", path.display())]
     File {

@@ -8,6 +8,7 @@
 //! rounded to the nearest `f32`. All arithmetic on them is `f64`.
 
 use crate::TerrainError;
+use fray_core::MemoryBudget;
 
 /// The largest accepted number of samples along either side.
 pub const MAX_SIDE: usize = 32768;
@@ -57,13 +58,31 @@ impl Heightmap {
         })
     }
 
-    /// A height map of `width × height` samples from a function of `(column, row)`.
+    /// A height map of `width × height` samples from a function of `(column, row)`, within the
+    /// default memory budget ([`MemoryBudget::default`]).
     pub fn from_fn(
         width: usize,
         height: usize,
         f: impl Fn(usize, usize) -> f32,
     ) -> Result<Self, TerrainError> {
+        Self::from_fn_within(width, height, &MemoryBudget::default(), f)
+    }
+
+    /// [`Heightmap::from_fn`] refusing samples (`4 · width · height` bytes) over `budget`.
+    pub fn from_fn_within(
+        width: usize,
+        height: usize,
+        budget: &MemoryBudget,
+        f: impl Fn(usize, usize) -> f32,
+    ) -> Result<Self, TerrainError> {
         check_size(width, height)?;
+        budget
+            .check_elements(
+                format!("the {width} × {height} height map's f32 samples"),
+                (width * height) as u64,
+                4,
+            )
+            .map_err(|source| TerrainError::Budget { path: None, source })?;
         let samples = (0..height)
             .flat_map(|j| (0..width).map(move |i| (i, j)))
             .map(|(i, j)| f(i, j))

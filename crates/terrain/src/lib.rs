@@ -1,14 +1,17 @@
 //! `fray-terrain`: height-map terrain as a scalar perturbation of a base plane (DESIGN.md §4),
 //! the reference implementation of its ray casting. Usable alone: no GPU, no scene files.
 //!
-//! A [`Heightmap`] (from a 16-bit PNG, an EXR, a `.npy` array or memory; any size, padded —
-//! never resampled — to a `2ⁿ × 2ⁿ` pyramid) is [placed](Placement) in the world; a [`Terrain`]
-//! holds its max [`Pyramid`] and finds the first hit of a ray by halving the ray segment in
+//! A [`Heightmap`] (from a 16-bit PNG, an EXR, a `.npy` array or memory; any size, never
+//! resampled; a pyramid of rectangular levels over it) is [placed](Placement) in the world; a
+//! [`Terrain`] holds its max [`Pyramid`] and finds the first hit of a ray by halving the ray segment in
 //! height-map space, nearer half first, dropping halves that stay above the pyramid level their
 //! footprint selects, and intersecting the bilinear patch (exactly: a quadratic per cell) or
 //! the bicubic B-spline surface at the finest level. A threshold cuts out cells, giving any
 //! outline, holes included. [`gpu_layout`] holds the `#[repr(C)]` parameter block (and its
-//! generated WGSL) and the flat pyramid the GPU uploads.
+//! generated WGSL) and the flat pyramid the GPU uploads. Everything that grows with the input
+//! (the file, the decoded image, the samples, the pyramids) is checked against a
+//! [`fray_core::MemoryBudget`] before it is allocated (`*_within` variants; the plain ones use
+//! the default budget) and refused with [`TerrainError::Budget`].
 //!
 //! ```
 //! use fray_core::{Interval, Ray};
@@ -50,7 +53,7 @@ pub use error::TerrainError;
 pub use heightmap::{Heightmap, MAX_SAMPLES, MAX_SIDE};
 pub use interpolation::{BicubicCell, BilinearCell, Interpolation};
 pub use placement::{MapRay, Placement};
-pub use pyramid::Pyramid;
+pub use pyramid::{MAX_LEVELS, Pyramid};
 pub use terrain::{
     HitKind, PIXEL_LOD_COARSEST_LEVEL, Terrain, TerrainHit, TerrainOptions, TerrainStats,
 };

@@ -1,18 +1,30 @@
 //! Loading height maps from files: 16-bit (or 8-bit) greyscale PNG, OpenEXR (one `f32`/`f16`
 //! channel, or the `R` / `Y` / `Z` channel of several) and NumPy `.npy` (see [`crate::npy`]
 //! for the accepted subset). Sizes are checked from the header before the samples are decoded,
-//! so an absurd file is refused without allocating for it.
+//! so an absurd file is refused without allocating for it: first against the format limits
+//! ([`crate::MAX_SIDE`], [`crate::MAX_SAMPLES`]), then against a [`MemoryBudget`] — the file's
+//! bytes, the decoded image and the `f32` samples, which are alive together while a map loads.
 
 use crate::heightmap::check_size;
 use crate::{Heightmap, TerrainError, npy};
+use fray_core::MemoryBudget;
 use image::ImageDecoder;
 use std::path::Path;
 
 impl Heightmap {
     /// Loads the height map at `path`, by its extension (`.png`, `.exr`, `.npy`,
-    /// case-insensitive). PNG values are the 8/16-bit integers (e.g. metres); EXR and `.npy`
+    /// case-insensitive), within the default memory budget ([`MemoryBudget::default`]: 4 GiB or
+    /// `FRAY_MEMORY_BUDGET`). PNG values are the 8/16-bit integers (e.g. metres); EXR and `.npy`
     /// values are taken as they are. Errors name the path and the reason.
     pub fn load(path: &Path) -> Result<Self, TerrainError> {
+        Self::load_within(path, &MemoryBudget::default())
+    }
+
+    /// [`Heightmap::load`] within `budget`: the memory a load holds at its peak — the file's
+    /// bytes (PNG, `.npy`), the decoded image (PNG, every channel of an EXR layer) and the `f32`
+    /// samples — is estimated from the header and refused over the budget
+    /// ([`TerrainError::Budget`], naming the path) before it is allocated.
+    pub fn load_within(path: &Path, budget: &MemoryBudget) -> Result<Self, TerrainError> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -22,27 +34,52 @@ impl Heightmap {
             reason,
         };
         let with_path = |e: TerrainError| match e {
-            e @ (TerrainError::Io { .. } | TerrainError::Format { .. }) => e,
+            e @ (TerrainError::Io { .. }
+            | TerrainError::Format { .. }
+            | TerrainError::Budget { .. }) => e,
             other => TerrainError::File {
                 path: path.to_owned(),
                 source: Box::new(other),
             },
         };
-        let read = || {
-            std::fs::read(path).map_err(|source| TerrainError::Io {
-                path: path.to_owned(),
-                source,
-            })
+        let io = |source| TerrainError::Io {
+            path: path.to_owned(),
+            source,
+        };
+        let over = |what: String, bytes: u64| {
+            budget
+                .check(what, bytes)
+                .map_err(|source| TerrainError::Budget {
+                    path: Some(path.to_owned()),
+                    source,
+                })
+        };
+        // The file's bytes, read whole (PNG, .npy): checked before reading.
+        let read = |what: &str| {
+            let len = std::fs::metadata(path).map_err(io)?.len();
+            over(format!("reading the {what} height-map file"), len)?;
+            std::fs::read(path).map_err(io)
         };
         let check = |w: usize, h: usize| check_size(w, h).map_err(|e| e.to_string());
+        let samples_bytes = |w: usize, h: usize| (w as u64).saturating_mul(h as u64) * 4;
         let (width, height, samples) = match ext.as_deref() {
             Some("png") => {
-                let bytes = read()?;
+                let bytes = read("PNG")?;
                 let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
                     .map_err(|e| format(format!("not a readable PNG: {e}")))?;
                 let (w, h) = decoder.dimensions();
                 let (w, h) = (w as usize, h as usize);
                 check(w, h).map_err(format)?;
+                let peak = (bytes.len() as u64)
+                    .saturating_add(decoder.total_bytes())
+                    .saturating_add(samples_bytes(w, h));
+                over(
+                    format!(
+                        "decoding the {w} × {h} PNG height map (the file, the decoded image and \
+                         the f32 samples together)"
+                    ),
+                    peak,
+                )?;
                 let image = image::DynamicImage::from_decoder(decoder)
                     .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
                 let samples: Vec<f32> = match image {
@@ -63,17 +100,27 @@ impl Heightmap {
             }
             Some("exr") => {
                 // exr opens the file itself: report a missing file as an I/O error first.
-                std::fs::metadata(path).map_err(|source| TerrainError::Io {
-                    path: path.to_owned(),
-                    source,
-                })?;
+                std::fs::metadata(path).map_err(io)?;
                 let meta = exr::meta::MetaData::read_from_file(path, false)
                     .map_err(|e| format(format!("not a readable OpenEXR file: {e}")))?;
                 let header = meta
                     .headers
                     .first()
                     .ok_or_else(|| format("the OpenEXR file has no layer".into()))?;
-                check(header.layer_size.x(), header.layer_size.y()).map_err(format)?;
+                let (w, h) = (header.layer_size.x(), header.layer_size.y());
+                check(w, h).map_err(format)?;
+                // The first layer is decoded whole, every channel, before one is taken.
+                let decoded = (w as u64)
+                    .saturating_mul(h as u64)
+                    .saturating_mul(header.channels.bytes_per_pixel as u64);
+                over(
+                    format!(
+                        "decoding the {w} × {h} OpenEXR height map ({} channels, then the f32 \
+                         samples)",
+                        header.channels.list.len()
+                    ),
+                    decoded.saturating_add(samples_bytes(w, h)),
+                )?;
                 let image = exr::prelude::read_first_flat_layer_from_file(path)
                     .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
                 let layer = image.layer_data;
@@ -97,8 +144,18 @@ impl Heightmap {
                 (w, h, samples)
             }
             Some("npy") => {
-                let bytes = read()?;
-                let a = npy::parse(&bytes, check).map_err(format)?;
+                let bytes = read(".npy")?;
+                let header = npy::parse_header(&bytes).map_err(format)?;
+                let (w, h) = (header.columns, header.rows);
+                check(w, h).map_err(format)?;
+                over(
+                    format!(
+                        "decoding the {w} × {h} .npy height map (the file and the f32 samples \
+                         together)"
+                    ),
+                    (bytes.len() as u64).saturating_add(samples_bytes(w, h)),
+                )?;
+                let a = npy::decode(&bytes, &header).map_err(format)?;
                 (a.columns, a.rows, a.values)
             }
             _ => {

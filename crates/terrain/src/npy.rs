@@ -35,11 +35,28 @@ impl Descr {
     }
 }
 
+/// A parsed `.npy` header: the shape, the element type and where the data start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct NpyHeader {
+    pub(crate) rows: usize,
+    pub(crate) columns: usize,
+    descr: Descr,
+    data_start: usize,
+}
+
 /// Parses a whole `.npy` file. `check` vets the shape before any allocation for the data.
+#[cfg(test)]
 pub(crate) fn parse(
     bytes: &[u8],
     check: impl Fn(usize, usize) -> Result<(), String>,
 ) -> Result<NpyArray, String> {
+    let header = parse_header(bytes)?;
+    check(header.columns, header.rows)?;
+    decode(bytes, &header)
+}
+
+/// Parses the header of a `.npy` file (no allocation for the data).
+pub(crate) fn parse_header(bytes: &[u8]) -> Result<NpyHeader, String> {
     const MAGIC: &[u8] = b"\x93NUMPY";
     if bytes.len() < 10 || &bytes[..6] != MAGIC {
         return Err("not a .npy file (missing the \\x93NUMPY magic)".into());
@@ -93,10 +110,26 @@ pub(crate) fn parse(
             "the .npy array has shape {shape}: a 2-D array (rows, columns) is needed"
         ));
     };
-    check(columns, rows)?;
-    let data = &bytes[start + header_len..];
-    let count = rows * columns;
-    let need = count * descr.size();
+    Ok(NpyHeader {
+        rows,
+        columns,
+        descr,
+        data_start: start + header_len,
+    })
+}
+
+/// Decodes the data of a `.npy` file whose header is `header` (its shape already vetted: this
+/// allocates `rows × columns` `f32`s).
+pub(crate) fn decode(bytes: &[u8], header: &NpyHeader) -> Result<NpyArray, String> {
+    let NpyHeader {
+        rows,
+        columns,
+        descr,
+        data_start,
+    } = *header;
+    let data = &bytes[data_start.min(bytes.len())..];
+    let count = rows.saturating_mul(columns);
+    let need = count.saturating_mul(descr.size());
     if data.len() < need {
         return Err(format!(
             "truncated .npy data: {} bytes for {rows} × {columns} values of {} bytes",

@@ -1,71 +1,160 @@
-//! The max pyramid (and the optional min pyramid): per-cell bounds of the interpolated surface
-//! on a `2ⁿ × 2ⁿ` grid of cells, then level `k − 1` = the maximum (minimum) of each 2 × 2 block
-//! of level `k`, down to level 0, the global bound.
+//! The max pyramid (and the optional min pyramid): per-cell bounds of the interpolated surface,
+//! then level `k − 1` = the maximum (minimum) of each 2 × 2 block of level `k`, down to level 0,
+//! the global bound.
 //!
-//! The finest level holds one value per *cell* (the square between four samples), not per
+//! The finest level `n` holds one value per *cell* (the square between four samples), not per
 //! sample: the bound of that cell's interpolant — the maximum of its 4 corners for bilinear
-//! (exact), of its 16 B-spline control points for bicubic (convex hull: conservative). A map of
-//! any size is **padded**, not resampled: cells beyond the map, and cells cut out by the
-//! threshold, hold `−∞` (no surface) in both pyramids, so the data stay exact and a padded cell
-//! is never hit. (In the min pyramid `−∞` means "no proof of solid ground", see
-//! [`Pyramid::min_of`].)
+//! (exact), of its 16 B-spline control points for bicubic (convex hull: conservative). `n` is the
+//! smallest with `2ⁿ ≥` the longer side in cells, so a level-`k` cell covers `2ⁿ⁻ᵏ × 2ⁿ⁻ᵏ`
+//! finest cells (the footprint rule of DESIGN §4 needs that square), but the levels are
+//! **rectangular**: level `k` has `⌈columns / 2ⁿ⁻ᵏ⌉ × ⌈rows / 2ⁿ⁻ᵏ⌉` values, only those that
+//! cover part of the map. A 32768 × 2 map has 16 levels of one row each (≈ 2 × 32767 values),
+//! not the `(4¹⁶ − 1) / 3` of a padded square. The last block of a row or column may reach past
+//! the map: its missing cells count as `−∞` (no surface), like cells cut out by the threshold, so
+//! the data stay exact and nothing beyond the map is ever hit. (In the min pyramid `−∞` means
+//! "no proof of solid ground", see [`Pyramid::min_of`].)
 
-/// A pyramid of `levels() + 1` square levels; level `k` has `2ᵏ × 2ᵏ` values, row-major, stored
-/// one after the other from level 0 (offsets `(4ᵏ − 1) / 3`).
+use fray_core::{BudgetError, MemoryBudget};
+
+/// The deepest pyramid: `n ≤ 15`, since a map has at most [`crate::MAX_SIDE`] − 1 = 2¹⁵ − 1
+/// cells per side. (Levels 0 ..= 15: 16 of them; [`crate::gpu_layout`] sizes its table by it.)
+pub const MAX_LEVELS: usize = 16;
+
+/// A pyramid of `levels() + 1` rectangular levels, stored one after the other from level 0;
+/// level `k` starts at [`Pyramid::offset`]`(k)` and is [`Pyramid::dims`]`(k)` values, row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pyramid {
     finest: u32,
+    /// `(columns, rows)` of each level, level 0 first.
+    dims: Vec<(usize, usize)>,
+    /// Where each level starts in `values`, plus the total at the end.
+    offsets: Vec<usize>,
     values: Vec<f32>,
 }
 
+/// `n` for `columns × rows` cells: the smallest with `2ⁿ ≥ max(columns, rows)`.
+fn finest_level(columns: usize, rows: usize) -> u32 {
+    columns
+        .max(rows)
+        .max(1)
+        .next_power_of_two()
+        .trailing_zeros()
+}
+
+/// `(columns, rows)` of level `level` of a pyramid over `columns × rows` cells with finest `n`.
+#[inline]
+fn level_dims(columns: usize, rows: usize, n: u32, level: u32) -> (usize, usize) {
+    let shift = n - level;
+    (
+        columns.div_ceil(1usize << shift),
+        rows.div_ceil(1usize << shift),
+    )
+}
+
 impl Pyramid {
+    /// The number of values a pyramid over `columns × rows` cells holds (all levels).
+    pub fn len_for(columns: usize, rows: usize) -> usize {
+        let n = finest_level(columns, rows);
+        (0..=n)
+            .map(|k| {
+                let (c, r) = level_dims(columns, rows, n, k);
+                c * r
+            })
+            .sum()
+    }
+
+    /// Checks that a pyramid over `columns × rows` cells (`4 ×` [`Pyramid::len_for`] bytes) fits
+    /// `budget`; `what` names it in the error.
+    pub fn check_budget(
+        columns: usize,
+        rows: usize,
+        budget: &MemoryBudget,
+        what: &str,
+    ) -> Result<(), BudgetError> {
+        budget.check_elements(
+            format!("{what} over {columns} × {rows} cells"),
+            Self::len_for(columns, rows) as u64,
+            4,
+        )
+    }
+
     /// The max pyramid of `cells` (`columns × rows` per-cell upper bounds, row-major; `−∞` for
-    /// no surface), padded with `−∞` to the next `2ⁿ × 2ⁿ`.
+    /// no surface). Its size is [`Pyramid::len_for`]: at most `4/3 ·` the cells plus one row
+    /// and column per level (check it with [`Pyramid::check_budget`] first where it matters).
     pub fn max_of(columns: usize, rows: usize, cells: &[f32]) -> Self {
         Self::build(columns, rows, cells, f32::max)
     }
 
     /// The min pyramid of per-cell lower bounds (`−∞` where a cell is not solid, so a block
-    /// holding any non-solid or padded cell has minimum `−∞`: nothing is proven solid there).
+    /// holding any non-solid cell, or reaching past the map, has minimum `−∞`: nothing is
+    /// proven solid there).
     pub fn min_of(columns: usize, rows: usize, cells: &[f32]) -> Self {
         Self::build(columns, rows, cells, f32::min)
     }
 
     fn build(columns: usize, rows: usize, cells: &[f32], combine: fn(f32, f32) -> f32) -> Self {
-        let side_needed = columns.max(rows).max(1);
-        let finest = side_needed.next_power_of_two().trailing_zeros();
-        let total = (4usize.pow(finest + 1) - 1) / 3;
-        let mut values = vec![f32::NEG_INFINITY; total];
-        let side = 1usize << finest;
-        let base = Self::offset(finest);
-        for j in 0..rows {
-            let row = &cells[j * columns..(j + 1) * columns];
-            values[base + j * side..base + j * side + columns].copy_from_slice(row);
+        let finest = finest_level(columns, rows);
+        let dims: Vec<(usize, usize)> = (0..=finest)
+            .map(|k| level_dims(columns, rows, finest, k))
+            .collect();
+        let mut offsets = Vec::with_capacity(dims.len() + 1);
+        let mut total = 0;
+        for &(c, r) in &dims {
+            offsets.push(total);
+            total += c * r;
         }
-        for level in (0..finest).rev() {
-            let (src, dst) = (Self::offset(level + 1), Self::offset(level));
-            let n = 1usize << level;
-            for b in 0..n {
-                for a in 0..n {
-                    let at = |x: usize, y: usize| values[src + y * 2 * n + x];
-                    let v = combine(
-                        combine(at(2 * a, 2 * b), at(2 * a + 1, 2 * b)),
-                        combine(at(2 * a, 2 * b + 1), at(2 * a + 1, 2 * b + 1)),
-                    );
-                    values[dst + b * n + a] = v;
+        offsets.push(total);
+        let mut values = vec![f32::NEG_INFINITY; total];
+        let base = offsets[finest as usize];
+        let count = columns * rows;
+        values[base..base + count].copy_from_slice(&cells[..count]);
+        for level in (0..finest as usize).rev() {
+            let (src, dst) = (offsets[level + 1], offsets[level]);
+            let (sc, sr) = dims[level + 1];
+            let (dc, dr) = dims[level];
+            for b in 0..dr {
+                for a in 0..dc {
+                    // The 2 × 2 block below, less what lies past the last row or column.
+                    let mut v = f32::NEG_INFINITY;
+                    let mut first = true;
+                    for y in 2 * b..(2 * b + 2).min(sr) {
+                        for x in 2 * a..(2 * a + 2).min(sc) {
+                            let s = values[src + y * sc + x];
+                            v = if first { s } else { combine(v, s) };
+                            first = false;
+                        }
+                    }
+                    // A block reaching past the map holds no-surface cells: −∞ in the min.
+                    let complete = 2 * a + 2 <= sc && 2 * b + 2 <= sr;
+                    if !complete {
+                        v = combine(v, f32::NEG_INFINITY);
+                    }
+                    values[dst + b * dc + a] = v;
                 }
             }
         }
-        Self { finest, values }
+        Self {
+            finest,
+            dims,
+            offsets,
+            values,
+        }
     }
 
-    /// Where level `k` starts in [`Pyramid::values`].
+    /// Where level `k` starts in [`Pyramid::values`] (`k ≤ levels() + 1`; `levels() + 1` gives
+    /// the total).
     #[inline]
-    pub const fn offset(level: u32) -> usize {
-        ((1usize << (2 * level)) - 1) / 3
+    pub fn offset(&self, level: u32) -> usize {
+        self.offsets[level as usize]
     }
 
-    /// `n`: the finest level, `2ⁿ` cells per side.
+    /// `(columns, rows)` of level `k`: `(⌈columns / 2ⁿ⁻ᵏ⌉, ⌈rows / 2ⁿ⁻ᵏ⌉)` of the finest.
+    #[inline]
+    pub fn dims(&self, level: u32) -> (usize, usize) {
+        self.dims[level as usize]
+    }
+
+    /// `n`: the finest level; a level-`k` cell covers `2ⁿ⁻ᵏ × 2ⁿ⁻ᵏ` finest cells.
     pub fn levels(&self) -> u32 {
         self.finest
     }
@@ -75,10 +164,11 @@ impl Pyramid {
         &self.values
     }
 
-    /// The value of cell `(a, b)` at `level` (`a, b < 2^level`).
+    /// The value of cell `(a, b)` at `level` (`(a, b)` within [`Pyramid::dims`]`(level)`).
     #[inline]
     pub fn at(&self, level: u32, a: usize, b: usize) -> f32 {
-        self.values[Self::offset(level) + (b << level) + a]
+        let (columns, _) = self.dims[level as usize];
+        self.values[self.offsets[level as usize] + b * columns + a]
     }
 
     /// Level 0: the bound over the whole map.
@@ -92,26 +182,56 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_level_is_the_max_of_the_2x2_block_below_and_padding_is_minus_infinity() {
-        // 3 × 2 cells → padded to 4 × 4 (n = 2).
+    fn every_level_is_the_max_of_the_2x2_block_below_and_levels_are_rectangular() {
+        // 3 × 2 cells: n = 2; level 2 is 3 × 2, level 1 is 2 × 1, level 0 is 1 × 1.
         let cells = [1.0, 5.0, 2.0, 3.0, 0.5, 7.0];
         let p = Pyramid::max_of(3, 2, &cells);
         assert_eq!(p.levels(), 2);
-        assert_eq!(p.values().len(), 1 + 4 + 16);
+        assert_eq!((p.dims(2), p.dims(1), p.dims(0)), ((3, 2), (2, 1), (1, 1)));
+        assert_eq!(p.values().len(), 1 + 2 + 6);
+        assert_eq!(Pyramid::len_for(3, 2), 9);
+        assert_eq!(
+            (p.offset(0), p.offset(1), p.offset(2), p.offset(3)),
+            (0, 1, 3, 9)
+        );
         assert_eq!(p.at(2, 2, 1), 7.0);
-        assert_eq!(p.at(2, 3, 0), f32::NEG_INFINITY);
         assert_eq!(p.at(1, 0, 0), 5.0);
         assert_eq!(p.at(1, 1, 0), 7.0);
-        assert_eq!(p.at(1, 0, 1), f32::NEG_INFINITY);
         assert_eq!(p.global(), 7.0);
         let m = Pyramid::min_of(3, 2, &cells);
         assert_eq!(m.at(1, 0, 0), 0.5);
-        assert_eq!(m.at(1, 1, 0), f32::NEG_INFINITY); // holds padding: nothing proven
+        assert_eq!(m.at(1, 1, 0), f32::NEG_INFINITY); // reaches past the map: nothing proven
+        assert_eq!(m.global(), f32::NEG_INFINITY);
     }
 
     #[test]
     fn a_single_cell_is_level_zero() {
         let p = Pyramid::max_of(1, 1, &[2.5]);
         assert_eq!((p.levels(), p.global()), (0, 2.5));
+    }
+
+    #[test]
+    fn a_long_thin_map_stays_small() {
+        // 32767 × 1 cells (a 32768 × 2 map): n = 15, one row per level, ≈ 2 × 32767 values —
+        // not the (4¹⁶ − 1) / 3 ≈ 1.4 × 10⁹ of a padded square.
+        let cells: Vec<f32> = (0..32767).map(|k| (k % 1000) as f32).collect();
+        assert_eq!(Pyramid::len_for(32767, 1), 65534);
+        let p = Pyramid::max_of(32767, 1, &cells);
+        assert_eq!(p.levels(), 15);
+        assert_eq!(p.values().len(), 65534);
+        assert_eq!(
+            (p.dims(15), p.dims(3), p.dims(0)),
+            ((32767, 1), (8, 1), (1, 1))
+        );
+        assert_eq!(p.global(), 999.0);
+        assert_eq!(p.at(14, 16383, 0), cells[32766]); // the last block holds one cell
+        let small = MemoryBudget::new(1 << 20);
+        assert!(Pyramid::check_budget(32767, 1, &small, "the max pyramid").is_ok());
+        let e = Pyramid::check_budget(32767, 32767, &small, "the max pyramid").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("the max pyramid over 32767 × 32767 cells"),
+            "{e}"
+        );
     }
 }

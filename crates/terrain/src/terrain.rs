@@ -22,7 +22,7 @@
 use crate::clip::{Clip, clip_box, clip_within};
 use crate::interpolation::{BicubicCell, BilinearCell, Interpolation};
 use crate::{Heightmap, MapRay, Placement, Pyramid, TerrainError};
-use fray_core::{Aabb, Interval, PixelFootprint, Ray};
+use fray_core::{Aabb, Interval, MemoryBudget, PixelFootprint, Ray};
 use glam::{DVec2, DVec3};
 
 /// How a terrain is searched and drawn.
@@ -108,15 +108,47 @@ pub struct Terrain {
 const STACK: usize = 96;
 
 impl Terrain {
-    /// Builds the pyramid(s) of `map` for `options.interpolation`. Fails when no cell is solid.
+    /// Builds the pyramid(s) of `map` for `options.interpolation`, within the default memory
+    /// budget ([`MemoryBudget::default`]). Fails when no cell is solid.
     pub fn new(
         map: Heightmap,
         placement: Placement,
         options: TerrainOptions,
     ) -> Result<Self, TerrainError> {
+        Self::new_within(map, placement, options, &MemoryBudget::default())
+    }
+
+    /// [`Terrain::new`] within `budget`: the pyramid(s) and the per-cell bounds they are built
+    /// from (alive together: `4 · (cells + Pyramid::len_for(cells))` bytes per pyramid) are
+    /// refused over it ([`TerrainError::Budget`]) before anything is allocated.
+    pub fn new_within(
+        map: Heightmap,
+        placement: Placement,
+        options: TerrainOptions,
+        budget: &MemoryBudget,
+    ) -> Result<Self, TerrainError> {
         let (cw, ch) = map.cells();
+        let per_pyramid = ((cw * ch) as u64).saturating_add(Pyramid::len_for(cw, ch) as u64) * 4;
+        let (count, what) = if options.min_pyramid {
+            (2, "max and min pyramids")
+        } else {
+            (1, "max pyramid")
+        };
+        budget
+            .check(
+                format!(
+                    "the terrain's {what} over {cw} × {ch} cells (with the per-cell bounds they \
+                     are built from)"
+                ),
+                per_pyramid.saturating_mul(count),
+            )
+            .map_err(|source| TerrainError::Budget { path: None, source })?;
         let mut hi = vec![f32::NEG_INFINITY; cw * ch];
-        let mut lo = vec![f32::NEG_INFINITY; cw * ch];
+        let mut lo = if options.min_pyramid {
+            vec![f32::NEG_INFINITY; cw * ch]
+        } else {
+            Vec::new()
+        };
         let mut lowest = f32::INFINITY;
         for j in 0..ch {
             for i in 0..cw {
@@ -145,12 +177,15 @@ impl Terrain {
                         )
                     }
                 };
-                lo[j * cw + i] = a;
+                if let Some(l) = lo.get_mut(j * cw + i) {
+                    *l = a;
+                }
                 hi[j * cw + i] = b;
                 lowest = lowest.min(a);
             }
         }
         let max = Pyramid::max_of(cw, ch, &hi);
+        drop(hi);
         if max.global() == f32::NEG_INFINITY {
             return Err(TerrainError::NoSurface {
                 threshold: f64::from(map.threshold()),
@@ -228,8 +263,13 @@ impl Terrain {
     }
 
     /// The world box of the level-`level` max column `(a, b)`: the cell's map rectangle (clipped
-    /// to the map) from the bottom to the column's maximum; `None` for an empty column.
+    /// to the map) from the bottom to the column's maximum; `None` for an empty column or one
+    /// past the map (levels are rectangular: [`Pyramid::dims`]).
     pub fn column_bounds(&self, level: u32, a: usize, b: usize) -> Option<Aabb> {
+        let (columns, rows) = self.max.dims(level);
+        if a >= columns || b >= rows {
+            return None;
+        }
         let m = self.max.at(level, a, b);
         if m == f32::NEG_INFINITY {
             return None;
@@ -338,7 +378,7 @@ impl Terrain {
             if !splittable {
                 level = stop;
             }
-            let cells = fp.cells(level, n);
+            let cells = fp.cells(level, n, self.max.dims(level));
             let Some((a0, a1, b0, b1)) = cells else {
                 continue;
             };
@@ -409,7 +449,7 @@ impl Terrain {
             if !splittable {
                 level = stop;
             }
-            let Some((a0, a1, b0, b1)) = fp.cells(level, n) else {
+            let Some((a0, a1, b0, b1)) = fp.cells(level, n, self.max.dims(level)) else {
                 continue;
             };
             let mut top = f32::NEG_INFINITY;
@@ -424,7 +464,7 @@ impl Terrain {
             // A segment end strictly under the minimum of the level cell it lies in is inside
             // the solid: something on the ray is hit.
             for p in [pa, pb] {
-                if let Some((a, b)) = point_cell(p, err, level, n)
+                if let Some((a, b)) = point_cell(p, err, level, n, min.dims(level))
                     && p.z + err.z < f64::from(min.at(level, a, b))
                 {
                     return true;
@@ -714,6 +754,65 @@ impl Terrain {
         Some(self.placement.surface_normal(slope))
     }
 
+    /// The normal to shade a hit of `ray` at `t` with, given its level above the finest and its
+    /// normal ([`TerrainHit::levels_above_finest`], [`TerrainHit::normal`]): its own normal on
+    /// the exact surface; a LOD hit (on a flat max-column face) is shaded with the interpolant's
+    /// normal beneath it, so relief shading survives a coarse level. The cell beneath is the
+    /// finest cell under the hit point, except on a column's side wall (a normal along the map's
+    /// `u` or `v` axis): the wall lies on a cell line, where the point alone (and its rounding)
+    /// would pick either neighbour, so the cell is the one **inside** the wall, opposite its
+    /// outward normal. Falls back to `normal` where that cell is cut out.
+    pub fn shading_normal(
+        &self,
+        ray: &Ray,
+        t: f64,
+        levels_above_finest: u32,
+        normal: DVec3,
+    ) -> DVec3 {
+        if levels_above_finest == 0 {
+            return normal;
+        }
+        let (cw, ch) = self.map.cells();
+        let q = self.placement.map_ray(ray).at(t);
+        // The face: rotation⁻¹ · normal in the map's frame (x = u, z = v).
+        let local = self.placement.rotation().transpose() * normal;
+        let cell = |x: f64, cells: usize| {
+            if x.is_nan() {
+                return 0;
+            }
+            (x.floor().max(0.0) as usize).min(cells - 1)
+        };
+        let inside = |x: f64, outward: f64, cells: usize| {
+            // The wall's line, and the cell on the side opposite the outward normal.
+            let line = x.round().max(0.0) as usize;
+            let i = if outward < 0.0 {
+                line
+            } else {
+                line.saturating_sub(1)
+            };
+            i.min(cells - 1)
+        };
+        let (i, j) = if local.x.abs() > 0.5 {
+            (inside(q.x, local.x, cw), cell(q.y, ch))
+        } else if local.z.abs() > 0.5 {
+            (cell(q.x, cw), inside(q.y, local.z, ch))
+        } else {
+            (cell(q.x, cw), cell(q.y, ch))
+        };
+        if !self.map.cell_is_solid(i, j) {
+            return normal;
+        }
+        let (s, w) = (
+            (q.x - i as f64).clamp(0.0, 1.0),
+            (q.y - j as f64).clamp(0.0, 1.0),
+        );
+        let slope = match self.options.interpolation {
+            Interpolation::Bilinear => BilinearCell::new(&self.map, i, j).slope(s, w),
+            Interpolation::Bicubic => BicubicCell::new(&self.map, i, j).eval_with_slope(s, w).1,
+        };
+        self.placement.surface_normal(slope)
+    }
+
     /// The solid cell `(i, j)` holding map point `(u, v)` (the far edges belong to the last
     /// cell) and the point's position `(s, w)` in it; `None` off the map or on a cut-out cell.
     fn solid_cell_at(&self, u: f64, v: f64) -> Option<(usize, usize, f64, f64)> {
@@ -805,27 +904,38 @@ impl Footprint {
         (self.u.1 - self.u.0).max(self.v.1 - self.v.0)
     }
 
-    /// The level-`level` cells whose closed squares meet the footprint, clamped to the grid;
+    /// The level-`level` cells whose closed squares meet the footprint, clamped to the level's
+    /// grid of `dims` cells (levels are rectangular: cells past it cover no part of the map);
     /// `None` if it lies off the grid.
     #[inline]
-    fn cells(&self, level: u32, n: u32) -> Option<(usize, usize, usize, usize)> {
+    fn cells(
+        &self,
+        level: u32,
+        n: u32,
+        (columns, rows): (usize, usize),
+    ) -> Option<(usize, usize, usize, usize)> {
         let scale = 1.0 / (1u64 << (n - level)) as f64;
-        let last = ((1u64 << level) - 1) as f64;
-        let range = |(lo, hi): (f64, f64)| {
+        let range = |(lo, hi): (f64, f64), last: f64| {
             let a = ((lo * scale).ceil() - 1.0).max(0.0);
             let b = (hi * scale).floor().min(last);
             (a <= b).then_some((a as usize, b as usize))
         };
-        let (a0, a1) = range(self.u)?;
-        let (b0, b1) = range(self.v)?;
+        let (a0, a1) = range(self.u, (columns - 1) as f64)?;
+        let (b0, b1) = range(self.v, (rows - 1) as f64)?;
         Some((a0, a1, b0, b1))
     }
 }
 
 /// The level-`level` cell holding map point `p` when that is unambiguous under rounding.
-fn point_cell(p: DVec3, err: DVec3, level: u32, n: u32) -> Option<(usize, usize)> {
+fn point_cell(
+    p: DVec3,
+    err: DVec3,
+    level: u32,
+    n: u32,
+    dims: (usize, usize),
+) -> Option<(usize, usize)> {
     let fp = Footprint::of(p, p, err);
-    match fp.cells(level, n)? {
+    match fp.cells(level, n, dims)? {
         (a0, a1, b0, b1) if a0 == a1 && b0 == b1 => Some((a0, b0)),
         _ => None,
     }
@@ -866,10 +976,32 @@ fn first_root(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Option<f64> {
     in_range(r1).or_else(|| in_range(r2))
 }
 
+/// The floor of the bicubic root tolerance, relative to `|lo| + |hi|` of the piece searched:
+/// `8 ε_f64 = 2⁻⁴⁹` (the GPU twin uses `8 ε_f32 = 2⁻²⁰`, the same rule in its precision). It
+/// bounds the halving's depth: see [`BICUBIC_STACK`].
+const BICUBIC_EPS_FLOOR: f64 = 8.0 * f64::EPSILON;
+
+/// Pending pieces of [`bicubic_root`]'s halving, sized by a proof: a piece is split only while
+/// wider than `eps ≥ 2⁻⁴⁹ (|lo| + |hi|) ≥ 2⁻⁴⁹ (hi − lo)` (`lo ≥ 0`: pieces start at or after
+/// the cell's entry), and a piece at depth `d` is `(hi − lo) / 2ᵈ` wide, so only pieces at
+/// depth `d ≤ 48` are split; depth-first, splitting a depth-`d` piece leaves `d + 2` pending.
+/// 50 would do; 56 leaves room for the midpoints' rounding. A full stack (reachable only when
+/// the tolerance underflows, for pieces within a few subnormals of 0) settles the piece as one
+/// narrower than `eps`: the same rule, never a dropped bracket.
+const BICUBIC_STACK: usize = 56;
+
+/// Illinois steps at most (it stops at `eps` long before).
+const ILLINOIS_STEPS: usize = 100;
+
 /// The first root of `f` (value, derivative, slope) in `[lo, hi]` with `f(lo) = f_lo > 0`:
-/// halving nearer-first; a piece is dropped when `f(mid) − k1·half > 0` (slope bound) or when
-/// it is monotone with both ends positive; a piece with `f(a) > 0 ≥ f(b)` that is monotone
-/// (`|f'(mid)| > k2·half`) holds exactly one root, found by Illinois to `eps`.
+/// halving nearer-first with tolerance `eps` (raised to [`BICUBIC_EPS_FLOOR`] `· (|lo| + |hi|)`).
+/// For each piece `[a, b]` (`f(a) > 0`), `m` its midpoint and `h` half its width:
+/// - `f(b) ≤ 0` (a bracket): when monotone (`|f'(m)| > k2 · h`: exactly one root) or no wider
+///   than `eps`, Illinois finds the root to `eps`; else the piece is split;
+/// - `f(b) > 0`: dropped when `f(m) − k1 · h > 0` (the slope bound keeps `f > 0` on it) or when
+///   monotone (no root between two positive ends); a piece no wider than `eps` with `f(m) ≤ 0`
+///   brackets a root in `[a, m]` (Illinois); one with `f(m) > 0` is dropped (a graze thinner
+///   than `eps`); else split.
 fn bicubic_root(
     f: &impl Fn(f64) -> (f64, f64, DVec2),
     k1: f64,
@@ -879,8 +1011,8 @@ fn bicubic_root(
     f_lo: f64,
     eps: f64,
 ) -> Option<f64> {
-    let eps = eps.max(1e-15 * (lo.abs() + hi.abs()));
-    let mut stack = [(0.0f64, 0.0f64, 0.0f64, 0.0f64); 64];
+    let eps = eps.max(BICUBIC_EPS_FLOOR * (lo.abs() + hi.abs()));
+    let mut stack = [(0.0f64, 0.0f64, 0.0f64, 0.0f64); BICUBIC_STACK];
     stack[0] = (lo, hi, f_lo, f(hi).0);
     let mut len = 1;
     while len > 0 {
@@ -890,18 +1022,15 @@ fn bicubic_root(
         let half = 0.5 * (b - a);
         let (fm, dm, _) = f(mid);
         let monotone = dm.abs() > k2 * half;
+        // No wider than the tolerance (or, never at a normal tolerance, out of stack).
+        let small = b - a <= eps || len + 2 > BICUBIC_STACK;
         if fb <= 0.0 {
-            if monotone || b - a <= eps {
+            if monotone || small {
                 return Some(illinois(f, a, b, fa, fb, eps));
             }
-        } else if fm - k1 * half > 0.0 || monotone || b - a <= eps {
+        } else if fm - k1 * half > 0.0 || monotone {
             continue;
-        }
-        if fm <= 0.0 && b - a <= eps {
-            return Some(mid);
-        }
-        if len + 2 > stack.len() {
-            // Out of depth (never at sane tolerances): settle for the bracket if there is one.
+        } else if small {
             if fm <= 0.0 {
                 return Some(illinois(f, a, mid, fa, fm, eps));
             }
@@ -924,7 +1053,7 @@ fn illinois(
     eps: f64,
 ) -> f64 {
     let mut side = 0i8;
-    for _ in 0..100 {
+    for _ in 0..ILLINOIS_STEPS {
         if b - a <= eps || fb == 0.0 {
             break;
         }

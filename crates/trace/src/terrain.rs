@@ -80,12 +80,8 @@ impl Primitive for TerrainPrimitive<'_> {
         let terrain = &self.terrain.terrain;
         let p = ray.at(hit.t);
         // `part` is the hit's level above the finest: a LOD hit is on a flat max-column face,
-        // shaded with the surface's normal beneath.
-        let shading_normal = if hit.part > 0 {
-            terrain.surface_normal_at(p).unwrap_or(hit.detail)
-        } else {
-            hit.detail
-        };
+        // shaded with the surface's normal beneath (inside the column at a wall).
+        let shading_normal = terrain.shading_normal(ray, hit.t, hit.part, hit.detail);
         let (columns, rows) = terrain.map().cells();
         let q = terrain.placement().to_map(p);
         Surface {
