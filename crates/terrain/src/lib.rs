@@ -53,7 +53,7 @@ pub use error::TerrainError;
 pub use heightmap::{Heightmap, MAX_SAMPLES, MAX_SIDE};
 pub use interpolation::{BicubicCell, BilinearCell, Interpolation};
 pub use placement::{MapRay, Placement};
-pub use pyramid::{MAX_LEVELS, Pyramid};
+pub use pyramid::{MAX_LEVELS, Pyramid, PyramidLevel};
 pub use terrain::{
     HitKind, PIXEL_LOD_COARSEST_LEVEL, Terrain, TerrainHit, TerrainOptions, TerrainStats,
 };

@@ -25,11 +25,18 @@ pub const MAX_LEVELS: usize = 16;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pyramid {
     finest: u32,
-    /// `(columns, rows)` of each level, level 0 first.
-    dims: Vec<(usize, usize)>,
-    /// Where each level starts in `values`, plus the total at the end.
-    offsets: Vec<usize>,
+    /// Each level's offset in `values` and its columns and rows, level 0 first, then the total
+    /// (as the offset of a level past the finest, 0 × 0).
+    levels: Vec<Level>,
     values: Vec<f32>,
+}
+
+/// Where a level starts and its size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Level {
+    offset: usize,
+    columns: usize,
+    rows: usize,
 }
 
 /// `n` for `columns × rows` cells: the smallest with `2ⁿ ≥ max(columns, rows)`.
@@ -94,24 +101,31 @@ impl Pyramid {
 
     fn build(columns: usize, rows: usize, cells: &[f32], combine: fn(f32, f32) -> f32) -> Self {
         let finest = finest_level(columns, rows);
-        let dims: Vec<(usize, usize)> = (0..=finest)
-            .map(|k| level_dims(columns, rows, finest, k))
-            .collect();
-        let mut offsets = Vec::with_capacity(dims.len() + 1);
+        let mut levels = Vec::with_capacity(finest as usize + 2);
         let mut total = 0;
-        for &(c, r) in &dims {
-            offsets.push(total);
+        for k in 0..=finest {
+            let (c, r) = level_dims(columns, rows, finest, k);
+            levels.push(Level {
+                offset: total,
+                columns: c,
+                rows: r,
+            });
             total += c * r;
         }
-        offsets.push(total);
+        levels.push(Level {
+            offset: total,
+            columns: 0,
+            rows: 0,
+        });
         let mut values = vec![f32::NEG_INFINITY; total];
-        let base = offsets[finest as usize];
+        let base = levels[finest as usize].offset;
         let count = columns * rows;
         values[base..base + count].copy_from_slice(&cells[..count]);
         for level in (0..finest as usize).rev() {
-            let (src, dst) = (offsets[level + 1], offsets[level]);
-            let (sc, sr) = dims[level + 1];
-            let (dc, dr) = dims[level];
+            let (below, here) = (levels[level + 1], levels[level]);
+            let (src, dst) = (below.offset, here.offset);
+            let (sc, sr) = (below.columns, below.rows);
+            let (dc, dr) = (here.columns, here.rows);
             for b in 0..dr {
                 for a in 0..dc {
                     // The 2 × 2 block below, less what lies past the last row or column.
@@ -135,8 +149,7 @@ impl Pyramid {
         }
         Self {
             finest,
-            dims,
-            offsets,
+            levels,
             values,
         }
     }
@@ -145,13 +158,14 @@ impl Pyramid {
     /// the total).
     #[inline]
     pub fn offset(&self, level: u32) -> usize {
-        self.offsets[level as usize]
+        self.levels[level as usize].offset
     }
 
     /// `(columns, rows)` of level `k`: `(⌈columns / 2ⁿ⁻ᵏ⌉, ⌈rows / 2ⁿ⁻ᵏ⌉)` of the finest.
     #[inline]
     pub fn dims(&self, level: u32) -> (usize, usize) {
-        self.dims[level as usize]
+        let l = self.levels[level as usize];
+        (l.columns, l.rows)
     }
 
     /// `n`: the finest level; a level-`k` cell covers `2ⁿ⁻ᵏ × 2ⁿ⁻ᵏ` finest cells.
@@ -167,13 +181,48 @@ impl Pyramid {
     /// The value of cell `(a, b)` at `level` (`(a, b)` within [`Pyramid::dims`]`(level)`).
     #[inline]
     pub fn at(&self, level: u32, a: usize, b: usize) -> f32 {
-        let (columns, _) = self.dims[level as usize];
-        self.values[self.offsets[level as usize] + b * columns + a]
+        self.level(level).at(a, b)
+    }
+
+    /// Level `k` alone: its values and width, for loops over its cells.
+    #[inline]
+    pub fn level(&self, level: u32) -> PyramidLevel<'_> {
+        let l = self.levels[level as usize];
+        PyramidLevel {
+            values: &self.values,
+            offset: l.offset,
+            columns: l.columns,
+            rows: l.rows,
+        }
     }
 
     /// Level 0: the bound over the whole map.
     pub fn global(&self) -> f32 {
         self.values[0]
+    }
+}
+
+/// One level of a [`Pyramid`] ([`Pyramid::level`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PyramidLevel<'a> {
+    /// All levels' values (one bounds check per look-up, none to slice).
+    values: &'a [f32],
+    offset: usize,
+    columns: usize,
+    rows: usize,
+}
+
+impl PyramidLevel<'_> {
+    /// `(columns, rows)` of this level.
+    #[inline]
+    pub fn dims(&self) -> (usize, usize) {
+        (self.columns, self.rows)
+    }
+
+    /// The value of cell `(a, b)` (`a < columns`, `b < rows`).
+    #[inline]
+    pub fn at(&self, a: usize, b: usize) -> f32 {
+        self.values[self.offset + b * self.columns + a]
     }
 }
 
