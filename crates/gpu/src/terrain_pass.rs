@@ -99,19 +99,15 @@ fn mapped_f32_buffer(
     buffer
 }
 
-/// The terrains' buffers for a module that includes terrain.wgsl: the parameter blocks
-/// (relative to `reference`, with each terrain's material, footprint and offsets), the
-/// concatenated max pyramids and the concatenated samples. Each is checked against the device's
-/// storage binding and buffer size limits (and the `u32` indices) before anything is allocated.
-pub(crate) fn terrain_buffers(
-    ctx: &GpuContext,
+/// The terrains' parameter blocks (relative to `reference`, with each terrain's material,
+/// footprint and offsets into the concatenated arrays) and the lengths of the concatenated max
+/// pyramids and samples, checked against `limit` bytes per buffer (the device's storage binding
+/// and buffer size limits) and the `u32` indices — before anything is allocated.
+fn terrain_layout(
     terrains: &[TerrainUpload<'_>],
     reference: DVec3,
-) -> Result<[wgpu::Buffer; 3], GpuError> {
-    let limit = ctx
-        .limits
-        .max_storage_buffer_binding_size
-        .min(ctx.limits.max_buffer_size);
+    limit: u64,
+) -> Result<(Vec<GpuTerrainParams>, u64, u64), GpuError> {
     let too_large = |what, needed: u64, limit: u64| GpuError::TooLarge {
         what,
         needed,
@@ -144,6 +140,22 @@ pub(crate) fn terrain_buffers(
             return Err(too_large(what, bytes, limit));
         }
     }
+    Ok((params, pyramid, samples))
+}
+
+/// The terrains' buffers for a module that includes terrain.wgsl: the parameter blocks, the
+/// concatenated max pyramids and the concatenated samples ([`terrain_layout`], checked against
+/// the device's limits first), the arrays written straight into buffers mapped at creation.
+pub(crate) fn terrain_buffers(
+    ctx: &GpuContext,
+    terrains: &[TerrainUpload<'_>],
+    reference: DVec3,
+) -> Result<[wgpu::Buffer; 3], GpuError> {
+    let limit = ctx
+        .limits
+        .max_storage_buffer_binding_size
+        .min(ctx.limits.max_buffer_size);
+    let (params, pyramid, samples) = terrain_layout(terrains, reference, limit)?;
     let blocks = ctx
         .device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -358,6 +370,52 @@ impl TerrainPass {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Terrains are laid out one after the other (offsets per terrain) and refused over the
+    /// device's limit with what, how much and the limit — checked before any allocation.
+    #[test]
+    fn terrain_layout_concatenates_and_refuses_over_the_limit() {
+        use fray_terrain::{Heightmap, Placement, TerrainOptions};
+        let terrain = |w, h| {
+            let map = Heightmap::from_fn(w, h, |i, j| (i + 2 * j) as f32).unwrap();
+            let placement = Placement::new(DVec3::ZERO, glam::DVec2::ONE, 1.0).unwrap();
+            Terrain::new(map, placement, TerrainOptions::default()).unwrap()
+        };
+        let (a, b) = (terrain(5, 4), terrain(33, 2));
+        let upload = |terrain, material| TerrainUpload {
+            terrain,
+            material,
+            footprint: PixelFootprint::ZERO,
+        };
+        let both = [upload(&a, 0), upload(&b, 3)];
+        let (params, pyramid, samples) = terrain_layout(&both, DVec3::ZERO, 1 << 20).unwrap();
+        let (pa, pb) = (
+            a.max_pyramid().values().len(),
+            b.max_pyramid().values().len(),
+        );
+        assert_eq!((pyramid, samples), ((pa + pb) as u64, 20 + 66));
+        assert_eq!((params[0].levels[0][0], params[0].sizes[2]), (0, 0));
+        assert_eq!(
+            (params[1].levels[0][0], params[1].sizes[2]),
+            (pa as u32, 20)
+        );
+        assert_eq!(
+            params[1].levels[1][1],
+            (pa + b.max_pyramid().offset(5)) as u32
+        );
+        assert_eq!((params[0].material[0], params[1].material[0]), (0, 3));
+        // 86 samples are 344 bytes (the pyramids 320): refused under a 330-byte limit.
+        let e = terrain_layout(&both, DVec3::ZERO, 330).unwrap_err();
+        assert_eq!(
+            e,
+            GpuError::TooLarge {
+                what: "terrain sample bytes",
+                needed: 344,
+                limit: 330
+            }
+        );
+        assert!(e.to_string().contains("terrain sample bytes = 344"), "{e}");
+    }
 
     /// The terrain module (generated struct + shader) parses and validates with naga, and the
     /// generated struct's layout is the Rust one (every field a 16-byte vector or an array of

@@ -114,3 +114,39 @@ fn bad_terrain_values_and_assets_are_located_errors() {
         "{e}"
     );
 }
+
+/// The 32768 × 2 height map of issue 10 (here a `.npy`, 128 KiB) resolves in a scene with a
+/// small pyramid (rectangular levels: 65 534 values, not a padded square's 1.4 × 10⁹) and the
+/// scene's work list culls with it.
+#[test]
+fn a_long_thin_map_resolves_with_a_small_pyramid() {
+    let dir = std::env::temp_dir().join(format!("fray-scene-thin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (w, h) = (32768usize, 2usize);
+    let mut header = format!("{{'descr': '<u2', 'fortran_order': False, 'shape': ({h}, {w}), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for j in 0..h {
+        for i in 0..w {
+            let v = 1000.0 + 400.0 * (i as f64 * 0.01).sin() + 50.0 * j as f64;
+            bytes.extend_from_slice(&(v as u16).to_le_bytes());
+        }
+    }
+    std::fs::write(dir.join("thin.npy"), &bytes).unwrap();
+    let src = "Scene(image: (width: 64, height: 36), \
+        camera: Pinhole(eye: (490000, 3000, 400), look_at: (480000, 1000, 15)), \
+        objects: [(shape: Terrain(path: \"thin.npy\", spacing: (30, 30)))])";
+    let file = dir.join("thin.ron");
+    let s = fray_scene::parse(src, &file.display().to_string()).unwrap();
+    let t = &s.terrains[0].terrain;
+    assert_eq!((t.map().width(), t.map().height()), (32768, 2));
+    assert_eq!(t.max_pyramid().levels(), 15);
+    assert_eq!(t.max_pyramid().values().len(), 65_534);
+    let list = fray_scene::work_list(&s, 8).unwrap();
+    assert!(!list.items.is_empty());
+}
