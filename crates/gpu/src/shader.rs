@@ -48,7 +48,7 @@ pub const FREEFORM_TERRAIN_BINDING: u32 = 14;
 /// samples.
 pub fn terrain_bindings(first: u32) -> String {
     format!(
-        "@group(0) @binding({}) var<storage, read> terrains: array<TerrainParams>;\n\
+        "@group(0) @binding({}) var<storage, read> terrains: array<GpuTerrainParams>;\n\
          @group(0) @binding({}) var<storage, read> pyramid: array<f32>;\n\
          @group(0) @binding({}) var<storage, read> samples: array<f32>;\n",
         first,

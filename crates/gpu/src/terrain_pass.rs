@@ -418,8 +418,7 @@ mod tests {
     }
 
     /// The terrain module (generated struct + shader) parses and validates with naga, and the
-    /// generated struct's layout is the Rust one (every field a 16-byte vector or an array of
-    /// them, in order, at the offsets the Rust table gives).
+    /// compiled struct's layout is the Rust one (every field in order, at Rust's offset).
     #[test]
     fn terrain_wgsl_validates_and_its_struct_layout_matches_rust() {
         let module = naga::front::wgsl::parse_str(&terrain_source()).expect("terrain.wgsl parses");
@@ -432,20 +431,19 @@ mod tests {
         let (_, ty) = module
             .types
             .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("TerrainParams"))
-            .expect("TerrainParams declared");
+            .find(|(_, t)| t.name.as_deref() == Some("GpuTerrainParams"))
+            .expect("GpuTerrainParams declared");
         let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("TerrainParams is not a struct");
+            panic!("GpuTerrainParams is not a struct");
         };
         assert_eq!(*span as usize, std::mem::size_of::<GpuTerrainParams>());
+        use gpu_layout::GpuStruct;
+        let fields = GpuTerrainParams::fields();
         let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
-        let fields: Vec<&str> = gpu_layout::FIELDS.iter().map(|(n, _, _)| *n).collect();
-        assert_eq!(names, fields);
-        let mut offset = 0;
-        for (m, (name, _, bytes)) in members.iter().zip(gpu_layout::FIELDS) {
-            assert_eq!(m.offset as usize, offset, "{name}");
-            offset += bytes;
+        let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
+        assert_eq!(names, rust);
+        for (m, f) in members.iter().zip(&fields) {
+            assert_eq!(m.offset as usize, f.rust_offset, "{}", f.name);
         }
-        assert_eq!(offset, std::mem::size_of::<GpuTerrainParams>());
     }
 }

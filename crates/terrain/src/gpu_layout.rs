@@ -1,6 +1,6 @@
 //! The terrains' GPU parameter blocks: a `#[repr(C)]` Pod struct of `vec4`s per terrain that
-//! the GPU reads from a storage array (`terrains[k]`), with its WGSL declaration generated from
-//! the same field table, plus the pyramids and samples of every terrain concatenated into two
+//! the GPU reads from a storage array (`terrains[k]`), declared with its WGSL twin from one field
+//! list (`fray_core::gpu_struct!`), plus the pyramids and samples of every terrain concatenated into two
 //! flat `f32` arrays: each block holds where its samples start and where each of its
 //! (rectangular) pyramid levels starts ([`crate::Pyramid::offset`] plus the terrain's base).
 //!
@@ -9,69 +9,52 @@
 
 use crate::pyramid::MAX_LEVELS;
 use crate::{Interpolation, PIXEL_LOD_COARSEST_LEVEL, Terrain};
-use bytemuck::{Pod, Zeroable};
 use fray_core::PixelFootprint;
+pub use fray_core::gpu_struct::GpuStruct;
 use glam::DVec3;
 
-/// The parameter block of one terrain. All fields are 16-byte vectors (or an array of them),
-/// so the WGSL layout is the Rust one with no padding rules to get wrong (checked by a naga
-/// test in fray-gpu).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTerrainParams {
-    /// World position of sample (0, 0) at raw height 0, minus the reference point; `w` unused.
-    pub origin: [f32; 4],
-    /// World directions of the map's `u` axis, up axis and `v` axis (rotation columns).
-    pub axis_u: [f32; 4],
-    pub axis_up: [f32; 4],
-    pub axis_v: [f32; 4],
-    /// Spacing along `u`, along `v`, vertical scale, 0.
-    pub scale: [f32; 4],
-    /// Raw-height range of the solid and the threshold: bottom, top, threshold ([`NO_SURFACE`]
-    /// for none), 0.
-    pub heights: [f32; 4],
-    /// Cells along `u`, cells along `v`, pyramid levels `n`, stop level `n − lod_bias`.
-    pub grid: [u32; 4],
-    /// Samples along `u`, samples along `v`, the index of sample (0, 0) in the concatenated
-    /// samples, interpolation (0 bilinear, 1 bicubic).
-    pub sizes: [u32; 4],
-    /// Pixel level of detail ([`crate::Terrain::cast_footprint`]): the footprint's size and
-    /// growth per unit distance in finest cells, 1 when on (0: exact), and the coarsest level a
-    /// pixel stop may take ([`crate::PIXEL_LOD_COARSEST_LEVEL`]).
-    pub lod: [f32; 4],
-    /// The material index (the frame shades the terrain's hits with it), 0, 0, 0.
-    pub material: [u32; 4],
-    /// Where pyramid level `k` starts in the concatenated pyramid array: `levels[k / 4][k % 4]`,
-    /// for `k ≤ n` (at most 15: a map has fewer than 2¹⁵ cells per side).
-    pub levels: [[u32; 4]; MAX_LEVELS / 4],
+fray_core::gpu_struct! {
+    /// The parameter block of one terrain. Its WGSL twin `GpuTerrainParams` is declared from the
+    /// same field list ([`fray_core::gpu_struct!`]), every field a 16-byte vector or an array of
+    /// them, so WGSL lays it out as Rust does (checked by [`GpuStruct::check_layout`] here and
+    /// by a naga test in fray-gpu).
+    pub struct GpuTerrainParams {
+        /// World position of sample (0, 0) at raw height 0, minus the reference point; `w`
+        /// unused.
+        pub origin: [f32; 4],
+        /// World directions of the map's `u` axis, up axis and `v` axis (rotation columns).
+        pub axis_u: [f32; 4],
+        pub axis_up: [f32; 4],
+        pub axis_v: [f32; 4],
+        /// Spacing along `u`, along `v`, vertical scale, 0.
+        pub scale: [f32; 4],
+        /// Raw-height range of the solid and the threshold: bottom, top, threshold
+        /// ([`NO_SURFACE`] for none), 0.
+        pub heights: [f32; 4],
+        /// Cells along `u`, cells along `v`, pyramid levels `n`, stop level `n − lod_bias`.
+        pub grid: [u32; 4],
+        /// Samples along `u`, samples along `v`, the index of sample (0, 0) in the
+        /// concatenated samples, interpolation (0 bilinear, 1 bicubic).
+        pub sizes: [u32; 4],
+        /// Pixel level of detail ([`crate::Terrain::cast_footprint`]): the footprint's size and
+        /// growth per unit distance in finest cells, 1 when on (0: exact), and the coarsest
+        /// level a pixel stop may take ([`crate::PIXEL_LOD_COARSEST_LEVEL`]).
+        pub lod: [f32; 4],
+        /// The material index (the frame shades the terrain's hits with it), 0, 0, 0.
+        pub material: [u32; 4],
+        /// Where pyramid level `k` starts in the concatenated pyramid array:
+        /// `levels[k / 4][k % 4]`, for `k ≤ n` (at most 15: a map has fewer than 2¹⁵ cells per
+        /// side).
+        pub levels: [[u32; 4]; MAX_LEVELS / 4],
+    }
 }
 
-/// `(field, WGSL type, bytes)` of [`GpuTerrainParams`], in order: the WGSL struct is generated
-/// from it.
-pub const FIELDS: [(&str, &str, usize); 11] = [
-    ("origin", "vec4<f32>", 16),
-    ("axis_u", "vec4<f32>", 16),
-    ("axis_up", "vec4<f32>", 16),
-    ("axis_v", "vec4<f32>", 16),
-    ("scale", "vec4<f32>", 16),
-    ("heights", "vec4<f32>", 16),
-    ("grid", "vec4<u32>", 16),
-    ("sizes", "vec4<u32>", 16),
-    ("lod", "vec4<f32>", 16),
-    ("material", "vec4<u32>", 16),
-    ("levels", "array<vec4<u32>, 4>", 16 * MAX_LEVELS / 4),
-];
-
-/// The WGSL declaration of [`GpuTerrainParams`].
+/// The WGSL declaration of [`GpuTerrainParams`] (generated from its one definition).
 pub fn wgsl_declaration() -> String {
-    let mut s = String::from(
-        "// Generated by fray_terrain::gpu_layout — do not edit.\nstruct TerrainParams {\n",
-    );
-    for (name, ty, _) in FIELDS {
-        s.push_str(&format!("    {name}: {ty},\n"));
-    }
-    s.push_str("}\n");
-    s
+    format!(
+        "// Generated by fray_terrain::gpu_layout — do not edit.\n{}",
+        GpuTerrainParams::declaration()
+    )
 }
 
 /// The lowest finite f32 stands for `−∞` (no surface) on the GPU, where WGSL has no infinity.
@@ -203,13 +186,15 @@ mod tests {
     use glam::DVec2;
 
     #[test]
-    fn fields_match_the_struct_and_levels_start_at_their_offsets() {
-        let bytes: usize = FIELDS.iter().map(|(_, _, b)| b).sum();
-        assert_eq!(std::mem::size_of::<GpuTerrainParams>(), bytes);
+    fn the_wgsl_twin_lays_out_as_rust_and_levels_start_at_their_offsets() {
+        GpuTerrainParams::check_layout().unwrap();
         let decl = wgsl_declaration();
-        for (name, _, _) in FIELDS {
-            assert!(decl.contains(&format!("    {name}: ")), "{name}");
-        }
+        assert!(decl.contains("struct GpuTerrainParams {"), "{decl}");
+        assert!(
+            decl.contains("    levels: array<vec4<u32>, 4>,\n"),
+            "{decl}"
+        );
+        assert_eq!(std::mem::size_of::<GpuTerrainParams>(), 16 * 10 + 64);
         let map = Heightmap::from_fn(5, 4, |i, j| (i + j) as f32).unwrap();
         let placement = Placement::new(DVec3::new(10.0, 0.0, 0.0), DVec2::ONE, 2.0).unwrap();
         let t = Terrain::new(map, placement, TerrainOptions::default()).unwrap();

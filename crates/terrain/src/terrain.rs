@@ -61,7 +61,7 @@ pub struct TerrainHit {
     pub kind: HitKind,
     /// 0 for a hit on the exact surface, its walls or its base; `k > 0` for a hit on a
     /// level-`(n − k)` max column (a LOD hit: its normal is the column face's, see
-    /// [`Terrain::surface_normal_at`] for the surface's).
+    /// [`Terrain::shading_normal`] for the surface's beneath).
     pub levels_above_finest: u32,
 }
 
@@ -745,8 +745,8 @@ impl Terrain {
 
     /// The world unit normal of the interpolated surface under the world point `p` (the
     /// analytic normal at its map position `(u, v)`, the height ignored); `None` off the map or
-    /// on a cut-out cell. Renderers shade LOD hits (flat max-column faces) with it, so relief
-    /// shading survives a coarse level.
+    /// on a cut-out cell. (Renderers shade LOD hits with [`Terrain::shading_normal`], which
+    /// picks the cell inside a column's wall.)
     pub fn surface_normal_at(&self, p: DVec3) -> Option<DVec3> {
         let q = self.placement.to_map(p);
         let (i, j, s, w) = self.solid_cell_at(q.x, q.y)?;
