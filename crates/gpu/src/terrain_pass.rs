@@ -79,7 +79,7 @@ fn mapped_f32_buffer(
     label: &str,
     len: u64,
     mut fill: impl FnMut(&mut dyn FnMut(&[f32])),
-) -> wgpu::Buffer {
+) -> Result<wgpu::Buffer, GpuError> {
     let size = (len.max(1) * 4).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -87,7 +87,14 @@ fn mapped_f32_buffer(
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: true,
     });
-    if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
+    {
+        let mut view = buffer
+            .slice(..)
+            .get_mapped_range_mut()
+            .map_err(|e| GpuError::Dispatch {
+                pass: PASS,
+                reason: format!("cannot write the {label}: {e}"),
+            })?;
         let mut at = 0usize;
         fill(&mut |chunk: &[f32]| {
             let bytes: &[u8] = bytemuck::cast_slice(chunk);
@@ -96,7 +103,7 @@ fn mapped_f32_buffer(
         });
     }
     buffer.unmap();
-    buffer
+    Ok(buffer)
 }
 
 /// The terrains' parameter blocks (relative to `reference`, with each terrain's material,
@@ -174,14 +181,14 @@ pub(crate) fn terrain_buffers(
                 write(&chunk[..src.len()]);
             }
         }
-    });
+    })?;
     let samples = mapped_f32_buffer(ctx, "terrain samples", samples, |write| {
         for t in terrains {
             for src in t.terrain.map().samples().chunks(CHUNK) {
                 write(src);
             }
         }
-    });
+    })?;
     Ok([blocks, pyramids, samples])
 }
 
