@@ -1,61 +1,38 @@
 // freeform.wgsl — ray casting of free-form solids (quadrics + perturbations + CSG) by binary
-// search along each ray, with shading and shadow rays: the GPU twin of fray-geometry's RayCaster
-// and fray-trace's shading. f32, every position relative to the camera (eye).
+// search along a ray: the f32 twin of fray-geometry's RayCaster, with its rules — a clipped
+// leaf's sign pattern at its box faces, the CSG sign-slope rule, monotone segments finished by
+// Illinois — and the surface (normal and leaf) at a hit. One rule is the CPU's alone: leaves are
+// not widened by their rounding bound, which in f32 (K · 2⁻²⁴ · Φ) would move grazing hits by
+// more than the parity bound with the CPU (docs/accuracy.md). No bindings and no entry
+// point: the including module declares `solids`, `leaves`, `perturbations` and `indices` (the
+// CSG programs, then the frame's work-list index arrays), all camera-relative.
 //
-// One workgroup per quadtree work item (fray-gpu `work`): its invocations cover the item's tile,
-// and each primary ray is cast only against the item's candidate objects, with their active
-// leaves and perturbations and their pruned CSG programs (fray-geometry `ActiveSet`). Pixels no
-// item covers are culled: nothing runs for them. Shadow rays and normals use whole solids.
-//
-// The structs, op codes and array sizes come from a Rust-generated prelude (fray-gpu
-// `shader::prelude`), never written here. Specialisation by `override` constants: features the
-// scene does not use fold away when the pipeline is built.
+// #include "ray.wgsl"
+// #include "quadric.wgsl"
+// #instantiate "csg.wgsl" { NAME: bound; T: vec4<f32>; PARAMS: lo: f32, hi: f32; ARGS: lo, hi; LEAF: bound_of_word; NEG: bound_neg; COMBINE: bound_combine }
+// #instantiate "csg.wgsl" { NAME: value; T: f32; PARAMS: s: f32; ARGS: s; LEAF: value_of_word; NEG: value_neg; COMBINE: value_combine }
+// #instantiate "csg.wgsl" { NAME: surface; T: LeafGradient; PARAMS: p: vec3<f32>; ARGS: p; LEAF: surface_of_word; NEG: surface_neg; COMBINE: surface_combine }
 
 override HAS_PERTURBATIONS: bool = true;
 override HAS_CSG: bool = true;
-override SHADOWS: bool = true;
-override HAS_SUN: bool = true;
-override HAS_POINT: bool = true;
-override PROJECTOR: u32 = 0u;
-// The scene's terrains (terrain.wgsl's cast_terrain(k, …); without terrain a stub that always
-// misses): each listed one cast after the free forms, nearest hit wins (a tie keeps the earlier
-// candidate); shadow rays test every terrain.
-override HAS_TERRAIN: bool = false;
 
-const BIG: f32 = 1.0e30;
-const NO_HIT: f32 = -1.0;
-const PI: f32 = 3.14159265358979;
 // Pending segments of the halving search: one per level plus one. With ε ≥ 2⁻²⁰ · camera
 // distance a search has ≲ 22 levels; at the cap a segment is tested directly, like one below ε.
-// (32 rather than 64: the smaller zero-initialised array is ≈ 15 % faster on lavapipe.)
 const SEG_STACK: u32 = 32u;
 const ILLINOIS_STEPS: u32 = 100u;
+// The slope of a segment whose sign changes at most once, from − to + (fray-geometry's
+// SIGN_INCREASING), and from + to − (SIGN_DECREASING).
+const SIGN_INCREASING: vec2<f32> = vec2<f32>(1.0e-30, 1.0e30);
+const SIGN_DECREASING: vec2<f32> = vec2<f32>(-1.0e30, -1.0e-30);
 
-@group(0) @binding(0) var<uniform> frame: FrameParams;
-@group(0) @binding(1) var<storage, read> solids: array<GpuSolid>;
-@group(0) @binding(2) var<storage, read> leaves: array<GpuLeaf>;
-@group(0) @binding(3) var<storage, read> perturbations: array<GpuPerturbation>;
-@group(0) @binding(4) var<storage, read> program: array<u32>;
-@group(0) @binding(5) var<storage, read> lights: array<GpuLight>;
-@group(0) @binding(6) var<storage, read> materials: array<GpuMaterial>;
-@group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
-// Frame totals: hits, shadow rays, then (lo, hi) 64-bit pairs of bound evaluations, point
-// evaluations, terrain rays, segments, cells, stops and stop levels.
-@group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, COUNTER_WORDS>;
-// The work list: this dispatch's items, and the frame's candidates, active leaves (solid-local),
-// active perturbations (object-wide) and per-candidate (first word, length) in `program`.
-@group(0) @binding(9) var<storage, read> items: array<WorkItem>;
-@group(0) @binding(10) var<storage, read> candidates: array<Candidate>;
-@group(0) @binding(11) var<storage, read> active_leaves: array<u32>;
-@group(0) @binding(12) var<storage, read> active_perturbations: array<u32>;
-@group(0) @binding(13) var<storage, read> candidate_programs: array<vec2<u32>>;
-
-// Which parts of a solid a cast uses: a work-list candidate's, or all of them (`all`).
+// Which parts of a solid a cast uses: a work-list candidate's (`all` false: active leaves and
+// perturbations listed in `indices`, and its pruned program), or all of them.
 struct Parts {
     leaf_start: u32,
     leaf_count: u32,
     pert_start: u32,
     pert_count: u32,
+    // (first word, length) of the program in `indices`.
     program: vec2<u32>,
     all: bool,
 }
@@ -75,167 +52,9 @@ var<private> leaf_ray: array<LeafRay, MAX_LEAVES>;
 // (a, b, c, form factor) of each perturbation kept for the current ray.
 var<private> pert_ray: array<vec4<f32>, MAX_PERTURBATIONS>;
 var<private> bound_evals: u32;
-// The program of the solid being cast (first word, length) and its first leaf.
-var<private> cast_program: vec2<u32>;
-var<private> cast_first_leaf: u32;
 var<private> point_evals: u32;
-
-// ---- quadrics ----------------------------------------------------------------------------
-
-fn q_eval_local(q: GpuQuadric, x: vec3<f32>) -> f32 {
-    return x.x * (q.c0.x * x.x + q.c0.w * x.y + q.c1.x * x.z + q.c1.z)
-        + x.y * (q.c0.y * x.y + q.c1.y * x.z + q.c1.w)
-        + x.z * (q.c0.z * x.z + q.c2.x)
-        + q.c2.y;
-}
-
-fn q_gradient(q: GpuQuadric, p: vec3<f32>) -> vec3<f32> {
-    let x = p - q.origin.xyz;
-    return vec3<f32>(
-        2.0 * q.c0.x * x.x + q.c0.w * x.y + q.c1.x * x.z + q.c1.z,
-        2.0 * q.c0.y * x.y + q.c0.w * x.x + q.c1.y * x.z + q.c1.w,
-        2.0 * q.c0.z * x.z + q.c1.x * x.x + q.c1.y * x.y + q.c2.x,
-    );
-}
-
-// The quadratic (a, b, c) in t of q along o + t d.
-fn q_on_ray(q: GpuQuadric, ro: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
-    let o = ro - q.origin.xyz;
-    let a11 = q.c0.x; let a22 = q.c0.y; let a33 = q.c0.z; let a12 = q.c0.w;
-    let a13 = q.c1.x; let a23 = q.c1.y; let a14 = q.c1.z; let a24 = q.c1.w;
-    let a34 = q.c2.x;
-    let a = d.x * (a11 * d.x + a12 * d.y + a13 * d.z) + d.y * (a22 * d.y + a23 * d.z) + a33 * d.z * d.z;
-    let b = 2.0 * (a11 * o.x * d.x + a22 * o.y * d.y + a33 * o.z * d.z)
-        + a12 * (o.x * d.y + o.y * d.x)
-        + a13 * (o.x * d.z + o.z * d.x)
-        + a23 * (o.y * d.z + o.z * d.y)
-        + a14 * d.x + a24 * d.y + a34 * d.z;
-    return vec3<f32>(a, b, q_eval_local(q, o));
-}
-
-fn qr_eval(q: vec3<f32>, t: f32) -> f32 {
-    return (q.x * t + q.y) * t + q.z;
-}
-
-// Exact range of a quadratic over [lo, hi].
-fn qr_range(q: vec3<f32>, lo: f32, hi: f32) -> vec2<f32> {
-    let f0 = qr_eval(q, lo);
-    let f1 = qr_eval(q, hi);
-    var r = vec2<f32>(min(f0, f1), max(f0, f1));
-    if q.x != 0.0 {
-        let v = -q.y / (2.0 * q.x);
-        if v > lo && v < hi {
-            let fv = qr_eval(q, v);
-            r = vec2<f32>(min(r.x, fv), max(r.y, fv));
-        }
-    }
-    return r;
-}
-
-fn qr_slope(q: vec3<f32>, lo: f32, hi: f32) -> vec2<f32> {
-    let d0 = 2.0 * q.x * lo + q.y;
-    let d1 = 2.0 * q.x * hi + q.y;
-    return vec2<f32>(min(d0, d1), max(d0, d1));
-}
-
-// ---- intervals (x = lo, y = hi) ------------------------------------------------------------
-
-fn i_scale(x: vec2<f32>, k: f32) -> vec2<f32> {
-    if k >= 0.0 {
-        return x * k;
-    }
-    return vec2<f32>(x.y * k, x.x * k);
-}
-
-fn i_mul(x: vec2<f32>, y: vec2<f32>) -> vec2<f32> {
-    let a = x.x * y.x;
-    let b = x.x * y.y;
-    let c = x.y * y.x;
-    let d = x.y * y.y;
-    return vec2<f32>(min(min(a, b), min(c, d)), max(max(a, b), max(c, d)));
-}
-
-// ---- rays and boxes ------------------------------------------------------------------------
-
-// The part of [lo, hi] where o + t d is inside the box; x > y when empty.
-fn clip_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, d: vec3<f32>, lo_in: f32, hi_in: f32) -> vec2<f32> {
-    var lo = lo_in;
-    var hi = hi_in;
-    for (var axis = 0u; axis < 3u; axis++) {
-        if d[axis] == 0.0 {
-            if o[axis] < bmin[axis] || o[axis] > bmax[axis] {
-                return vec2<f32>(1.0, -1.0);
-            }
-            continue;
-        }
-        let inv = 1.0 / d[axis];
-        var t0 = (bmin[axis] - o[axis]) * inv;
-        var t1 = (bmax[axis] - o[axis]) * inv;
-        if t0 > t1 {
-            let s = t0;
-            t0 = t1;
-            t1 = s;
-        }
-        lo = max(lo, t0);
-        hi = min(hi, t1);
-        if lo > hi {
-            return vec2<f32>(1.0, -1.0);
-        }
-    }
-    return vec2<f32>(lo, hi);
-}
-
-struct CameraRay {
-    origin: vec3<f32>,
-    dir: vec3<f32>,
-    t_near: f32,
-    ok: bool,
-}
-
-// The projector's ray through the centre of pixel (px, py): fray_core::Projector::pixel_ray.
-fn camera_ray(px: u32, py: u32) -> CameraRay {
-    let w = f32(max(frame.size.x, 1u));
-    let h = f32(max(frame.size.y, 1u));
-    let x = f32(px) + 0.5;
-    let y = f32(py) + 0.5;
-    let aspect = w / h;
-    let sx = (2.0 * x / w - 1.0) * aspect;
-    let sy = 1.0 - 2.0 * y / h;
-    let forward = frame.forward.xyz;
-    let right = frame.right.xyz;
-    let up = frame.up.xyz;
-    var c = vec3<f32>(0.0);
-    var d = vec3<f32>(0.0);
-    var r: CameraRay;
-    if PROJECTOR == PROJECTOR_PINHOLE {
-        let k = frame.forward.w;
-        d = (forward + right * (sx * k) + up * (sy * k)) * frame.right.w;
-    } else if PROJECTOR == PROJECTOR_PARALLEL {
-        let half = frame.forward.w;
-        c = right * (sx * half) + up * (sy * half);
-        if frame.right.w == 0.0 {
-            r.origin = c;
-            r.dir = forward;
-            r.t_near = 0.0;
-            r.ok = true;
-            return r;
-        }
-        d = forward * frame.right.w;
-    } else {
-        let theta = 0.5 * frame.sphere.x * (2.0 * x / w - 1.0);
-        let phi = 0.5 * frame.sphere.y * sy;
-        let dir = forward * (cos(phi) * cos(theta)) + right * (cos(phi) * sin(theta)) + up * sin(phi);
-        let radius = frame.centre.w
-            * (1.0 + frame.sphere.z * cos(frame.sphere.w * theta) * cos(frame.sphere.w * phi));
-        d = frame.centre.xyz + dir * radius;
-    }
-    let len = length(d);
-    r.origin = c;
-    r.ok = len > 0.0;
-    r.dir = d / max(len, 1e-30);
-    r.t_near = len;
-    return r;
-}
+// The first leaf of the solid being cast (program words name global leaves).
+var<private> cast_first_leaf: u32;
 
 // ---- one solid along one ray ---------------------------------------------------------------
 
@@ -244,8 +63,8 @@ fn camera_ray(px: u32, py: u32) -> CameraRay {
 fn keep_perturbation(k: u32, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, np: u32) -> u32 {
     let p = perturbations[k];
     let q = q_on_ray(p.quadric, o, d);
-    if p.params.x != 0.0 && qr_range(q, lo, hi).y > 0.0 {
-        pert_ray[np] = vec4<f32>(q, p.params.x);
+    if p.form_factor != 0.0 && qr_range(q, lo, hi).y > 0.0 {
+        pert_ray[np] = vec4<f32>(q, p.form_factor);
         return np + 1u;
     }
     return np;
@@ -254,18 +73,18 @@ fn keep_perturbation(k: u32, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, np: u
 // Restricts the leaves of solid `si` in `parts` to the ray o + s d, s ∈ [0, hi] (leaves left
 // out are absent, perturbations left out are skipped); false if no leaf is reached.
 fn prepare(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
-    let info = solids[si].info;
+    let solid = solids[si];
     // Object-wide perturbation k is global perturbation `first_pert + k`.
-    let first_pert = leaves[info.x].info.y;
+    let first_pert = leaves[solid.first_leaf].first_perturbation;
     var any = false;
     var np = 0u;
     var next_leaf = 0u;
     var next_pert = 0u;
-    for (var i = 0u; i < info.y; i++) {
-        let leaf = leaves[info.x + i];
+    for (var i = 0u; i < solid.leaf_count; i++) {
+        let leaf = leaves[solid.first_leaf + i];
         var in_parts = parts.all;
         if !parts.all && next_leaf < parts.leaf_count
-            && active_leaves[parts.leaf_start + next_leaf] == i {
+            && indices[parts.leaf_start + next_leaf] == i {
             in_parts = true;
             next_leaf++;
         }
@@ -277,31 +96,32 @@ fn prepare(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
         lr.present = present.x <= present.y;
         lr.lo = present.x;
         lr.hi = present.y;
-        lr.clips = leaf.info.x != 0u;
+        lr.clips = leaf.clips != 0u;
+        lr.p0 = np;
         if lr.present {
             // Read only for present leaves.
             lr.base = q_on_ray(leaf.base, o, d);
-        }
-        lr.p0 = np;
-        if HAS_PERTURBATIONS && lr.present {
-            if parts.all {
-                for (var k = leaf.info.y; k < leaf.info.z; k++) {
-                    np = keep_perturbation(k, o, d, present.x, present.y, np);
-                }
-            } else {
-                // The active list is increasing: skip earlier leaves' entries, take this leaf's.
-                loop {
-                    if next_pert >= parts.pert_count {
-                        break;
-                    }
-                    let k = first_pert + active_perturbations[parts.pert_start + next_pert];
-                    if k >= leaf.info.z {
-                        break;
-                    }
-                    if k >= leaf.info.y {
+            if HAS_PERTURBATIONS {
+                if parts.all {
+                    for (var k = leaf.first_perturbation; k < leaf.end_perturbation; k++) {
                         np = keep_perturbation(k, o, d, present.x, present.y, np);
                     }
-                    next_pert++;
+                } else {
+                    // The active list is increasing: skip earlier leaves' entries, take this
+                    // leaf's.
+                    loop {
+                        if next_pert >= parts.pert_count {
+                            break;
+                        }
+                        let k = first_pert + indices[parts.pert_start + next_pert];
+                        if k >= leaf.end_perturbation {
+                            break;
+                        }
+                        if k >= leaf.first_perturbation {
+                            np = keep_perturbation(k, o, d, present.x, present.y, np);
+                        }
+                        next_pert++;
+                    }
                 }
             }
         }
@@ -314,7 +134,8 @@ fn prepare(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, hi: f32) -> bool {
 
 const ABSENT: vec4<f32> = vec4<f32>(-BIG, -BIG, 0.0, 0.0);
 
-// (value lo, value hi, slope lo, slope hi) of leaf `i` over [lo, hi].
+// (value lo, value hi, slope lo, slope hi) of leaf `i` (solid-local) over [lo, hi]
+// (fray-geometry's leaf_bound).
 fn leaf_bound(i: u32, lo: f32, hi: f32) -> vec4<f32> {
     let lr = leaf_ray[i];
     if !lr.present || hi < lr.lo || lo > lr.hi {
@@ -337,8 +158,20 @@ fn leaf_bound(i: u32, lo: f32, hi: f32) -> vec4<f32> {
         }
     }
     if ilo != lo || ihi != hi {
+        // Part of the segment is outside the clipping box, where the value is −∞: entering the
+        // box increasing or ≥ 0 the sign changes at most once, from − to +; leaving it
+        // decreasing or ≥ 0, at most once from + to −.
+        let before = lo < ilo;
+        let after = hi > ihi;
+        let nonnegative = value.x >= 0.0;
+        if before && !after && (slope.x > 0.0 || nonnegative) {
+            slope = SIGN_INCREASING;
+        } else if after && !before && (slope.y < 0.0 || nonnegative) {
+            slope = SIGN_DECREASING;
+        } else {
+            slope = vec2<f32>(-BIG, BIG);
+        }
         value.x = -BIG;
-        slope = vec2<f32>(-BIG, BIG);
     }
     return vec4<f32>(value, slope);
 }
@@ -361,95 +194,127 @@ fn leaf_value(i: u32, s: f32) -> f32 {
     return v;
 }
 
-// The bound of the solid being cast (its program `cast_program`) over [lo, hi].
+// ---- the algebras of the CSG evaluator (csg.wgsl) ------------------------------------------
+
+fn bound_of_word(word: u32, lo: f32, hi: f32) -> vec4<f32> {
+    return leaf_bound((word >> OP_BITS) - cast_first_leaf, lo, hi);
+}
+
+fn bound_neg(v: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(-v.y, -v.x, -v.w, -v.z);
+}
+
+// max (`is_max`) or min of two bounds: an operand that dominates over the whole segment is the
+// result; else the value range of max/min and the sign-slope rule (fray-geometry's
+// combine_bounds and sign_slope): an operand whose sign is fixed so that it cannot decide
+// (< 0 under max, ≥ 0 under min) leaves the other's slope.
+fn bound_combine(is_max: bool, a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
+    var a_wins: bool;
+    var b_wins: bool;
+    var b_idle: bool;
+    var a_idle: bool;
+    if is_max {
+        a_wins = a.x >= b.y;
+        b_wins = b.x >= a.y;
+        b_idle = b.y < 0.0;
+        a_idle = a.y < 0.0;
+    } else {
+        a_wins = a.y <= b.x;
+        b_wins = b.y <= a.x;
+        b_idle = b.x >= 0.0;
+        a_idle = a.x >= 0.0;
+    }
+    if a_wins {
+        return a;
+    }
+    if b_wins {
+        return b;
+    }
+    var slope: vec2<f32>;
+    if b_idle {
+        slope = a.zw;
+    } else if a_idle {
+        slope = b.zw;
+    } else {
+        slope = vec2<f32>(min(a.z, b.z), max(a.w, b.w));
+    }
+    if is_max {
+        return vec4<f32>(max(a.x, b.x), max(a.y, b.y), slope);
+    }
+    return vec4<f32>(min(a.x, b.x), min(a.y, b.y), slope);
+}
+
+fn value_of_word(word: u32, s: f32) -> f32 {
+    return leaf_value((word >> OP_BITS) - cast_first_leaf, s);
+}
+
+fn value_neg(v: f32) -> f32 {
+    return -v;
+}
+
+fn value_combine(is_max: bool, a: f32, b: f32) -> f32 {
+    if is_max {
+        return max(a, b);
+    }
+    return min(a, b);
+}
+
+// A leaf's value and gradient at a point (xyz gradient, w value) and the leaf (global index).
+struct LeafGradient {
+    g: vec4<f32>,
+    leaf: u32,
+}
+
+fn surface_of_word(word: u32, p: vec3<f32>) -> LeafGradient {
+    var r: LeafGradient;
+    r.leaf = word >> OP_BITS;
+    r.g = leaf_value_gradient(r.leaf, p);
+    return r;
+}
+
+fn surface_neg(v: LeafGradient) -> LeafGradient {
+    var r = v;
+    r.g = -v.g;
+    return r;
+}
+
+// The operand that is active (Solid::surface_at: `a` wins ties).
+fn surface_combine(is_max: bool, a: LeafGradient, b: LeafGradient) -> LeafGradient {
+    var take_a: bool;
+    if is_max {
+        take_a = a.g.w >= b.g.w;
+    } else {
+        take_a = a.g.w <= b.g.w;
+    }
+    if take_a {
+        return a;
+    }
+    return b;
+}
+
+// ---- the search ----------------------------------------------------------------------------
+
+// The program of the solid being cast: (first word, length) in `indices`.
+var<private> cast_program: vec2<u32>;
+
 fn solid_bound(lo: f32, hi: f32) -> vec4<f32> {
     bound_evals++;
     if !HAS_CSG {
         return leaf_bound(0u, lo, hi);
     }
-    let first = cast_program.x;
-    if cast_program.y == 1u {
-        return leaf_bound((program[first] >> OP_BITS) - cast_first_leaf, lo, hi);
-    }
-    var stack: array<vec4<f32>, MAX_STACK>;
-    var top = 0u;
-    for (var w = first; w < first + cast_program.y; w++) {
-        let word = program[w];
-        let op = word & ((1u << OP_BITS) - 1u);
-        if op == OP_LEAF {
-            stack[top] = leaf_bound((word >> OP_BITS) - cast_first_leaf, lo, hi);
-            top++;
-        } else if op == OP_NEG {
-            let v = stack[top - 1u];
-            stack[top - 1u] = vec4<f32>(-v.y, -v.x, -v.w, -v.z);
-        } else {
-            let b = stack[top - 1u];
-            let a = stack[top - 2u];
-            top--;
-            let is_max = op == OP_MAX;
-            var a_wins: bool;
-            var b_wins: bool;
-            if is_max {
-                a_wins = a.x >= b.y;
-                b_wins = b.x >= a.y;
-            } else {
-                a_wins = a.y <= b.x;
-                b_wins = b.y <= a.x;
-            }
-            var r: vec4<f32>;
-            if a_wins {
-                r = a;
-            } else if b_wins {
-                r = b;
-            } else {
-                let slope = vec2<f32>(min(a.z, b.z), max(a.w, b.w));
-                if is_max {
-                    r = vec4<f32>(max(a.x, b.x), max(a.y, b.y), slope);
-                } else {
-                    r = vec4<f32>(min(a.x, b.x), min(a.y, b.y), slope);
-                }
-            }
-            stack[top - 1u] = r;
-        }
-    }
-    return stack[0];
+    return csg_bound(cast_program.x, cast_program.y, lo, hi);
 }
 
-// The value of the solid being cast at s.
 fn solid_value(s: f32) -> f32 {
     point_evals++;
     if !HAS_CSG {
         return leaf_value(0u, s);
     }
-    let first = cast_program.x;
-    if cast_program.y == 1u {
-        return leaf_value((program[first] >> OP_BITS) - cast_first_leaf, s);
-    }
-    var stack: array<f32, MAX_STACK>;
-    var top = 0u;
-    for (var w = first; w < first + cast_program.y; w++) {
-        let word = program[w];
-        let op = word & ((1u << OP_BITS) - 1u);
-        if op == OP_LEAF {
-            stack[top] = leaf_value((word >> OP_BITS) - cast_first_leaf, s);
-            top++;
-        } else if op == OP_NEG {
-            stack[top - 1u] = -stack[top - 1u];
-        } else {
-            let b = stack[top - 1u];
-            let a = stack[top - 2u];
-            top--;
-            if op == OP_MAX {
-                stack[top - 1u] = max(a, b);
-            } else {
-                stack[top - 1u] = min(a, b);
-            }
-        }
-    }
-    return stack[0];
+    return csg_value(cast_program.x, cast_program.y, s);
 }
 
-// Illinois regula falsi on f(a) < 0 ≤ f(b) with a single root; a point ≥ the root within eps.
+// Illinois regula falsi on f(a) < 0 ≤ f(b) with a single root; a point ≥ the root within eps
+// (fray_core::root::illinois).
 fn illinois(a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> f32 {
     var a = a_in;
     var fa = fa_in;
@@ -462,8 +327,7 @@ fn illinois(a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> f32 {
             break;
         }
         var c = b - fb * (b - a) / (fb - fa);
-        // Windows of four steps (fray_core::root::illinois): the fourth bisects unless the first
-        // three halved the bracket.
+        // Windows of four steps: the fourth bisects unless the first three halved the bracket.
         if iteration % 4u == 0u {
             width_before = b - a;
         } else if iteration % 4u == 3u && b - a > 0.5 * width_before {
@@ -495,14 +359,12 @@ fn illinois(a_in: f32, fa_in: f32, b_in: f32, fb_in: f32, eps: f32) -> f32 {
     return b;
 }
 
-// The first s in [lo, hi] with F′ ≥ 0 (to within eps), or NO_HIT: RayCaster::search.
+// The first s in [lo, hi] with F′ ≥ 0 (to within eps), or NO_HIT: RayCaster's search.
 fn search(lo: f32, hi: f32, eps: f32) -> f32 {
-    if solid_value(lo) >= 0.0 {
-        return lo;
-    }
     var segments: array<vec2<f32>, SEG_STACK>;
     segments[0] = vec2<f32>(lo, hi);
     var n = 1u;
+    var first = true;
     loop {
         if n == 0u {
             return NO_HIT;
@@ -513,6 +375,13 @@ fn search(lo: f32, hi: f32, eps: f32) -> f32 {
         let bound = solid_bound(a, b);
         if bound.y < 0.0 {
             continue;
+        }
+        if first {
+            // The range may start inside the solid: then the answer is its start.
+            first = false;
+            if solid_value(a) >= 0.0 {
+                return a;
+            }
         }
         if bound.x >= 0.0 {
             return a;
@@ -551,8 +420,8 @@ fn search(lo: f32, hi: f32, eps: f32) -> f32 {
     return NO_HIT;
 }
 
-// The first t in [lo, hi] where solid `si` is non-negative, or NO_HIT. The search runs in
-// s = t − t0 from the solid's box entry t0, which keeps the quadratics well conditioned in f32.
+// The first t in [lo, hi] where solid `si` (its `parts`) is non-negative, or NO_HIT. The search
+// runs in s = t − t0 from the solid's box entry t0, which keeps the quadratics well conditioned.
 fn cast_solid(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, eps: f32) -> f32 {
     let solid = solids[si];
     let range = clip_box(solid.box_min.xyz, solid.box_max.xyz, o, d, lo, hi);
@@ -566,7 +435,7 @@ fn cast_solid(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f3
         return NO_HIT;
     }
     cast_program = parts.program;
-    cast_first_leaf = solid.info.x;
+    cast_first_leaf = solid.first_leaf;
     let s = search(0.0, end, eps);
     if s < 0.0 {
         return NO_HIT;
@@ -574,24 +443,44 @@ fn cast_solid(si: u32, parts: Parts, o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f3
     return t0 + s;
 }
 
+// Every part of solid `si`, with its whole program.
+fn all_parts(si: u32) -> Parts {
+    var parts: Parts;
+    parts.all = true;
+    let solid = solids[si];
+    parts.program = vec2<u32>(solid.first_word, solid.word_count);
+    return parts;
+}
+
+// Whether any solid lies on the ray within [0, distance] (shadow rays: whole solids).
+fn occluded_by_solids(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+    for (var si = 0u; si < frame.solids; si++) {
+        if cast_solid(si, all_parts(si), o, d, 0.0, distance, eps) >= 0.0 {
+            return true;
+        }
+    }
+    return false;
+}
+
 // ---- surface -------------------------------------------------------------------------------
 
-// Value and gradient of leaf `li` (global index) at p: FreeForm::eval_with_gradient.
+// Value and gradient of leaf `li` (global index) at p (FreeForm::eval_with_gradient): a clipping
+// box's face where it is nearer than the surface decides.
 fn leaf_value_gradient(li: u32, p: vec3<f32>) -> vec4<f32> {
     let leaf = leaves[li];
     var f = q_eval_local(leaf.base, p - leaf.base.origin.xyz);
     var g = q_gradient(leaf.base, p);
     if HAS_PERTURBATIONS {
-        for (var k = leaf.info.y; k < leaf.info.z; k++) {
+        for (var k = leaf.first_perturbation; k < leaf.end_perturbation; k++) {
             let pq = perturbations[k];
             let q = q_eval_local(pq.quadric, p - pq.quadric.origin.xyz);
             if q > 0.0 {
-                f += pq.params.x * q * q * q;
-                g += q_gradient(pq.quadric, p) * (3.0 * pq.params.x * q * q);
+                f += pq.form_factor * q * q * q;
+                g += q_gradient(pq.quadric, p) * (3.0 * pq.form_factor * q * q);
             }
         }
     }
-    if leaf.info.x != 0u {
+    if leaf.clips != 0u {
         var best = BIG;
         var n = vec3<f32>(1.0, 0.0, 0.0);
         for (var axis = 0u; axis < 3u; axis++) {
@@ -620,49 +509,18 @@ struct Surface {
     leaf: u32,
 }
 
-// Outward unit normal and the active leaf (global index) at p: Solid::surface_at.
+// Outward unit normal and the active leaf (global index) at p (Solid::surface_at).
 fn surface_at(si: u32, p: vec3<f32>, fallback: vec3<f32>) -> Surface {
-    let info = solids[si].info;
-    var g: vec3<f32>;
-    var leaf = info.x;
-    if !HAS_CSG || info.w == 1u {
-        g = leaf_value_gradient(info.x, p).xyz;
+    let solid = solids[si];
+    var deciding: LeafGradient;
+    if !HAS_CSG {
+        deciding = surface_of_word(solid.first_leaf << OP_BITS, p);
     } else {
-        var vals: array<vec4<f32>, MAX_STACK>;
-        var ids: array<u32, MAX_STACK>;
-        var top = 0u;
-        for (var w = info.z; w < info.z + info.w; w++) {
-            let word = program[w];
-            let op = word & ((1u << OP_BITS) - 1u);
-            if op == OP_LEAF {
-                let li = word >> OP_BITS;
-                vals[top] = leaf_value_gradient(li, p);
-                ids[top] = li;
-                top++;
-            } else if op == OP_NEG {
-                vals[top - 1u] = -vals[top - 1u];
-            } else {
-                let b = vals[top - 1u];
-                let a = vals[top - 2u];
-                let bid = ids[top - 1u];
-                top--;
-                var take_a: bool;
-                if op == OP_MAX {
-                    take_a = a.w >= b.w;
-                } else {
-                    take_a = a.w <= b.w;
-                }
-                if !take_a {
-                    vals[top - 1u] = b;
-                    ids[top - 1u] = bid;
-                }
-            }
-        }
-        g = vals[0].xyz;
-        leaf = ids[0];
+        deciding = csg_surface(solid.first_word, solid.word_count, p);
     }
     var s: Surface;
-    s.leaf = leaf;
+    s.leaf = deciding.leaf;
+    let g = deciding.g.xyz;
     let len = length(g);
     if len > 0.0 && len < BIG {
         s.normal = -g / len;
@@ -670,270 +528,4 @@ fn surface_at(si: u32, p: vec3<f32>, fallback: vec3<f32>) -> Surface {
         s.normal = fallback;
     }
     return s;
-}
-
-// ---- scene ---------------------------------------------------------------------------------
-
-struct Hit {
-    t: f32,
-    // The solid hit, or for a terrain hit the terrain's index k (its candidate's `object`).
-    solid: u32,
-    // A terrain hit (its shading normal below); else solid `solid`.
-    terrain: bool,
-    normal: vec3<f32>,
-}
-
-// Every part of solid `si`, with its whole program.
-fn all_parts(si: u32) -> Parts {
-    var parts: Parts;
-    parts.all = true;
-    parts.program = solids[si].info.zw;
-    return parts;
-}
-
-// The nearest hit over the candidates of `item` (objects in increasing order, each with its
-// active parts; on a tie the earlier object keeps the hit), then the terrains the item lists.
-fn nearest_hit(item: WorkItem, o: vec3<f32>, d: vec3<f32>, lo: f32, eps: f32) -> Hit {
-    var best: Hit;
-    best.t = NO_HIT;
-    var hi = BIG;
-    let end = item.candidate_start + item.candidate_count;
-    for (var c = item.candidate_start; c < end; c++) {
-        let cand = candidates[c];
-        if cand.kind == KIND_TERRAIN {
-            // A terrain: cast after the free forms.
-            continue;
-        }
-        var parts: Parts;
-        parts.all = false;
-        parts.leaf_start = cand.leaf_start;
-        parts.leaf_count = cand.leaf_count;
-        parts.pert_start = cand.perturbation_start;
-        parts.pert_count = cand.perturbation_count;
-        parts.program = candidate_programs[c];
-        let si = cand.object;
-        let t = cast_solid(si, parts, o, d, lo, hi, eps);
-        if t >= 0.0 && (best.t < 0.0 || t < best.t) {
-            hi = t;
-            best.t = t;
-            best.solid = si;
-        }
-    }
-    if HAS_TERRAIN {
-        // The listed terrains k, in list order, each over [lo, best so far]: nearer hits only,
-        // a tie keeps the earlier (fray-trace's terrain pass).
-        for (var c = item.candidate_start; c < end; c++) {
-            if candidates[c].kind != KIND_TERRAIN {
-                continue;
-            }
-            let k = candidates[c].object;
-            let th = cast_terrain(k, o, d, lo, select(BIG, best.t, best.t >= 0.0), eps, true);
-            if th.t >= 0.0 && (best.t < 0.0 || th.t < best.t) {
-                best.t = th.t;
-                best.solid = k;
-                best.terrain = true;
-                best.normal = terrain_shading_normal(k, o, d, th);
-            }
-        }
-    }
-    return best;
-}
-
-fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
-    for (var si = 0u; si < frame.size.w; si++) {
-        if cast_solid(si, all_parts(si), o, d, 0.0, distance, eps) >= 0.0 {
-            return true;
-        }
-    }
-    if HAS_TERRAIN {
-        for (var k = 0u; k < terrain_count(); k++) {
-            if cast_terrain(k, o, d, 0.0, distance, eps, false).t >= 0.0 {
-                return true;
-            }
-        }
-    }
-    return false;
-}
-
-var<private> shadow_rays: u32;
-
-// Ambient + Lambert (albedo/π) + normalised Phong with hard shadows: fray-trace's shading.
-fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, eps: f32) -> vec3<f32> {
-    var total = m.ambient.xyz * frame.ambient.xyz;
-    let diffuse = m.diffuse.xyz / PI;
-    let specular = m.specular.xyz;
-    let shininess = m.specular.w;
-    let specular_on = any(specular != vec3<f32>(0.0));
-    let lobe_norm = (shininess + 2.0) / (2.0 * PI);
-    for (var i = 0u; i < frame.mode.y; i++) {
-        let light = lights[i];
-        var to_light: vec3<f32>;
-        var irradiance: vec3<f32>;
-        var distance: f32;
-        if light.kind.x == LIGHT_SUN {
-            if !HAS_SUN {
-                continue;
-            }
-            to_light = light.vector.xyz;
-            irradiance = light.colour.xyz;
-            distance = BIG;
-        } else {
-            if !HAS_POINT {
-                continue;
-            }
-            let dl = light.vector.xyz - p;
-            let r2 = dot(dl, dl);
-            if r2 == 0.0 {
-                continue;
-            }
-            let r = sqrt(r2);
-            to_light = dl / r;
-            irradiance = light.colour.xyz / r2;
-            distance = r;
-        }
-        let cos_l = dot(n, to_light);
-        if cos_l <= 0.0 {
-            continue;
-        }
-        if SHADOWS {
-            shadow_rays++;
-            if occluded(p + n * frame.shade.x, to_light, distance, eps) {
-                continue;
-            }
-        }
-        var brdf = diffuse;
-        if specular_on {
-            let reflected = n * (2.0 * cos_l) - to_light;
-            let rv = max(dot(reflected, to_viewer), 0.0);
-            if rv > 0.0 {
-                brdf += specular * (lobe_norm * pow(rv, shininess));
-            }
-        }
-        total += brdf * irradiance * cos_l;
-    }
-    return total;
-}
-
-fn add_wide(lo: u32, value: u32) {
-    if value == 0u {
-        return;
-    }
-    let old = atomicAdd(&counters[lo], value);
-    if old + value < old {
-        atomicAdd(&counters[lo + 1u], 1u);
-    }
-}
-
-// The workgroup's sums of the per-pixel counters (slots COUNT_*, words WORD_* of `counters`:
-// generated from fray_gpu::counters; zeroed by the kernel, since the pipeline skips wgpu's
-// workgroup zero-fill). Pixels add here and one invocation adds the sums to `counters`: on a
-// real GPU, atomics from every pixel to the same few words serialise and cost more than the
-// tracing.
-var<workgroup> group_counts: array<atomic<u32>, GROUP_COUNTERS>;
-
-// One pixel: camera ray, nearest hit, normal, shading. Writes colour + depth and normal + hit;
-// true if it hit.
-fn render_pixel(item: WorkItem, px: u32, py: u32, slot: u32) -> bool {
-    let eps = frame.up.w;
-    let miss_colour = vec4<f32>(frame.background.xyz, -1.0);
-    output[2u * slot] = miss_colour;
-    output[2u * slot + 1u] = vec4<f32>(0.0);
-    let ray = camera_ray(px, py);
-    if !ray.ok {
-        return false;
-    }
-    let hit = nearest_hit(item, ray.origin, ray.dir, ray.t_near, eps);
-    if hit.t < 0.0 {
-        return false;
-    }
-    let p = ray.origin + ray.dir * hit.t;
-    let to_viewer = -ray.dir;
-    var normal: vec3<f32>;
-    var material: u32;
-    if HAS_TERRAIN && hit.terrain {
-        normal = hit.normal;
-        material = terrain_material(hit.solid);
-    } else {
-        let surface = surface_at(hit.solid, p, to_viewer);
-        normal = surface.normal;
-        material = leaves[surface.leaf].info.w;
-    }
-    if hit.t <= ray.t_near {
-        normal = to_viewer;
-    }
-    var shading_normal = normal;
-    if dot(normal, to_viewer) < 0.0 {
-        shading_normal = -normal;
-    }
-    let m = materials[material];
-    let colour = radiance(p, shading_normal, to_viewer, m, eps);
-    output[2u * slot] = vec4<f32>(colour, hit.t);
-    output[2u * slot + 1u] = vec4<f32>(normal, 1.0);
-    return true;
-}
-
-// One workgroup per work item of this dispatch (`frame.mode.w` of them; a 2D grid of groups when
-// there are more than a dimension holds); its TILE_THREADS² invocations are the pixels of the
-// tile (tiles are at most TILE_THREADS wide and tall: the work list's cell size).
-@compute @workgroup_size(TILE_THREADS, TILE_THREADS)
-fn main(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-    @builtin(local_invocation_index) local_index: u32,
-) {
-    let k = group.y * groups.x + group.x;
-    // Uniform over the workgroup, so the barrier below stays in uniform control flow.
-    if k >= frame.mode.w {
-        return;
-    }
-    if local_index < GROUP_COUNTERS {
-        atomicStore(&group_counts[local_index], 0u);
-    }
-    workgroupBarrier();
-    let item = items[k];
-    bound_evals = 0u;
-    point_evals = 0u;
-    shadow_rays = 0u;
-    let px = item.x0 + local.x;
-    let py = item.y0 + local.y;
-    if px < item.x1 && py < item.y1 {
-        if render_pixel(item, px, py, (py - frame.size.z) * frame.size.x + px) {
-            atomicAdd(&group_counts[COUNT_HITS], 1u);
-        }
-        atomicAdd(&group_counts[COUNT_SHADOW_RAYS], shadow_rays);
-        atomicAdd(&group_counts[COUNT_BOUND_EVALUATIONS], bound_evals);
-        atomicAdd(&group_counts[COUNT_POINT_EVALUATIONS], point_evals);
-        if HAS_TERRAIN {
-            atomicAdd(&group_counts[COUNT_TERRAIN_RAYS], terrain_rays);
-            atomicAdd(&group_counts[COUNT_TERRAIN_SEGMENTS], terrain_segments);
-            atomicAdd(&group_counts[COUNT_TERRAIN_CELLS], terrain_cells);
-            atomicAdd(&group_counts[COUNT_TERRAIN_STOPS], terrain_stops);
-            atomicAdd(&group_counts[COUNT_TERRAIN_STOP_LEVELS], terrain_stop_levels);
-        }
-    }
-    workgroupBarrier();
-    if local_index == 0u {
-        // A workgroup's sums fit 32 bits (TILE_THREADS² pixels); the frame's totals are 64-bit pairs.
-        let hits = atomicLoad(&group_counts[COUNT_HITS]);
-        if hits > 0u {
-            atomicAdd(&counters[WORD_HITS], hits);
-        }
-        let shadows = atomicLoad(&group_counts[COUNT_SHADOW_RAYS]);
-        if shadows > 0u {
-            atomicAdd(&counters[WORD_SHADOW_RAYS], shadows);
-        }
-        add_wide(WORD_BOUND_EVALUATIONS, atomicLoad(&group_counts[COUNT_BOUND_EVALUATIONS]));
-        add_wide(WORD_POINT_EVALUATIONS, atomicLoad(&group_counts[COUNT_POINT_EVALUATIONS]));
-        if HAS_TERRAIN {
-            add_wide(WORD_TERRAIN_RAYS, atomicLoad(&group_counts[COUNT_TERRAIN_RAYS]));
-            add_wide(WORD_TERRAIN_SEGMENTS, atomicLoad(&group_counts[COUNT_TERRAIN_SEGMENTS]));
-            add_wide(WORD_TERRAIN_CELLS, atomicLoad(&group_counts[COUNT_TERRAIN_CELLS]));
-            add_wide(WORD_TERRAIN_STOPS, atomicLoad(&group_counts[COUNT_TERRAIN_STOPS]));
-            add_wide(
-                WORD_TERRAIN_STOP_LEVELS,
-                atomicLoad(&group_counts[COUNT_TERRAIN_STOP_LEVELS]),
-            );
-        }
-    }
 }

@@ -1,14 +1,13 @@
-// terrain_batch.wgsl — the terrain pass over a batch of rays (fray_gpu::TerrainPass), after the
-// generated prelude, the terrain bindings (0–2) and terrain.wgsl.
+// terrain_batch.wgsl — the terrain pass over a batch of rays (fray_gpu::TerrainPass): terrain.wgsl
+// on rays given by the caller, for its parity tests against fray_terrain.
+//
+// #bindings terrain_batch, terrains
+// #include "terrain.wgsl"
 //
 // Batch: (ray count, terrain index, pixel LOD 0/1, bits of the bicubic tolerance ε as f32).
 // Rays: two vec4 per ray, camera-relative — (origin.xyz, t_lo), (unit dir.xyz, t_hi).
 // Hits: two vec4 per ray — (t, normal.xyz), t < 0 for a miss; (kind, levels above the finest,
 // cell column, cell row) as f32 (HIT_* kinds of terrain.wgsl).
-
-@group(0) @binding(3) var<storage, read> rays: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read_write> hits: array<vec4<f32>>;
-@group(0) @binding(5) var<uniform> batch: vec4<u32>;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {

@@ -60,6 +60,16 @@ pub struct RenderStats {
     /// GPU time of the kernels alone (timestamp queries around the compute passes), when the
     /// backend measured it: `None` on the CPU and on devices without timestamp queries.
     pub kernel_time: Option<Duration>,
+    /// Bytes the frame sent from the host to the device (GPU backends; 0 on the CPU): the
+    /// camera, the work list and, when the scene was uploaded for this frame, the scene.
+    pub uploaded_bytes: u64,
+    /// Of those, the scene's own data (geometry, terrains, materials, lights): 0 for a frame
+    /// of a scene that stays resident on the device.
+    pub scene_uploaded_bytes: u64,
+    /// Pipelines (compiled shaders) built for this frame; 0 when all came from the cache.
+    pub pipelines_built: u32,
+    /// Time spent building them.
+    pub pipeline_build_time: Duration,
 }
 
 impl RenderStats {

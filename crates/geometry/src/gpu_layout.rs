@@ -1,17 +1,15 @@
 //! GPU parameter structs of free-form solids: plain `#[repr(C)]` (bytemuck) mirrors of quadrics,
 //! perturbations, leaves, the postfix CSG program and solids, in f32 and **relative to a
-//! reference point** (the camera), plus the WGSL declarations generated from the same tables.
+//! reference point** (the GPU backend's anchor), each declared once with
+//! [`fray_core::gpu_struct!`], which generates its WGSL twin from the same field list.
 //!
 //! Positions are made relative in f64 before they are rounded to f32 (a quadric's coefficients
 //! are about its own origin, so only origins and boxes move), which keeps far-from-origin scenes
-//! as accurate on the GPU as scenes at the origin. Every struct is built from 16-byte vectors, so
-//! the Rust layout and the WGSL storage layout coincide; [`WgslStruct::layout`] computes each
-//! table's WGSL offsets, which a test checks against `size_of`/`offset_of`, and fray-gpu's naga
-//! test checks the generated WGSL itself.
+//! as accurate on the GPU as scenes at the origin. Boxes are rounded outward.
 
 use crate::{CsgOp, Quadric, Solid};
-use bytemuck::{Pod, Zeroable};
 use fray_core::Aabb;
+use fray_core::gpu_struct::GpuStruct;
 use glam::DVec3;
 
 /// Op codes of the flat postfix program, in the low two bits of each word; a leaf's index (into
@@ -23,44 +21,55 @@ pub const OP_NEG: u32 = 3;
 /// Bits of a program word that hold the op code.
 pub const OP_BITS: u32 = 2;
 
-/// A quadric relative to the reference point: `origin.xyz` (w unused) and the ten coefficients
-/// `c0 = (A11, A22, A33, A12)`, `c1 = (A13, A23, A14, A24)`, `c2 = (A34, A44, –, –)`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuQuadric {
-    pub origin: [f32; 4],
-    pub c0: [f32; 4],
-    pub c1: [f32; 4],
-    pub c2: [f32; 4],
+fray_core::gpu_struct! {
+    /// A quadric relative to the reference point: `origin.xyz` (w unused) and the ten
+    /// coefficients `c0 = (A11, A22, A33, A12)`, `c1 = (A13, A23, A14, A24)`, `c2 = (A34, A44, –, –)`.
+    pub struct GpuQuadric {
+        pub origin: [f32; 4],
+        pub c0: [f32; 4],
+        pub c1: [f32; 4],
+        pub c2: [f32; 4],
+    }
 }
 
-/// A perturbation `f · Q³` where `Q > 0`: `params.x` is the form factor `f`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuPerturbation {
-    pub quadric: GpuQuadric,
-    pub params: [f32; 4],
+fray_core::gpu_struct! {
+    /// A perturbation `f · Q³` where `Q > 0`.
+    pub struct GpuPerturbation {
+        pub quadric: GpuQuadric,
+        /// The form factor `f`.
+        pub form_factor: f32,
+        pub pad: f32,
+        pub pad2: [f32; 2],
+    }
 }
 
-/// A CSG leaf (free form): base quadric, box (relative), and
-/// `info = (clips, first perturbation, end of perturbations, caller's tag e.g. material)`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuLeaf {
-    pub base: GpuQuadric,
-    pub box_min: [f32; 4],
-    pub box_max: [f32; 4],
-    pub info: [u32; 4],
+fray_core::gpu_struct! {
+    /// A CSG leaf (free form): base quadric, box (relative), whether the box clips it, its
+    /// perturbations `[first_perturbation, end_perturbation)` and the caller's tag (e.g. its
+    /// material).
+    pub struct GpuLeaf {
+        pub base: GpuQuadric,
+        pub box_min: [f32; 4],
+        pub box_max: [f32; 4],
+        /// 1 if the box clips the leaf's shape, else 0.
+        pub clips: u32,
+        pub first_perturbation: u32,
+        pub end_perturbation: u32,
+        pub material: u32,
+    }
 }
 
-/// A solid: its box (relative) and `info = (first leaf, leaf count, first program word,
-/// program length)`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuSolid {
-    pub box_min: [f32; 4],
-    pub box_max: [f32; 4],
-    pub info: [u32; 4],
+fray_core::gpu_struct! {
+    /// A solid: its box (relative), its leaves `[first_leaf, first_leaf + leaf_count)` and its
+    /// program `[first_word, first_word + word_count)` of the program array.
+    pub struct GpuSolid {
+        pub box_min: [f32; 4],
+        pub box_max: [f32; 4],
+        pub first_leaf: u32,
+        pub leaf_count: u32,
+        pub first_word: u32,
+        pub word_count: u32,
+    }
 }
 
 /// All solids of a scene flattened into upload-ready arrays.
@@ -145,7 +154,8 @@ impl GpuSolids {
             for p in leaf.perturbations() {
                 self.perturbations.push(GpuPerturbation {
                     quadric: GpuQuadric::new(&p.quadric, self.reference),
-                    params: [p.form_factor as f32, 0.0, 0.0, 0.0],
+                    form_factor: p.form_factor as f32,
+                    ..GpuPerturbation::default()
                 });
             }
             let end = self.perturbations.len() as u32;
@@ -155,7 +165,10 @@ impl GpuSolids {
                 base: GpuQuadric::new(leaf.base(), self.reference),
                 box_min,
                 box_max,
-                info: [u32::from(leaf.clips()), start, end, tag(i)],
+                clips: u32::from(leaf.clips()),
+                first_perturbation: start,
+                end_perturbation: end,
+                material: tag(i),
             });
         }
         self.program.extend(
@@ -168,84 +181,16 @@ impl GpuSolids {
         self.solids.push(GpuSolid {
             box_min,
             box_max,
-            info: [
-                first_leaf,
-                solid.leaves().len() as u32,
-                first_word,
-                solid.program().len() as u32,
-            ],
+            first_leaf,
+            leaf_count: solid.leaves().len() as u32,
+            first_word,
+            word_count: solid.program().len() as u32,
         });
         self.max_leaves = self.max_leaves.max(solid.leaves().len() as u32);
         self.max_perturbations = self.max_perturbations.max(perturbations);
         self.max_stack = self.max_stack.max(solid.max_stack() as u32);
     }
 }
-
-/// A WGSL struct declaration mirroring a Rust `#[repr(C)]` struct: name and `(field, WGSL type)`
-/// in order. Types are limited to 16-byte `vec4`s and nested mirrored structs, so offsets agree.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct WgslStruct {
-    pub name: &'static str,
-    pub fields: &'static [(&'static str, &'static str)],
-}
-
-impl WgslStruct {
-    /// The WGSL declaration.
-    pub fn declaration(&self) -> String {
-        let mut s = format!("struct {} {{\n", self.name);
-        for (field, ty) in self.fields {
-            s.push_str(&format!("    {field}: {ty},\n"));
-        }
-        s.push_str("}\n");
-        s
-    }
-
-    /// The byte offset of each field and the struct's size as WGSL lays it out, given the size
-    /// of each field type (all types here are 16-byte aligned, so fields pack back to back).
-    pub fn layout(&self, type_size: impl Fn(&str) -> usize) -> (Vec<usize>, usize) {
-        let mut offset = 0;
-        let mut offsets = Vec::with_capacity(self.fields.len());
-        for (_, ty) in self.fields {
-            offsets.push(offset);
-            offset += type_size(ty);
-        }
-        (offsets, offset)
-    }
-}
-
-/// The WGSL mirrors of this module's structs (in dependency order).
-pub const WGSL_STRUCTS: [WgslStruct; 4] = [
-    WgslStruct {
-        name: "GpuQuadric",
-        fields: &[
-            ("origin", "vec4<f32>"),
-            ("c0", "vec4<f32>"),
-            ("c1", "vec4<f32>"),
-            ("c2", "vec4<f32>"),
-        ],
-    },
-    WgslStruct {
-        name: "GpuPerturbation",
-        fields: &[("quadric", "GpuQuadric"), ("params", "vec4<f32>")],
-    },
-    WgslStruct {
-        name: "GpuLeaf",
-        fields: &[
-            ("base", "GpuQuadric"),
-            ("box_min", "vec4<f32>"),
-            ("box_max", "vec4<f32>"),
-            ("info", "vec4<u32>"),
-        ],
-    },
-    WgslStruct {
-        name: "GpuSolid",
-        fields: &[
-            ("box_min", "vec4<f32>"),
-            ("box_max", "vec4<f32>"),
-            ("info", "vec4<u32>"),
-        ],
-    },
-];
 
 /// The WGSL source of the geometry structs and op-code constants, generated from Rust.
 pub fn wgsl_declarations() -> String {
@@ -259,8 +204,13 @@ pub fn wgsl_declarations() -> String {
     ] {
         s.push_str(&format!("const {name}: u32 = {value}u;\n"));
     }
-    for st in WGSL_STRUCTS {
-        s.push_str(&st.declaration());
+    for declaration in [
+        GpuQuadric::declaration(),
+        GpuPerturbation::declaration(),
+        GpuLeaf::declaration(),
+        GpuSolid::declaration(),
+    ] {
+        s.push_str(&declaration);
     }
     s
 }
@@ -269,59 +219,16 @@ pub fn wgsl_declarations() -> String {
 mod tests {
     use super::*;
     use crate::{FreeForm, Perturbation, Shape};
-    use std::mem::{offset_of, size_of};
-
-    /// Size of a field type in the table (all 16-byte vectors or mirrored structs).
-    fn wgsl_size(ty: &str) -> usize {
-        match ty {
-            "vec4<f32>" | "vec4<u32>" => 16,
-            "GpuQuadric" => size_of::<GpuQuadric>(),
-            other => panic!("unexpected WGSL type {other}"),
-        }
-    }
 
     #[test]
-    fn wgsl_tables_match_rust_layouts() {
-        let rust: [(usize, Vec<usize>); 4] = [
-            (
-                size_of::<GpuQuadric>(),
-                vec![
-                    offset_of!(GpuQuadric, origin),
-                    offset_of!(GpuQuadric, c0),
-                    offset_of!(GpuQuadric, c1),
-                    offset_of!(GpuQuadric, c2),
-                ],
-            ),
-            (
-                size_of::<GpuPerturbation>(),
-                vec![
-                    offset_of!(GpuPerturbation, quadric),
-                    offset_of!(GpuPerturbation, params),
-                ],
-            ),
-            (
-                size_of::<GpuLeaf>(),
-                vec![
-                    offset_of!(GpuLeaf, base),
-                    offset_of!(GpuLeaf, box_min),
-                    offset_of!(GpuLeaf, box_max),
-                    offset_of!(GpuLeaf, info),
-                ],
-            ),
-            (
-                size_of::<GpuSolid>(),
-                vec![
-                    offset_of!(GpuSolid, box_min),
-                    offset_of!(GpuSolid, box_max),
-                    offset_of!(GpuSolid, info),
-                ],
-            ),
-        ];
-        for (st, (size, offsets)) in WGSL_STRUCTS.iter().zip(rust) {
-            assert_eq!(st.layout(wgsl_size), (offsets, size), "{}", st.name);
-        }
+    fn wgsl_layouts_match_rust_layouts() {
+        GpuQuadric::check_layout().unwrap();
+        GpuPerturbation::check_layout().unwrap();
+        GpuLeaf::check_layout().unwrap();
+        GpuSolid::check_layout().unwrap();
         let text = wgsl_declarations();
         assert!(text.contains("struct GpuLeaf {") && text.contains("const OP_NEG: u32 = 3u;"));
+        assert!(text.contains("    first_perturbation: u32,\n"));
     }
 
     #[test]
@@ -346,12 +253,25 @@ mod tests {
         assert_eq!(g.perturbations.len(), 1);
         assert_eq!(g.leaves[0].base.origin, [0.0, 0.0, 5.0, 0.0]);
         assert_eq!(g.leaves[1].base.origin, [0.0, 1.0, 5.0, 0.0]);
-        assert_eq!(g.leaves[1].info, [0, 1, 1, 11]);
+        let l = g.leaves[1];
+        assert_eq!(
+            (
+                l.clips,
+                l.first_perturbation,
+                l.end_perturbation,
+                l.material
+            ),
+            (0, 1, 1, 11)
+        );
         assert_eq!(
             g.program,
             vec![OP_LEAF, (1 << OP_BITS) | OP_LEAF, OP_NEG, OP_MIN]
         );
-        assert_eq!(g.solids[0].info, [0, 2, 0, 4]);
+        let so = g.solids[0];
+        assert_eq!(
+            (so.first_leaf, so.leaf_count, so.first_word, so.word_count),
+            (0, 2, 0, 4)
+        );
         assert_eq!((g.max_leaves, g.max_perturbations, g.max_stack), (2, 1, 2));
         // The f32 box holds the f64 one.
         let b = solid.bounds();

@@ -1,18 +1,18 @@
-//! GPU frame time (dispatch + readback; pipeline and work list built once beforehand) of
-//! data/scenes/csg.ron and turboprop.ron at 1024², with the quadtree work list (`culled`) and
-//! with every tile and every object (`unculled`), plus the host-side work-list build, on whatever
-//! adapter wgpu finds; the adapter's name is printed and put into the benchmark id. Without an
-//! adapter the benchmark says so and measures nothing. Where the device has timestamp queries,
-//! each frame benchmark also prints the mean GPU kernel time of the frames it ran (the compute
-//! passes alone, `PassOutput::kernel_time`) next to their mean frame time, so that one run tells
-//! kernel from host and transfer time.
+//! GPU frame time of data/scenes/csg.ron and turboprop.ron at 1024², with the quadtree work list
+//! (`culled`) and with every tile and every object (`unculled`): the scene uploaded once and
+//! rendered frame after frame (`resident`: each frame rebases, builds and uploads its work list,
+//! runs the passes and reads the frame back), a frame from a moved camera (`moved`), and a
+//! whole `render` (upload + pipelines from the cache + frame), on whatever adapter wgpu finds;
+//! the adapter's name is printed and put into the benchmark id. Without an adapter the benchmark
+//! says so and measures nothing. Where the device has timestamp queries, each frame benchmark
+//! also prints the mean GPU time of its passes next to its mean frame time, so that one run
+//! tells kernel from host and transfer time.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use fray_geometry::gpu_layout::GpuSolids;
-use fray_gpu::{GpuRenderer, GpuSettings, GpuWork};
+use fray_gpu::{GpuRenderer, GpuSettings, View};
 use std::cell::Cell;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 fn frames(c: &mut Criterion) {
     let gpu = match GpuRenderer::new() {
@@ -41,34 +41,29 @@ fn frames(c: &mut Criterion) {
         let mut scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         scene.width = 1024;
         scene.height = 1024;
-        let mut solids = GpuSolids::new(fray_gpu::params::reference_point(&scene.camera));
-        for object in &scene.objects {
-            solids.push(&object.solid, |_| 0);
-        }
-        group.bench_function(format!("{name}_work_list"), |b| {
-            b.iter(|| GpuWork::culled(&scene, &solids).map(|w| w.items.len()))
-        });
         for culling in [true, false] {
             let settings = GpuSettings {
                 culling,
                 ..GpuSettings::for_scene(&scene)
             };
-            let pass = gpu
-                .prepare(&scene, &settings)
+            let mut resident = gpu
+                .upload(&scene, &settings)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let view = View::of_scene(&scene, settings.samples);
             let label = if culling { "culled" } else { "unculled" };
-            let id = format!("{name}_shaded_{label}");
+            let id = format!("{name}_shaded_{label}_resident");
             // (frames, their wall time, their kernel time) over every frame criterion ran.
             let totals = Cell::new((0u32, Duration::ZERO, Duration::ZERO));
             group.bench_function(&id, |b| {
                 b.iter(|| {
-                    let start = Instant::now();
-                    let out = pass.run(gpu.context());
-                    let wall = start.elapsed();
+                    let frame = resident.render(&view);
                     let (n, w, k) = totals.get();
-                    let kernel = out.as_ref().ok().and_then(|o| o.kernel_time);
-                    totals.set((n + 1, w + wall, k + kernel.unwrap_or_default()));
-                    out.map(|o| o.hits)
+                    let (wall, kernel) = frame
+                        .as_ref()
+                        .map(|f| (f.stats.elapsed, f.stats.kernel_time.unwrap_or_default()))
+                        .unwrap_or_default();
+                    totals.set((n + 1, w + wall, k + kernel));
+                    frame.map(|f| f.stats.hits)
                 })
             });
             let (n, wall, kernel) = totals.get();
@@ -80,13 +75,54 @@ fn frames(c: &mut Criterion) {
                     "n/a (no timestamp queries)".to_owned()
                 };
                 eprintln!(
-                    "gpu bench: {id} [{adapter}]: mean of {n} frames: frame {:.2} ms, GPU kernel {kernel}",
+                    "gpu bench: {id} [{adapter}]: mean of {n} frames: frame {:.2} ms, GPU passes {kernel}",
                     ms(wall)
                 );
             }
+            if culling {
+                // The camera orbits a little every frame: rebase + quadtree + work list.
+                let mut moved = view;
+                let mut angle = 0.0f64;
+                group.bench_function(format!("{name}_shaded_{label}_moved_camera"), |b| {
+                    b.iter(|| {
+                        angle += 0.01;
+                        moved.camera = orbit(&scene, angle);
+                        resident.render(&moved).map(|f| f.stats.hits)
+                    })
+                });
+            }
         }
+        group.bench_function(format!("{name}_render_from_scratch"), |b| {
+            b.iter(|| {
+                gpu.render(&scene, &GpuSettings::for_scene(&scene))
+                    .map(|f| f.stats.hits)
+            })
+        });
     }
     group.finish();
+}
+
+/// The scene's pinhole camera turned by `angle` radians about the vertical through its target.
+fn orbit(scene: &fray_scene::Scene, angle: f64) -> fray_core::Projector {
+    match scene.camera {
+        fray_core::Projector::Pinhole(p) => {
+            let target = p.eye + p.basis.forward * 10.0;
+            let rel = p.eye - target;
+            let (s, c) = angle.sin_cos();
+            let eye =
+                target + glam::DVec3::new(c * rel.x + s * rel.z, rel.y, -s * rel.x + c * rel.z);
+            fray_core::Pinhole::new(
+                eye,
+                target,
+                glam::DVec3::Y,
+                2.0 * p.tan_half_fov_y.atan(),
+                p.near,
+            )
+            .map(fray_core::Projector::Pinhole)
+            .unwrap_or(scene.camera)
+        }
+        other => other,
+    }
 }
 
 criterion_group!(benches, frames);

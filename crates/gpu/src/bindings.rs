@@ -1,35 +1,374 @@
-//! Buffer and bind-group-layout building blocks shared by the passes.
+//! The bind groups, one per subsystem, declared once: each [`Group`] lists its bindings with
+//! their WGSL names and types, from which both the WGSL declarations (`shader::compose` inserts
+//! them where a module says `// #bindings …`) and the wgpu bind-group layouts are made — the two
+//! sides cannot disagree. A module's groups are numbered in the order its `#bindings` line names
+//! them, which is the order its pass binds them in (a test checks every pass): pipeline layouts
+//! have no gaps. Every pipeline stays within wgpu's default limits: at most 4 groups and 8 storage
+//! buffers per stage (uniform arrays hold the small per-scene tables).
 
 use crate::GpuContext;
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
-/// A compute-stage buffer binding of type `ty` at `binding`.
-pub(crate) fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
+/// What a binding is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    Uniform,
+    StorageRead,
+    StorageReadWrite,
+    /// A write-only 2D storage texture of this format.
+    Texture(wgpu::TextureFormat),
+}
+
+/// One binding of a group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Binding {
+    pub binding: u32,
+    pub name: &'static str,
+    /// The WGSL type (for textures, the texel format's WGSL name).
+    pub wgsl: &'static str,
+    pub access: Access,
+}
+
+/// A bind group: its bindings (its index is its position in a module's `#bindings` line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Group {
+    /// The name modules use in `// #bindings …`.
+    pub name: &'static str,
+    pub bindings: &'static [Binding],
+}
+
+const fn binding(binding: u32, name: &'static str, wgsl: &'static str, access: Access) -> Binding {
+    Binding {
         binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
+        name,
+        wgsl,
+        access,
     }
 }
 
-/// A storage buffer holding `data`, or the single element `fill` when `data` is empty (WebGPU
-/// has no empty bindings).
-pub(crate) fn storage<T: Pod>(ctx: &GpuContext, label: &str, data: &[T], fill: T) -> wgpu::Buffer {
-    let data: Vec<T> = if data.is_empty() {
-        vec![fill]
+use Access::{StorageRead, StorageReadWrite, Uniform};
+
+/// The frame: its parameters, the rays in flight, the work counters.
+pub const FRAME: Group = Group {
+    name: "frame",
+    bindings: &[
+        binding(0, "frame", "FrameParams", Uniform),
+        binding(1, "paths", "array<GpuPath>", StorageReadWrite),
+        binding(
+            2,
+            "counters",
+            "array<atomic<u32>, COUNTER_WORDS>",
+            StorageReadWrite,
+        ),
+    ],
+};
+
+/// The free forms (camera-relative) and `indices`: the CSG programs, then the frame's work-list
+/// index arrays (active leaves, active perturbations, candidates' program pairs).
+pub const FREE_FORMS: Group = Group {
+    name: "free_forms",
+    bindings: &[
+        binding(0, "solids", "array<GpuSolid>", StorageRead),
+        binding(1, "leaves", "array<GpuLeaf>", StorageRead),
+        binding(2, "perturbations", "array<GpuPerturbation>", StorageRead),
+        binding(3, "indices", "array<u32>", StorageRead),
+    ],
+};
+
+/// The frame's work list: tiles and their candidates.
+pub const WORK: Group = Group {
+    name: "work",
+    bindings: &[
+        binding(0, "items", "array<WorkItem>", StorageRead),
+        binding(1, "candidates", "array<Candidate>", StorageRead),
+    ],
+};
+
+/// Lights (camera-relative) and materials, for the shade pass.
+pub const SHADING: Group = Group {
+    name: "shading",
+    bindings: &[
+        binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform),
+        binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform),
+    ],
+};
+
+/// The terrains (camera-relative parameters, this view's level-of-detail parameters) and their
+/// pyramids and samples, concatenated.
+pub const TERRAINS: Group = Group {
+    name: "terrains",
+    bindings: &[
+        binding(
+            0,
+            "terrains",
+            "array<GpuTerrainParams, MAX_TERRAINS>",
+            Uniform,
+        ),
+        binding(1, "terrain_lods", "array<vec4<f32>, MAX_TERRAINS>", Uniform),
+        binding(2, "pyramid", "array<f32>", StorageRead),
+        binding(3, "samples", "array<f32>", StorageRead),
+    ],
+};
+
+/// The frame's images (the resolve pass).
+pub const TARGETS: Group = Group {
+    name: "targets",
+    bindings: &[
+        binding(
+            0,
+            "colour_depth",
+            "rgba32float",
+            Access::Texture(wgpu::TextureFormat::Rgba32Float),
+        ),
+        binding(
+            1,
+            "normals",
+            "rgba32float",
+            Access::Texture(wgpu::TextureFormat::Rgba32Float),
+        ),
+        binding(
+            2,
+            "display_image",
+            "rgba8unorm",
+            Access::Texture(wgpu::TextureFormat::Rgba8Unorm),
+        ),
+    ],
+};
+
+/// The rebase pass: its parameters, one array of GPU structs in and out.
+pub const REBASE: Group = Group {
+    name: "rebase",
+    bindings: &[
+        binding(0, "rebase", "RebaseParams", Uniform),
+        binding(1, "source", "array<vec4<u32>>", StorageRead),
+        binding(2, "moved", "array<vec4<u32>>", StorageReadWrite),
+    ],
+};
+
+/// The batch terrain pass (`TerrainPass`): its parameters — ray count, terrain, pixel LOD 0/1,
+/// the bits of the bicubic tolerance — and rays in, hits out.
+pub const TERRAIN_BATCH: Group = Group {
+    name: "terrain_batch",
+    bindings: &[
+        binding(0, "batch", "vec4<u32>", Uniform),
+        binding(1, "rays", "array<vec4<f32>>", StorageRead),
+        binding(2, "hits", "array<vec4<f32>>", StorageReadWrite),
+    ],
+};
+
+/// Every group, for the include step.
+pub const GROUPS: [Group; 8] = [
+    FRAME,
+    FREE_FORMS,
+    WORK,
+    SHADING,
+    TERRAINS,
+    TARGETS,
+    REBASE,
+    TERRAIN_BATCH,
+];
+
+impl Group {
+    /// The WGSL declarations of the group's bindings as group `index`.
+    pub fn declarations(&self, index: u32) -> String {
+        let mut s = format!(
+            "// Bind group {index} ({}), generated by fray_gpu::bindings.\n",
+            self.name
+        );
+        for b in self.bindings {
+            let at = format!("@group({index}) @binding({})", b.binding);
+            let line = match b.access {
+                Access::Uniform => format!("{at} var<uniform> {}: {};\n", b.name, b.wgsl),
+                StorageRead => format!("{at} var<storage, read> {}: {};\n", b.name, b.wgsl),
+                StorageReadWrite => {
+                    format!("{at} var<storage, read_write> {}: {};\n", b.name, b.wgsl)
+                }
+                Access::Texture(_) => format!(
+                    "{at} var {}: texture_storage_2d<{}, write>;\n",
+                    b.name, b.wgsl
+                ),
+            };
+            s.push_str(&line);
+        }
+        s
+    }
+
+    /// The wgpu layout entries of the group (compute stage).
+    pub fn layout_entries(&self) -> Vec<wgpu::BindGroupLayoutEntry> {
+        self.bindings
+            .iter()
+            .map(|b| wgpu::BindGroupLayoutEntry {
+                binding: b.binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: match b.access {
+                    Access::Uniform => buffer(wgpu::BufferBindingType::Uniform),
+                    StorageRead => buffer(wgpu::BufferBindingType::Storage { read_only: true }),
+                    StorageReadWrite => {
+                        buffer(wgpu::BufferBindingType::Storage { read_only: false })
+                    }
+                    Access::Texture(format) => wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                },
+                count: None,
+            })
+            .collect()
+    }
+
+    /// Storage buffers the group binds.
+    pub fn storage_buffers(&self) -> u32 {
+        self.bindings
+            .iter()
+            .filter(|b| matches!(b.access, StorageRead | StorageReadWrite))
+            .count() as u32
+    }
+
+    /// The bind-group layout on `device`.
+    pub fn layout(&self, device: &wgpu::Device) -> wgpu::BindGroupLayout {
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(self.name),
+            entries: &self.layout_entries(),
+        })
+    }
+
+    /// A bind group of `resources`, in the group's binding order.
+    pub fn bind(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        resources: &[wgpu::BindingResource<'_>],
+    ) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = self
+            .bindings
+            .iter()
+            .zip(resources)
+            .map(|(b, r)| wgpu::BindGroupEntry {
+                binding: b.binding,
+                resource: r.clone(),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.name),
+            layout,
+            entries: &entries,
+        })
+    }
+}
+
+fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+/// A buffer holding `data` (or the single element `fill` when `data` is empty: WebGPU has no
+/// empty bindings) with `usage`, checked against the device's limits first.
+pub(crate) fn upload<T: Pod>(
+    ctx: &GpuContext,
+    label: &'static str,
+    data: &[T],
+    fill: T,
+    usage: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer, crate::GpuError> {
+    let data: std::borrow::Cow<[T]> = if data.is_empty() {
+        std::borrow::Cow::Owned(vec![fill])
     } else {
-        data.to_vec()
+        std::borrow::Cow::Borrowed(data)
     };
-    ctx.device
+    let bytes = std::mem::size_of_val(data.as_ref()) as u64;
+    check_buffer(ctx, label, bytes, usage)?;
+    Ok(ctx
+        .device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
             contents: bytemuck::cast_slice(&data),
-            usage: wgpu::BufferUsages::STORAGE,
-        })
+            usage,
+        }))
+}
+
+/// An empty buffer of `bytes` with `usage`, checked against the device's limits first.
+pub(crate) fn empty(
+    ctx: &GpuContext,
+    label: &'static str,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer, crate::GpuError> {
+    check_buffer(ctx, label, bytes, usage)?;
+    Ok(ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage,
+        mapped_at_creation: false,
+    }))
+}
+
+/// Refuses a buffer the device cannot hold or bind: larger than `max_buffer_size`, a storage
+/// buffer larger than `max_storage_buffer_binding_size`, a uniform larger than
+/// `max_uniform_buffer_binding_size`.
+pub(crate) fn check_buffer(
+    ctx: &GpuContext,
+    what: &'static str,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> Result<(), crate::GpuError> {
+    let limits = &ctx.limits;
+    let mut limit = limits.max_buffer_size;
+    if usage.contains(wgpu::BufferUsages::STORAGE) {
+        limit = limit.min(limits.max_storage_buffer_binding_size);
+    }
+    if usage.contains(wgpu::BufferUsages::UNIFORM) {
+        limit = limit.min(limits.max_uniform_buffer_binding_size);
+    }
+    if bytes > limit {
+        return Err(crate::GpuError::TooLarge {
+            what,
+            needed: bytes,
+            limit,
+        });
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_have_unique_bindings_and_fit_the_default_limits() {
+        let defaults = wgpu::Limits::default();
+        for g in GROUPS {
+            let mut seen = std::collections::HashSet::new();
+            for b in g.bindings {
+                assert!(
+                    seen.insert(b.binding),
+                    "{}: binding {} twice",
+                    g.name,
+                    b.binding
+                );
+            }
+            assert_eq!(g.layout_entries().len(), g.bindings.len());
+            assert!(g.declarations(2).contains("@group(2)"));
+        }
+        // The passes' group sets (see `passes`): storage buffers per stage within the default.
+        for set in [
+            &[FRAME, FREE_FORMS, WORK][..],
+            &[FRAME, WORK, TERRAINS],
+            &[FRAME, FREE_FORMS, SHADING, TERRAINS],
+            &[FRAME, TARGETS],
+            &[REBASE],
+            &[TERRAIN_BATCH, TERRAINS],
+        ] {
+            let storage: u32 = set.iter().map(Group::storage_buffers).sum();
+            assert!(
+                storage <= defaults.max_storage_buffers_per_shader_stage,
+                "{storage}"
+            );
+            assert!(set.len() as u32 <= defaults.max_bind_groups);
+        }
+    }
 }

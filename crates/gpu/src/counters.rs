@@ -101,6 +101,19 @@ pub fn wgsl_constants() -> Vec<(String, u32)> {
     c
 }
 
+/// The WGSL tables `flush_counts` (counters.wgsl) walks: per workgroup slot, its first word
+/// (`COUNTER_WORD`) and whether it is a 64-bit pair (`COUNTER_WIDE`).
+pub fn wgsl_tables() -> String {
+    let words: Vec<String> = ALL.iter().map(|c| format!("{}u", c.word())).collect();
+    let wide: Vec<String> = ALL.iter().map(|c| c.wide().to_string()).collect();
+    format!(
+        "const COUNTER_WORD: array<u32, {n}> = array<u32, {n}>({});\nconst COUNTER_WIDE: array<bool, {n}> = array<bool, {n}>({});\n",
+        words.join(", "),
+        wide.join(", "),
+        n = ALL.len()
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -23,6 +23,8 @@ pub enum GpuError {
     /// The scene uses a feature this backend does not draw yet (`Auto` renders it on the CPU).
     #[error("the GPU backend does not draw {feature} yet; render this scene with the CPU backend")]
     Unsupported { feature: &'static str },
+    #[error(transparent)]
+    Budget(fray_core::BudgetError),
     #[error("the scene needs {what} = {needed}, more than this backend supports ({limit})")]
     TooLarge {
         what: &'static str,

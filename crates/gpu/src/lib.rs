@@ -1,9 +1,14 @@
-//! `fray-gpu`: the wgpu backend. Each pixel's projector ray is cast against every free-form
-//! solid by the same halving search as `fray-geometry` (exact per-term bounds, monotone segments
-//! finished by Illinois, CSG by a small stack over the postfix program), shaded like
-//! `fray-trace` (ambient + Lambert albedo/π + normalised Phong, shadow rays), in f32 with every
-//! position relative to the camera. The pipeline is specialised to the scene (`override`
-//! constants): absent features compile to nothing. ε on the GPU is
+//! `fray-gpu`: the wgpu backend, in passes (one struct each, `passes`): the scene stays resident
+//! on the device (`resident`), uploaded once relative to a fixed anchor and moved to each
+//! frame's camera on the GPU (the rebase pass); per frame the quadtree work list, then ray
+//! generation (with anti-aliasing samples), intersection per primitive kind — free forms by the
+//! same halving search as `fray-geometry` (exact per-term bounds widened by their rounding,
+//! monotone segments finished by Illinois, CSG by one evaluator over the postfix program),
+//! terrains by the max-pyramid search of `fray-terrain` — narrowing each ray's nearest hit, then
+//! surfaces and shading like `fray-trace` (ambient + Lambert albedo/π + normalised Phong, shadow
+//! rays any-hit per kind), then resolve into storage textures (tone mapped on the GPU), read
+//! back only to make a [`fray_core::Frame`]. f32, every position camera-relative; pipelines
+//! specialised to the scene (absent features compile to nothing) and cached. ε on the GPU is
 //! `max(scene ε, 2⁻²⁰ · camera distance)` ([`gpu_epsilon`]).
 //!
 //! ```no_run
@@ -11,19 +16,27 @@
 //!     "Scene(camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
 //!     "inline.ron",
 //! )?;
-//! let frame = fray_gpu::render(&scene, &fray_gpu::GpuSettings::for_scene(&scene))?;
-//! assert!(frame.stats.backend.starts_with("gpu"));
+//! let gpu = fray_gpu::GpuRenderer::new()?;
+//! let settings = fray_gpu::GpuSettings::for_scene(&scene);
+//! let mut resident = gpu.upload(&scene, &settings)?;
+//! let view = fray_gpu::View::of_scene(&scene, settings.samples);
+//! let first = resident.render(&view)?;
+//! // A second frame of the resident scene builds no pipeline and uploads no scene.
+//! let second = resident.render(&view)?;
+//! assert_eq!((second.stats.pipelines_built, second.stats.scene_uploaded_bytes), (0, 0));
+//! assert!(first.stats.backend.starts_with("gpu"));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-mod bindings;
+pub mod bindings;
 mod context;
 pub mod counters;
 mod error;
-pub mod freeform_pass;
 pub mod params;
+pub mod passes;
 mod readback;
 mod render;
+pub mod resident;
 pub mod shader;
 pub mod terrain_pass;
 mod timestamps;
@@ -31,10 +44,10 @@ pub mod work;
 
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use error::GpuError;
-pub use freeform_pass::{FreeFormPass, PassOutput};
+pub use params::View;
 pub use render::{
-    EPSILON_FLOOR, GpuRenderer, GpuSettings, SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon,
-    render,
+    EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
+    SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon, gpu_epsilon_for, render,
 };
 pub use terrain_pass::TerrainPass;
 pub use work::GpuWork;

@@ -1,9 +1,11 @@
-//! The per-frame parameters of the free-form pass (camera, ε, lights, materials) as plain
-//! `#[repr(C)]` structs with Rust-generated WGSL mirrors, all positions relative to the eye.
+//! The GPU structs the passes share — frame parameters, rays in flight (paths), lights,
+//! materials — each declared once with [`fray_core::gpu_struct!`] (the WGSL twin is generated),
+//! and how a scene and a view fill them. Positions are camera-relative in the passes: the
+//! resident scene is anchor-relative and the rebase pass moves it to the camera every frame
+//! (`passes::rebase`).
 
-use bytemuck::{Pod, Zeroable};
-use fray_core::Projector;
-use fray_geometry::gpu_layout::{WgslStruct, vec4};
+use fray_core::{PixelSamples, Projector, ToneMap};
+use fray_geometry::gpu_layout::vec4;
 use fray_scene::{Light, Material, Scene};
 use glam::DVec3;
 
@@ -11,87 +13,111 @@ use glam::DVec3;
 pub const PROJECTOR_PINHOLE: u32 = 0;
 pub const PROJECTOR_PARALLEL: u32 = 1;
 pub const PROJECTOR_SPHERE: u32 = 2;
-/// Light kinds (`GpuLight::kind.x`).
+/// Light kinds ([`GpuLight::kind`]).
 pub const LIGHT_SUN: u32 = 0;
 pub const LIGHT_POINT: u32 = 1;
+/// Tone maps of the display texture ([`FrameParams::tone_map`]).
+pub const TONE_MAP_CLAMP: u32 = 0;
+pub const TONE_MAP_REINHARD: u32 = 1;
 
-/// Frame parameters (one uniform buffer).
-///
-/// `size = (width, height, first row of this dispatch, solid count)`,
-/// `mode = (projector kind, light count, rows in this dispatch, work items in this dispatch)`;
-/// `forward.w` = pinhole `tan(fov_y/2)` or parallel half height; `right.w` = near distance;
-/// `up.w` = ε; `centre` = sphere centre (relative) and radius; `sphere = (fov_x, fov_y,
-/// ripple amplitude, ripple frequency)`; `shade.x` = shadow-ray offset.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct FrameParams {
-    pub size: [u32; 4],
-    pub mode: [u32; 4],
-    pub forward: [f32; 4],
-    pub right: [f32; 4],
-    pub up: [f32; 4],
-    pub centre: [f32; 4],
-    pub sphere: [f32; 4],
-    pub shade: [f32; 4],
-    pub background: [f32; 4],
-    pub ambient: [f32; 4],
+fray_core::gpu_struct! {
+    /// One frame's (and one band's) parameters: the view, the image, counts and settings. A
+    /// uniform; the camera-dependent and band-dependent fields are written per band.
+    pub struct FrameParams {
+        /// The view basis; `forward.w`: pinhole `tan(fov_y/2)` or parallel half height;
+        /// `right.w`: the near distance (the picture plane); `up.w` unused.
+        pub forward: [f32; 4],
+        pub right: [f32; 4],
+        pub up: [f32; 4],
+        /// Sphere picture surface: centre (camera-relative) and radius.
+        pub centre: [f32; 4],
+        /// Sphere picture surface: fov_x, fov_y, ripple amplitude, ripple frequency.
+        pub sphere: [f32; 4],
+        pub background: [f32; 4],
+        pub ambient: [f32; 4],
+        /// The camera's offset from the scene's anchor as a hi/lo pair of f32 vectors
+        /// (`hi + lo` holds the f64 offset to about 2⁻⁴⁸): the rebase pass moves the resident
+        /// scene by it.
+        pub camera_hi: [f32; 4],
+        pub camera_lo: [f32; 4],
+        /// The camera's pixel footprint (size, growth per unit distance) for terrain LOD.
+        pub footprint: [f32; 4],
+        pub width: u32,
+        pub height: u32,
+        /// The band of rows this dispatch covers.
+        pub band_y0: u32,
+        pub band_rows: u32,
+        /// Work items in this band's dispatch, and the first of them in the frame's list.
+        pub items: u32,
+        pub first_item: u32,
+        pub solids: u32,
+        pub lights: u32,
+        pub terrains: u32,
+        /// Anti-aliasing samples per pixel, their rows of strata, and the camera rays per
+        /// pixel (1, or the centre and the samples).
+        pub samples: u32,
+        pub sample_rows: u32,
+        pub rays_per_pixel: u32,
+        /// Where the candidates' (first word, length) program pairs start in `indices`.
+        pub programs_base: u32,
+        pub epsilon: f32,
+        pub shadow_offset: f32,
+        pub exposure: f32,
+        pub tone_map: u32,
+        pub pad: u32,
+        pub pad2: [u32; 2],
+    }
 }
 
-/// A light: `vector` = sun direction (unit, toward the sun) or point position (relative);
-/// `colour` = irradiance or intensity; `kind.x` = [`LIGHT_SUN`] or [`LIGHT_POINT`].
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuLight {
-    pub vector: [f32; 4],
-    pub colour: [f32; 4],
-    pub kind: [u32; 4],
+fray_core::gpu_struct! {
+    /// A ray in flight and what became of it: written by ray generation, narrowed by the
+    /// intersection passes, shaded, resolved. Camera-relative.
+    pub struct GpuPath {
+        /// Origin (xyz) and `t_near` (w; `< 0`: no ray, a degenerate projector pair).
+        pub origin: [f32; 4],
+        /// Unit direction (xyz) and the sample's box-filter weight (w).
+        pub dir: [f32; 4],
+        /// The nearest hit: `t` (x, `< 0` for none) and, for kinds that know it at hit time
+        /// (terrains), the shading normal (yzw).
+        pub hit: [f32; 4],
+        /// Radiance brought back along the ray (rgb), written by the shade pass.
+        pub radiance: [f32; 4],
+        /// The primitive hit (`fray_scene::PrimitiveKind` code, index within the kind).
+        pub kind: u32,
+        pub index: u32,
+        /// The kind's part of the hit (a terrain's levels above the finest).
+        pub part: u32,
+        pub pad: u32,
+    }
 }
 
-/// A material: ambient, diffuse albedo, specular (w = shininess).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuMaterial {
-    pub ambient: [f32; 4],
-    pub diffuse: [f32; 4],
-    pub specular: [f32; 4],
+fray_core::gpu_struct! {
+    /// A light: a sun's unit direction toward it, or a point light's position (anchor-relative
+    /// here, camera-relative after the rebase), and its irradiance or intensity.
+    pub struct GpuLight {
+        pub direction: [f32; 4],
+        pub position: [f32; 4],
+        pub colour: [f32; 4],
+        /// [`LIGHT_SUN`] or [`LIGHT_POINT`].
+        pub kind: u32,
+        pub pad: u32,
+        pub pad2: [u32; 2],
+    }
 }
 
-/// WGSL mirrors of this module's structs.
-pub const WGSL_STRUCTS: [WgslStruct; 3] = [
-    WgslStruct {
-        name: "FrameParams",
-        fields: &[
-            ("size", "vec4<u32>"),
-            ("mode", "vec4<u32>"),
-            ("forward", "vec4<f32>"),
-            ("right", "vec4<f32>"),
-            ("up", "vec4<f32>"),
-            ("centre", "vec4<f32>"),
-            ("sphere", "vec4<f32>"),
-            ("shade", "vec4<f32>"),
-            ("background", "vec4<f32>"),
-            ("ambient", "vec4<f32>"),
-        ],
-    },
-    WgslStruct {
-        name: "GpuLight",
-        fields: &[
-            ("vector", "vec4<f32>"),
-            ("colour", "vec4<f32>"),
-            ("kind", "vec4<u32>"),
-        ],
-    },
-    WgslStruct {
-        name: "GpuMaterial",
-        fields: &[
-            ("ambient", "vec4<f32>"),
-            ("diffuse", "vec4<f32>"),
-            ("specular", "vec4<f32>"),
-        ],
-    },
-];
+fray_core::gpu_struct! {
+    /// A material (fray-trace's Phong-style model).
+    pub struct GpuMaterial {
+        pub ambient: [f32; 4],
+        pub diffuse: [f32; 4],
+        pub specular: [f32; 4],
+        pub shininess: f32,
+        pub pad: f32,
+        pub pad2: [f32; 2],
+    }
+}
 
-/// The constants the shader shares with Rust.
+/// The constants the shaders share with Rust.
 pub fn wgsl_constants() -> Vec<(&'static str, u32)> {
     vec![
         ("PROJECTOR_PINHOLE", PROJECTOR_PINHOLE),
@@ -99,10 +125,12 @@ pub fn wgsl_constants() -> Vec<(&'static str, u32)> {
         ("PROJECTOR_SPHERE", PROJECTOR_SPHERE),
         ("LIGHT_SUN", LIGHT_SUN),
         ("LIGHT_POINT", LIGHT_POINT),
+        ("TONE_MAP_CLAMP", TONE_MAP_CLAMP),
+        ("TONE_MAP_REINHARD", TONE_MAP_REINHARD),
     ]
 }
 
-/// The point every GPU position is taken relative to: the projector's eye.
+/// The point a projector's rays start from (every camera-relative position is relative to it).
 pub fn reference_point(camera: &Projector) -> DVec3 {
     match camera {
         Projector::Pinhole(p) => p.eye,
@@ -120,23 +148,88 @@ pub fn projector_kind(camera: &Projector) -> u32 {
     }
 }
 
-/// The frame parameters of `scene` (rows and first row are set per dispatch).
-pub fn frame_params(scene: &Scene, epsilon: f64, shadow_offset: f64) -> FrameParams {
-    let reference = reference_point(&scene.camera);
+/// An f64 vector as a hi/lo pair of f32 vectors: `hi` its rounding, `lo` the rounding of the
+/// rest (`hi + lo` is the vector to about 2⁻⁴⁸ relative).
+pub fn hi_lo(v: DVec3) -> ([f32; 4], [f32; 4]) {
+    let hi = v.as_vec3();
+    let lo = (v - hi.as_dvec3()).as_vec3();
+    ([hi.x, hi.y, hi.z, 0.0], [lo.x, lo.y, lo.z, 0.0])
+}
+
+/// What a frame shows: the camera, the image size, the samples and how the display texture is
+/// tone mapped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    pub camera: Projector,
+    pub width: u32,
+    pub height: u32,
+    pub samples: PixelSamples,
+    pub tone_map: ToneMap,
+    pub exposure: f32,
+}
+
+impl View {
+    /// The scene's own view: its camera and image size, `samples`, clamped tone map at
+    /// exposure 1.
+    pub fn of_scene(scene: &Scene, samples: PixelSamples) -> Self {
+        Self {
+            camera: scene.camera,
+            width: scene.width,
+            height: scene.height,
+            samples,
+            tone_map: ToneMap::Clamp,
+            exposure: 1.0,
+        }
+    }
+
+    /// Camera rays per pixel: the centre alone, or the centre (depth and normals) and the
+    /// samples (colour).
+    pub fn rays_per_pixel(&self) -> u32 {
+        if self.samples.count() == 1 {
+            1
+        } else {
+            1 + self.samples.count()
+        }
+    }
+}
+
+/// The frame parameters of `scene` seen in `view` from `anchor` (band fields are set per band).
+pub fn frame_params(
+    scene: &Scene,
+    view: &View,
+    anchor: DVec3,
+    epsilon: f64,
+    shadow_offset: f64,
+) -> FrameParams {
+    let reference = reference_point(&view.camera);
+    let (camera_hi, camera_lo) = hi_lo(reference - anchor);
+    let footprint = view.camera.pixel_footprint(view.width, view.height);
     let mut f = FrameParams {
-        size: [scene.width, scene.height, 0, scene.objects.len() as u32],
-        mode: [
-            projector_kind(&scene.camera),
-            scene.lights.len() as u32,
-            scene.height,
-            0,
-        ],
-        shade: [shadow_offset as f32, 0.0, 0.0, 0.0],
         background: vec4(scene.background.as_dvec3(), 0.0),
         ambient: vec4(scene.ambient.as_dvec3(), 0.0),
+        camera_hi,
+        camera_lo,
+        footprint: [footprint.size as f32, footprint.angle as f32, 0.0, 0.0],
+        width: view.width,
+        height: view.height,
+        band_y0: 0,
+        band_rows: view.height,
+        solids: scene.objects.len() as u32,
+        lights: scene.lights.len() as u32,
+        terrains: scene.terrains.len() as u32,
+        samples: view.samples.count(),
+        sample_rows: view.samples.rows(),
+        rays_per_pixel: view.rays_per_pixel(),
+        epsilon: epsilon as f32,
+        shadow_offset: shadow_offset as f32,
+        exposure: view.exposure,
+        tone_map: match view.tone_map {
+            ToneMap::Clamp => TONE_MAP_CLAMP,
+            ToneMap::Reinhard => TONE_MAP_REINHARD,
+        },
         ..FrameParams::default()
     };
-    let (basis, k, near) = match &scene.camera {
+    let (basis, k, near) = match &view.camera {
         Projector::Pinhole(p) => (p.basis, p.tan_half_fov_y, p.near),
         Projector::Parallel(p) => (p.basis, 0.5 * p.height, p.near),
         Projector::Sphere(s) => {
@@ -152,14 +245,13 @@ pub fn frame_params(scene: &Scene, epsilon: f64, shadow_offset: f64) -> FramePar
     };
     f.forward = vec4(basis.forward, k);
     f.right = vec4(basis.right, near);
-    f.up = vec4(basis.up, epsilon);
+    f.up = vec4(basis.up, 0.0);
     f
 }
 
-/// The lights of `scene`, positions relative to the eye (one dummy entry if there are none:
-/// storage buffers cannot be empty; the light count says how many are real).
-pub fn lights(scene: &Scene) -> Vec<GpuLight> {
-    let reference = reference_point(&scene.camera);
+/// The lights of `scene`, positions relative to `anchor` (at least one entry: a uniform array
+/// cannot be empty; the light count says how many are real).
+pub fn lights(scene: &Scene, anchor: DVec3) -> Vec<GpuLight> {
     let mut out: Vec<GpuLight> = scene
         .lights
         .iter()
@@ -168,17 +260,19 @@ pub fn lights(scene: &Scene) -> Vec<GpuLight> {
                 direction,
                 irradiance,
             } => GpuLight {
-                vector: vec4(direction, 0.0),
+                direction: vec4(direction, 0.0),
                 colour: vec4(irradiance.as_dvec3(), 0.0),
-                kind: [LIGHT_SUN, 0, 0, 0],
+                kind: LIGHT_SUN,
+                ..GpuLight::default()
             },
             Light::Point {
                 position,
                 intensity,
             } => GpuLight {
-                vector: vec4(position - reference, 0.0),
+                position: vec4(position - anchor, 0.0),
                 colour: vec4(intensity.as_dvec3(), 0.0),
-                kind: [LIGHT_POINT, 0, 0, 0],
+                kind: LIGHT_POINT,
+                ..GpuLight::default()
             },
         })
         .collect();
@@ -188,7 +282,7 @@ pub fn lights(scene: &Scene) -> Vec<GpuLight> {
     out
 }
 
-/// The materials of `scene` followed by the default material, which leaves without a valid
+/// The materials of `scene` followed by the default material, which parts without a valid
 /// material index use (as fray-trace does).
 pub fn materials(scene: &Scene) -> Vec<GpuMaterial> {
     scene
@@ -198,7 +292,9 @@ pub fn materials(scene: &Scene) -> Vec<GpuMaterial> {
         .map(|m| GpuMaterial {
             ambient: vec4(m.ambient.as_dvec3(), 0.0),
             diffuse: vec4(m.diffuse.as_dvec3(), 0.0),
-            specular: vec4(m.specular.as_dvec3(), m.shininess),
+            specular: vec4(m.specular.as_dvec3(), 0.0),
+            shininess: m.shininess as f32,
+            ..GpuMaterial::default()
         })
         .collect()
 }
@@ -206,46 +302,31 @@ pub fn materials(scene: &Scene) -> Vec<GpuMaterial> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::mem::{offset_of, size_of};
+    use fray_core::gpu_struct::GpuStruct;
 
     #[test]
-    fn wgsl_tables_match_rust_layouts() {
-        let rust = [
-            (
-                size_of::<FrameParams>(),
-                vec![
-                    offset_of!(FrameParams, size),
-                    offset_of!(FrameParams, mode),
-                    offset_of!(FrameParams, forward),
-                    offset_of!(FrameParams, right),
-                    offset_of!(FrameParams, up),
-                    offset_of!(FrameParams, centre),
-                    offset_of!(FrameParams, sphere),
-                    offset_of!(FrameParams, shade),
-                    offset_of!(FrameParams, background),
-                    offset_of!(FrameParams, ambient),
-                ],
-            ),
-            (
-                size_of::<GpuLight>(),
-                vec![
-                    offset_of!(GpuLight, vector),
-                    offset_of!(GpuLight, colour),
-                    offset_of!(GpuLight, kind),
-                ],
-            ),
-            (
-                size_of::<GpuMaterial>(),
-                vec![
-                    offset_of!(GpuMaterial, ambient),
-                    offset_of!(GpuMaterial, diffuse),
-                    offset_of!(GpuMaterial, specular),
-                ],
-            ),
-        ];
-        // Every field of these structs is a 16-byte vec4.
-        for (st, (size, offsets)) in WGSL_STRUCTS.iter().zip(rust) {
-            assert_eq!(st.layout(|_| 16), (offsets, size), "{}", st.name);
+    fn wgsl_layouts_match_rust_layouts() {
+        FrameParams::check_layout().unwrap();
+        GpuPath::check_layout().unwrap();
+        GpuLight::check_layout().unwrap();
+        GpuMaterial::check_layout().unwrap();
+        // Uniform arrays need a 16-byte stride.
+        for size in [
+            std::mem::size_of::<GpuLight>(),
+            std::mem::size_of::<GpuMaterial>(),
+        ] {
+            assert_eq!(size % 16, 0);
         }
+    }
+
+    #[test]
+    fn hi_lo_holds_an_f64_offset_to_far_beyond_f32() {
+        let v = DVec3::new(1.0e6 + 0.123_456_789, -3.0e7 - 1.0e-3, 7.0);
+        let (hi, lo) = hi_lo(v);
+        for k in 0..3 {
+            let sum = f64::from(hi[k]) + f64::from(lo[k]);
+            assert!((sum - v[k]).abs() <= 1e-9 * v[k].abs().max(1.0), "{k}");
+        }
+        assert_eq!(hi_lo(DVec3::ZERO), ([0.0; 4], [0.0; 4]));
     }
 }

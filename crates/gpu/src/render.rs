@@ -1,19 +1,42 @@
-//! The GPU frame: settings, the f32 ε, and assembling a [`Frame`] from the free-form pass.
+//! The GPU frame: settings, the f32 ε, the renderer (a device and its pipeline cache) and the
+//! resident scene a frame is rendered from ([`GpuScene`]) — per frame the rebase, the quadtree
+//! work list, then per band of rows the passes (ray generation → free forms → terrains →
+//! shading → resolve into storage textures), and the textures read back into a [`Frame`].
 
-use crate::freeform_pass::FreeFormPass;
-use crate::params::reference_point;
-use crate::shader::Specialisation;
+use crate::bindings::{self, FRAME, FREE_FORMS, SHADING, TARGETS, TERRAINS, WORK};
+use crate::counters::{self, Counter};
+use crate::params::{self, FrameParams, GpuPath, View};
+use crate::passes::PipelineCache;
+use crate::passes::freeform::FreeFormPass;
+use crate::passes::raygen::RayGenPass;
+use crate::passes::rebase::RebasePass;
+use crate::passes::resolve::ResolvePass;
+use crate::passes::shade::ShadePass;
+use crate::passes::terrain::TerrainIntersectPass;
+use crate::readback::{map_read, read_back, readback_buffer};
+use crate::resident::{ResidentScene, terrain_lods};
+use crate::shader::{self, ModuleOptions, Specialisation};
+use crate::timestamps::Timestamps;
+use crate::work::{GpuWork, TILE, quadtree_config};
 use crate::{GpuContext, GpuError};
-use fray_core::{Frame, Image, RenderStats};
+use fray_core::{Frame, Image, MemoryBudget, PixelSamples, RenderStats};
 use fray_scene::Scene;
 use glam::{DVec3, Vec3};
-use std::time::Instant;
+use std::time::{Duration, Instant};
+use wgpu::BufferUsages as U;
 
 /// The f32 floor of ε relative to the camera distance: `2⁻²⁰ ≈ 9.5e-7`, about 8 f32 ulps of a
 /// distance — below it f32 halving cannot make progress and roots are not resolved better.
 pub const EPSILON_FLOOR: f64 = 1.0 / 1_048_576.0;
 /// Shadow rays start this many (GPU) ε along the normal: far beyond the f32 hit error.
 pub const SHADOW_OFFSET_EPSILONS: f64 = 100.0;
+/// Upper bound of one band's rays in flight (smaller bands keep device memory modest).
+const BAND_BYTES: u64 = 64 << 20;
+/// Upper bound of one readback of the frame's textures.
+const READBACK_BYTES: u64 = 64 << 20;
+/// Host bytes per pixel a GPU frame needs: the read-back textures (2 × 16) and the frame's
+/// images (32).
+pub const HOST_BYTES_PER_PIXEL: u64 = 64;
 
 /// How the GPU backend renders.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,7 +49,10 @@ pub struct GpuSettings {
     /// and each tile casts only its candidates' active parts. Lossless: the same image as off.
     pub culling: bool,
     /// Anti-aliasing samples per pixel.
-    pub samples: fray_core::PixelSamples,
+    pub samples: PixelSamples,
+    /// The most a frame may allocate on the host for what grows with the image (its readback
+    /// and images) and the work list.
+    pub memory_budget: MemoryBudget,
 }
 
 impl GpuSettings {
@@ -37,17 +63,19 @@ impl GpuSettings {
             shadows: scene.settings.shadows,
             culling: true,
             samples: scene.settings.samples,
+            memory_budget: MemoryBudget::default(),
         }
     }
 }
 
-/// The largest distance from the eye to the scene's box (1 for an empty or unbounded scene).
-pub fn camera_distance(scene: &Scene) -> f64 {
+/// The largest distance from `camera`'s eye to the scene's box (1 for an empty or unbounded
+/// scene).
+pub fn camera_distance(scene: &Scene, camera: &fray_core::Projector) -> f64 {
     let b = scene.bounds();
     if b.is_empty() || !b.is_finite() {
         return 1.0;
     }
-    let eye = reference_point(&scene.camera);
+    let eye = params::reference_point(camera);
     let far = DVec3::new(
         (b.min.x - eye.x).abs().max((b.max.x - eye.x).abs()),
         (b.min.y - eye.y).abs().max((b.max.y - eye.y).abs()),
@@ -56,15 +84,22 @@ pub fn camera_distance(scene: &Scene) -> f64 {
     far.length().max(f64::MIN_POSITIVE)
 }
 
-/// The ε the GPU uses: `max(requested, EPSILON_FLOOR · camera distance)`.
+/// The ε the GPU uses for `scene` seen from its own camera:
+/// `max(requested, EPSILON_FLOOR · camera distance)`.
 pub fn gpu_epsilon(scene: &Scene, requested: f64) -> f64 {
-    requested.max(EPSILON_FLOOR * camera_distance(scene))
+    gpu_epsilon_for(scene, &scene.camera, requested)
 }
 
-/// A GPU backend: one device, reused across frames.
+/// [`gpu_epsilon`] for a view from `camera`.
+pub fn gpu_epsilon_for(scene: &Scene, camera: &fray_core::Projector, requested: f64) -> f64 {
+    requested.max(EPSILON_FLOOR * camera_distance(scene, camera))
+}
+
+/// A GPU backend: one device and its pipelines, reused across scenes and frames.
 #[derive(Debug)]
 pub struct GpuRenderer {
     ctx: GpuContext,
+    cache: PipelineCache,
 }
 
 impl GpuRenderer {
@@ -72,6 +107,7 @@ impl GpuRenderer {
     pub fn new() -> Result<Self, GpuError> {
         Ok(Self {
             ctx: GpuContext::new()?,
+            cache: PipelineCache::default(),
         })
     }
 
@@ -80,106 +116,403 @@ impl GpuRenderer {
         &self.ctx
     }
 
-    /// Builds the pass for `scene` (pipeline specialised to it, buffers uploaded).
-    pub fn prepare(&self, scene: &Scene, settings: &GpuSettings) -> Result<FreeFormPass, GpuError> {
+    /// Uploads `scene` and builds (or fetches from the cache) the pipelines it needs: a scene
+    /// that stays resident for any number of frames.
+    pub fn upload<'a>(
+        &'a self,
+        scene: &'a Scene,
+        settings: &GpuSettings,
+    ) -> Result<GpuScene<'a>, GpuError> {
+        GpuScene::new(self, scene, settings)
+    }
+
+    /// Renders `scene` as its camera sees it (one upload, one frame).
+    pub fn render(&self, scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> {
+        let start = Instant::now();
+        let mut gpu_scene = self.upload(scene, settings)?;
+        let mut frame = gpu_scene.render(&View::of_scene(scene, settings.samples))?;
+        frame.stats.elapsed = start.elapsed();
+        Ok(frame)
+    }
+}
+
+/// Renders `scene` on a freshly opened GPU.
+pub fn render(scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> {
+    GpuRenderer::new()?.render(scene, settings)
+}
+
+/// The passes of a scene's frames.
+#[derive(Debug)]
+struct Passes {
+    rebase: RebasePass,
+    raygen: RayGenPass,
+    free_forms: Option<FreeFormPass>,
+    terrains: Option<TerrainIntersectPass>,
+    shade: ShadePass,
+    resolve: ResolvePass,
+}
+
+/// The frame's buffers that grow with the work list or the image: reallocated (never per
+/// frame) when a frame needs more.
+#[derive(Debug)]
+struct FrameBuffers {
+    params: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    counters_readback: wgpu::Buffer,
+    paths: wgpu::Buffer,
+    items: wgpu::Buffer,
+    candidates: wgpu::Buffer,
+    /// The scene's programs (head, copied on the GPU) and the frame's work-list words.
+    indices: wgpu::Buffer,
+}
+
+/// The frame's images on the GPU and their readback.
+#[derive(Debug)]
+struct Targets {
+    width: u32,
+    height: u32,
+    colour_depth: wgpu::Texture,
+    normals: wgpu::Texture,
+    display: wgpu::Texture,
+    readback: wgpu::Buffer,
+}
+
+/// A scene resident on the GPU: render it from any view; a frame from a moved camera re-runs the
+/// quadtree and uploads only the camera and the work list ([`RenderStats::uploaded_bytes`],
+/// [`RenderStats::scene_uploaded_bytes`], [`RenderStats::pipelines_built`] say so).
+#[derive(Debug)]
+pub struct GpuScene<'a> {
+    renderer: &'a GpuRenderer,
+    scene: &'a Scene,
+    settings: GpuSettings,
+    specialisation: Specialisation,
+    resident: ResidentScene,
+    passes: Passes,
+    buffers: FrameBuffers,
+    targets: Option<Targets>,
+    timestamps: Option<Timestamps>,
+    /// The camera offset the camera-relative copies hold (`None`: not yet rebased).
+    rebased_for: Option<([f32; 4], [f32; 4])>,
+    /// Scene bytes and pipeline builds not yet reported by a frame (the upload's).
+    pending_scene_bytes: u64,
+    pending_pipelines: (u32, Duration),
+}
+
+impl<'a> GpuScene<'a> {
+    fn new(
+        renderer: &'a GpuRenderer,
+        scene: &'a Scene,
+        settings: &GpuSettings,
+    ) -> Result<Self, GpuError> {
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
         }
-        if scene.width == 0 || scene.height == 0 {
-            return Err(GpuError::EmptyImage(scene.width, scene.height));
-        }
-        if settings.samples.count() > 1 {
-            return Err(GpuError::Unsupported {
-                feature: "anti-aliasing (samples > 1)",
+        let ctx = &renderer.ctx;
+        let cache = &renderer.cache;
+        let anchor = params::reference_point(&scene.camera);
+        let resident = ResidentScene::upload(ctx, cache, scene, anchor)?;
+        let sizes = shader::array_sizes(scene, &resident.flat);
+        let private = shader::private_bytes(&sizes);
+        if private > shader::MAX_PRIVATE_BYTES {
+            return Err(GpuError::TooLarge {
+                what: "per-invocation private memory (bytes) for the largest solid",
+                needed: private,
+                limit: shader::MAX_PRIVATE_BYTES,
             });
         }
-        let eps = gpu_epsilon(scene, settings.epsilon);
-        let spec = Specialisation::for_scene(scene, settings.shadows);
-        FreeFormPass::new(
-            &self.ctx,
+        let options = ModuleOptions {
+            sizes,
+            terrain: !scene.terrains.is_empty(),
+        };
+        let specialisation = Specialisation::for_scene(scene, settings.shadows);
+        cache.take_built();
+        let passes = Passes {
+            rebase: RebasePass::new(cache, ctx)?,
+            raygen: RayGenPass::new(cache, ctx, &options, &specialisation)?,
+            free_forms: (!scene.objects.is_empty())
+                .then(|| FreeFormPass::new(cache, ctx, &options, &specialisation))
+                .transpose()?,
+            terrains: options
+                .terrain
+                .then(|| TerrainIntersectPass::new(cache, ctx, &options, &specialisation))
+                .transpose()?,
+            shade: ShadePass::new(cache, ctx, &options, &specialisation)?,
+            resolve: ResolvePass::new(cache, ctx, &options, &specialisation)?,
+        };
+        let pending_pipelines = cache.take_built();
+        let buffers = FrameBuffers {
+            params: bindings::empty(
+                ctx,
+                "frame params",
+                std::mem::size_of::<FrameParams>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            )?,
+            counters: bindings::empty(
+                ctx,
+                "counters",
+                (counters::WORDS * 4) as u64,
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            )?,
+            counters_readback: readback_buffer(
+                &ctx.device,
+                "counters readback",
+                (counters::WORDS * 4) as u64,
+            ),
+            paths: bindings::empty(ctx, "paths", 0, U::STORAGE)?,
+            items: bindings::empty(ctx, "work items", 0, U::STORAGE | U::COPY_DST)?,
+            candidates: bindings::empty(ctx, "candidates", 0, U::STORAGE | U::COPY_DST)?,
+            indices: bindings::empty(ctx, "indices", 0, U::STORAGE | U::COPY_DST)?,
+        };
+        Ok(Self {
+            renderer,
             scene,
-            eps,
-            SHADOW_OFFSET_EPSILONS * eps,
-            spec,
-            settings.culling,
-        )
+            settings: *settings,
+            specialisation,
+            pending_scene_bytes: resident.bytes,
+            resident,
+            passes,
+            buffers,
+            targets: None,
+            timestamps: Timestamps::new(ctx),
+            rebased_for: None,
+            pending_pipelines,
+        })
     }
 
-    /// Renders `scene`.
-    pub fn render(&self, scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> {
+    /// What the pipelines are specialised for.
+    pub fn specialisation(&self) -> Specialisation {
+        self.specialisation
+    }
+
+    /// Renders the resident scene as `view` shows it.
+    pub fn render(&mut self, view: &View) -> Result<Frame, GpuError> {
         let start = Instant::now();
-        let pass = self.prepare(scene, settings)?;
-        let built = start.elapsed();
-        let out = pass.run(&self.ctx)?;
+        let ctx = &self.renderer.ctx;
+        let (width, height) = (view.width, view.height);
+        if width == 0 || height == 0 {
+            return Err(GpuError::EmptyImage(width, height));
+        }
+        let pixels = u64::from(width) * u64::from(height);
+        self.settings
+            .memory_budget
+            .check_elements(
+                format!("the GPU frame's readback and images ({width} × {height} pixels, {HOST_BYTES_PER_PIXEL} bytes each)"),
+                pixels,
+                HOST_BYTES_PER_PIXEL,
+            )
+            .map_err(GpuError::Budget)?;
+        let max_side = ctx.limits.max_texture_dimension_2d;
+        if width.max(height) > max_side {
+            return Err(GpuError::TooLarge {
+                what: "image side (pixels) of the frame's textures",
+                needed: u64::from(width.max(height)),
+                limit: u64::from(max_side),
+            });
+        }
+        let scene = self.scene;
+        let epsilon = gpu_epsilon_for(scene, &view.camera, self.settings.epsilon);
+        let mut uploaded = 0u64;
+        // The work list of this view (with culling, the quadtree over its camera).
+        let work = if self.settings.culling {
+            let config = quadtree_config(view.samples.count(), self.settings.memory_budget);
+            GpuWork::culled(
+                scene,
+                (&view.camera, width, height),
+                &self.resident.flat,
+                &config,
+            )
+            .map_err(|e| GpuError::WorkList(e.to_string()))?
+        } else {
+            GpuWork::everything(scene, &self.resident.flat, (width, height))
+        };
+        self.upload_work(&work)?;
+        uploaded += work.bytes();
+        self.ensure_targets(width, height)?;
+        let band_rows = self.band_rows(view)?;
+        self.ensure_paths(
+            u64::from(width) * u64::from(band_rows) * u64::from(view.rays_per_pixel()),
+        )?;
+        let mut params = params::frame_params(
+            scene,
+            view,
+            self.resident.anchor,
+            epsilon,
+            SHADOW_OFFSET_EPSILONS * epsilon,
+        );
+        params.programs_base = work.programs_base;
+        // Rebase the resident scene to this camera if it moved, and this view's terrain levels.
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("rebase"),
+            });
+        let offset = (params.camera_hi, params.camera_lo);
+        if self.rebased_for != Some(offset) {
+            uploaded += self.passes.rebase.encode(
+                ctx,
+                &mut encoder,
+                &self.resident.rebased(),
+                params.camera_hi,
+                params.camera_lo,
+            );
+            self.resident.copy_tables(&mut encoder);
+            self.rebased_for = Some(offset);
+        }
+        if let Some(t) = &self.resident.terrains {
+            let footprint = view.camera.pixel_footprint(width, height);
+            let lods = terrain_lods(scene, footprint);
+            ctx.queue
+                .write_buffer(&t.lods, 0, bytemuck::cast_slice(&lods));
+            uploaded += (lods.len() * 16) as u64;
+        }
+        ctx.queue
+            .write_buffer(&self.buffers.counters, 0, &[0u8; counters::WORDS * 4]);
+        ctx.queue.submit([encoder.finish()]);
+        let groups = self.bind_groups()?;
+        let mut kernel_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
+        let rays_per_pixel = view.rays_per_pixel();
+        for y0 in (0..height).step_by(band_rows as usize) {
+            let rows = band_rows.min(height - y0);
+            let items = work.band(y0, y0 + rows);
+            params.band_y0 = y0;
+            params.band_rows = rows;
+            params.items = items.len() as u32;
+            params.first_item = work.items.partition_point(|it| it.y0 < y0) as u32;
+            ctx.queue
+                .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
+            uploaded += std::mem::size_of::<FrameParams>() as u64;
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("band"),
+                });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("band"),
+                    timestamp_writes: self.timestamps.as_ref().map(Timestamps::writes),
+                });
+                let rays = width * rows * rays_per_pixel;
+                self.passes
+                    .raygen
+                    .encode(&mut pass, ctx, &groups.frame, rays);
+                if let Some(ff) = &self.passes.free_forms {
+                    ff.encode(
+                        &mut pass,
+                        ctx,
+                        [&groups.frame, &groups.free_forms, &groups.work],
+                        items.len() as u32,
+                    );
+                }
+                if let (Some(tp), Some(terrains)) = (&self.passes.terrains, &groups.terrains) {
+                    tp.encode(
+                        &mut pass,
+                        ctx,
+                        [&groups.frame, &groups.work, terrains],
+                        items.len() as u32,
+                    );
+                }
+                self.passes.shade.encode(
+                    &mut pass,
+                    ctx,
+                    [&groups.frame, &groups.free_forms, &groups.shading],
+                    groups.terrains.as_ref(),
+                    rays,
+                );
+                self.passes.resolve.encode(
+                    &mut pass,
+                    [&groups.frame, &groups.targets],
+                    width,
+                    rows,
+                );
+            }
+            if let Some(t) = &self.timestamps {
+                t.resolve(&mut encoder);
+            }
+            ctx.queue.submit([encoder.finish()]);
+            if let (Some(t), Some(total)) = (&self.timestamps, kernel_time.as_mut()) {
+                *total += t.read(&ctx.device)?;
+            }
+        }
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("counters"),
+            });
+        encoder.copy_buffer_to_buffer(
+            &self.buffers.counters,
+            0,
+            &self.buffers.counters_readback,
+            0,
+            (counters::WORDS * 4) as u64,
+        );
+        ctx.queue.submit([encoder.finish()]);
+        let words: Vec<u32> = read_back(
+            &ctx.device,
+            &self.buffers.counters_readback,
+            (counters::WORDS * 4) as u64,
+            "counters",
+        )?;
+        let (colour, depth, normals) = self.read_frame(scene.background)?;
         // An error no scope caught (or a lost device) would otherwise go unnoticed: fail with it.
-        if let Some(reason) = self.ctx.take_uncaptured_error() {
+        if let Some(reason) = ctx.take_uncaptured_error() {
             return Err(if reason.starts_with("device lost") {
                 GpuError::DeviceLost(reason)
             } else {
                 GpuError::Dispatch {
-                    pass: "free-form",
+                    pass: "frame",
                     reason,
                 }
             });
         }
-        let (w, h) = (scene.width, scene.height);
-        let mut colour = Image::filled(w, h, fray_core::Rgb::ZERO);
-        let mut depth = Image::filled(w, h, f64::INFINITY);
-        let mut normals = Image::filled(w, h, Vec3::ZERO);
-        for y in 0..h {
-            for x in 0..w {
-                let k = (y as usize) * (w as usize) + x as usize;
-                let (Some(c), Some(n)) = (out.colour_depth.get(k), out.normal.get(k)) else {
-                    continue;
-                };
-                if n[3] > 0.5 {
-                    colour.set(x, y, Vec3::new(c[0], c[1], c[2]));
-                    depth.set(x, y, f64::from(c[3]));
-                    normals.set(x, y, Vec3::new(n[0], n[1], n[2]));
-                } else {
-                    // A miss, or a pixel no work item covered (culled).
-                    colour.set(x, y, scene.background);
-                }
-            }
-        }
-        let spec = pass.specialisation();
+        let (pipelines_built, pipeline_build_time) = {
+            let (n, t) = std::mem::take(&mut self.pending_pipelines);
+            let (m, u) = self.renderer.cache.take_built();
+            (n + m, t + u)
+        };
+        let scene_uploaded = std::mem::take(&mut self.pending_scene_bytes);
         let mut passes = vec![format!(
-            "pipelines built: {} ({:.1} ms)",
-            spec.describe(),
-            built.as_secs_f64() * 1e3
+            "pipelines [{}]: {pipelines_built} built ({:.1} ms)",
+            self.specialisation.describe(),
+            pipeline_build_time.as_secs_f64() * 1e3
         )];
-        let work = pass.work_stats();
-        if work.is_some() {
+        if work.stats.is_some() {
             passes.push("quadtree".to_owned());
         }
         passes.push("primary".to_owned());
+        if view.samples.count() > 1 {
+            passes.push(format!("{} samples per pixel", view.samples.count()));
+        }
         passes.extend(scene.features.names().iter().map(|s| s.to_string()));
-        if !spec.shadows {
+        if !self.specialisation.shadows {
             passes.retain(|p| p != "shadows");
         }
         let mut stats = RenderStats {
-            backend: format!("gpu ({}, {})", self.ctx.adapter_name, self.ctx.backend),
+            backend: format!("gpu ({}, {})", ctx.adapter_name, ctx.backend),
             threads: 1,
-            primary_rays: u64::from(w) * u64::from(h),
-            shadow_rays: out.shadow_rays,
-            hits: out.hits,
-            bound_evaluations: out.bound_evaluations,
-            point_evaluations: out.point_evaluations,
-            epsilon: gpu_epsilon(scene, settings.epsilon),
+            primary_rays: pixels * u64::from(rays_per_pixel),
+            shadow_rays: Counter::ShadowRays.read(&words),
+            hits: Counter::Hits.read(&words),
+            bound_evaluations: Counter::BoundEvaluations.read(&words),
+            point_evaluations: Counter::PointEvaluations.read(&words),
+            epsilon,
             passes,
             elapsed: start.elapsed(),
-            kernel_time: out.kernel_time,
-            terrain_rays: out.terrain_rays,
-            terrain_segments: out.terrain.segments,
-            terrain_cells: out.terrain.cells,
-            terrain_stops: out.terrain.stops,
-            terrain_stop_levels: out.terrain.stop_levels_above_finest,
+            kernel_time,
+            terrain_rays: Counter::TerrainRays.read(&words),
+            terrain_segments: Counter::TerrainSegments.read(&words),
+            terrain_cells: Counter::TerrainCells.read(&words),
+            terrain_stops: Counter::TerrainStops.read(&words),
+            terrain_stop_levels: Counter::TerrainStopLevels.read(&words),
+            uploaded_bytes: uploaded + scene_uploaded,
+            scene_uploaded_bytes: scene_uploaded,
+            pipelines_built,
+            pipeline_build_time,
             ..RenderStats::default()
         };
-        if let Some(work) = work {
-            stats.cells_visited = work.cells_visited;
-            stats.cells_culled = work.cells_culled;
-            stats.work_items = work.items;
+        if let Some(w) = work.stats {
+            stats.cells_visited = w.cells_visited;
+            stats.cells_culled = w.cells_culled;
+            stats.work_items = w.items;
         }
         Ok(Frame {
             colour,
@@ -188,9 +521,394 @@ impl GpuRenderer {
             stats,
         })
     }
+
+    /// Rows per band for `view`: a multiple of the tile side (every item lies in one band) whose
+    /// rays in flight fit the device's storage binding and [`BAND_BYTES`].
+    fn band_rows(&self, view: &View) -> Result<u32, GpuError> {
+        let limits = &self.renderer.ctx.limits;
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+            .min(BAND_BYTES);
+        let per_row = std::mem::size_of::<GpuPath>() as u64
+            * u64::from(view.width)
+            * u64::from(view.rays_per_pixel());
+        let tile = u64::from(TILE);
+        if per_row * tile > limit {
+            return Err(GpuError::TooLarge {
+                what: "bytes of rays in flight per row of tiles",
+                needed: per_row * tile,
+                limit,
+            });
+        }
+        let rows = (limit / per_row / tile).max(1) * tile;
+        Ok(rows.min(u64::from(view.height).next_multiple_of(tile)) as u32)
+    }
+
+    /// Room for `rays` rays in flight.
+    fn ensure_paths(&mut self, rays: u64) -> Result<(), GpuError> {
+        let bytes = rays * std::mem::size_of::<GpuPath>() as u64;
+        if self.buffers.paths.size() < bytes {
+            self.buffers.paths = bindings::empty(&self.renderer.ctx, "paths", bytes, U::STORAGE)?;
+        }
+        Ok(())
+    }
+
+    /// Uploads the frame's work list, growing its buffers (and copying the scene's programs to
+    /// the head of a new `indices` on the GPU) where it does not fit.
+    fn upload_work(&mut self, work: &GpuWork) -> Result<(), GpuError> {
+        let ctx = &self.renderer.ctx;
+        let grow = |buffer: &mut wgpu::Buffer, label: &'static str, bytes: u64| {
+            if buffer.size() < bytes {
+                *buffer = bindings::empty(
+                    ctx,
+                    label,
+                    bytes.next_power_of_two(),
+                    U::STORAGE | U::COPY_DST,
+                )?;
+                Ok::<bool, GpuError>(true)
+            } else {
+                Ok(false)
+            }
+        };
+        let items = bytemuck::cast_slice(&work.items);
+        let candidates = bytemuck::cast_slice(&work.candidates);
+        grow(&mut self.buffers.items, "work items", items.len() as u64)?;
+        grow(
+            &mut self.buffers.candidates,
+            "candidates",
+            candidates.len() as u64,
+        )?;
+        let head_words = self.resident.flat.program.len() as u64 * 4;
+        let indices_bytes = head_words + 4 * work.indices.len() as u64;
+        let fresh = grow(&mut self.buffers.indices, "indices", indices_bytes)?;
+        if fresh || self.rebased_for.is_none() {
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("programs"),
+                });
+            if head_words > 0 {
+                encoder.copy_buffer_to_buffer(
+                    &self.resident.programs,
+                    0,
+                    &self.buffers.indices,
+                    0,
+                    head_words,
+                );
+            }
+            ctx.queue.submit([encoder.finish()]);
+        }
+        if !items.is_empty() {
+            ctx.queue.write_buffer(&self.buffers.items, 0, items);
+        }
+        if !candidates.is_empty() {
+            ctx.queue
+                .write_buffer(&self.buffers.candidates, 0, candidates);
+        }
+        if !work.indices.is_empty() {
+            ctx.queue.write_buffer(
+                &self.buffers.indices,
+                head_words,
+                bytemuck::cast_slice(&work.indices),
+            );
+        }
+        Ok(())
+    }
+
+    /// The frame's textures (and their readback) for a `width × height` image.
+    fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| (t.width, t.height) == (width, height))
+        {
+            return Ok(());
+        }
+        let device = &self.renderer.ctx.device;
+        let texture = |label, format| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let row = padded_row(width, 16);
+        let rows = (READBACK_BYTES / row).clamp(1, u64::from(height));
+        let readback = readback_buffer(device, "frame readback", row * rows);
+        self.targets = Some(Targets {
+            width,
+            height,
+            colour_depth: texture("colour + depth", wgpu::TextureFormat::Rgba32Float),
+            normals: texture("normals", wgpu::TextureFormat::Rgba32Float),
+            display: texture("display", wgpu::TextureFormat::Rgba8Unorm),
+            readback,
+        });
+        Ok(())
+    }
+
+    /// The bind groups every band shares.
+    fn bind_groups(&self) -> Result<Groups, GpuError> {
+        let ctx = &self.renderer.ctx;
+        let cache = &self.renderer.cache;
+        let device = &ctx.device;
+        let b = &self.buffers;
+        let r = &self.resident;
+        let frame = FRAME.bind(
+            device,
+            &cache.layout(ctx, &FRAME),
+            &[
+                b.params.as_entire_binding(),
+                b.paths.as_entire_binding(),
+                b.counters.as_entire_binding(),
+            ],
+        );
+        let free_forms = FREE_FORMS.bind(
+            device,
+            &cache.layout(ctx, &FREE_FORMS),
+            &[
+                r.solids.target.as_entire_binding(),
+                r.leaves.target.as_entire_binding(),
+                r.perturbations.target.as_entire_binding(),
+                b.indices.as_entire_binding(),
+            ],
+        );
+        let shading = SHADING.bind(
+            device,
+            &cache.layout(ctx, &SHADING),
+            &[
+                r.lights_table.as_entire_binding(),
+                r.materials.as_entire_binding(),
+            ],
+        );
+        let terrains = r.terrains.as_ref().map(|t| {
+            TERRAINS.bind(
+                device,
+                &cache.layout(ctx, &TERRAINS),
+                &[
+                    t.table.as_entire_binding(),
+                    t.lods.as_entire_binding(),
+                    t.pyramid.as_entire_binding(),
+                    t.samples.as_entire_binding(),
+                ],
+            )
+        });
+        let work = WORK.bind(
+            device,
+            &cache.layout(ctx, &WORK),
+            &[
+                b.items.as_entire_binding(),
+                b.candidates.as_entire_binding(),
+            ],
+        );
+        let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
+        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
+        let (c, n, d) = (view(&t.colour_depth), view(&t.normals), view(&t.display));
+        let targets = TARGETS.bind(
+            device,
+            &cache.layout(ctx, &TARGETS),
+            &[
+                wgpu::BindingResource::TextureView(&c),
+                wgpu::BindingResource::TextureView(&n),
+                wgpu::BindingResource::TextureView(&d),
+            ],
+        );
+        Ok(Groups {
+            frame,
+            free_forms,
+            work,
+            shading,
+            terrains,
+            targets,
+        })
+    }
+
+    /// Reads the frame's colour + depth and normal textures back into images (misses: the
+    /// background, depth `+∞`, normal 0).
+    fn read_frame(
+        &self,
+        background: fray_core::Rgb,
+    ) -> Result<FrameImages, GpuError> {
+        let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
+        let (w, h) = (t.width, t.height);
+        let n = w as usize * h as usize;
+        let mut colour = Vec::with_capacity(n);
+        let mut depth = Vec::with_capacity(n);
+        let mut normals = Vec::with_capacity(n);
+        let mut normal_rows: Vec<[f32; 4]> = Vec::with_capacity(n);
+        for (texture, into_colour) in [(&t.colour_depth, true), (&t.normals, false)] {
+            self.read_texture(texture, w, h, 16, &t.readback, |row: &[[f32; 4]]| {
+                if into_colour {
+                    for &[r, g, b, d] in row {
+                        if d >= 0.0 {
+                            colour.push(Vec3::new(r, g, b));
+                            depth.push(f64::from(d));
+                        } else {
+                            colour.push(background);
+                            depth.push(f64::INFINITY);
+                        }
+                    }
+                } else {
+                    normal_rows.extend_from_slice(row);
+                }
+            })?;
+        }
+        for [x, y, z, hit] in normal_rows {
+            normals.push(if hit > 0.5 {
+                Vec3::new(x, y, z)
+            } else {
+                Vec3::ZERO
+            });
+        }
+        let missing = || GpuError::EmptyImage(w, h);
+        Ok((
+            Image::from_pixels(w, h, colour).ok_or_else(missing)?,
+            Image::from_pixels(w, h, depth).ok_or_else(missing)?,
+            Image::from_pixels(w, h, normals).ok_or_else(missing)?,
+        ))
+    }
+
+    /// A check of the rebase pass against its CPU twin: every resident array and its
+    /// camera-relative copy read back, the copy compared bit for bit with
+    /// [`crate::passes::rebase::rebase_words`] of the array for the offset of the last frame.
+    /// Returns how many 16-byte slots were compared, or which differed.
+    pub fn check_rebase_against_cpu(&self) -> Result<usize, GpuError> {
+        let ctx = &self.renderer.ctx;
+        let Some((hi, lo)) = self.rebased_for else {
+            return Ok(0);
+        };
+        let mut compared = 0;
+        for array in self.resident.rebased() {
+            let read = |buffer: &wgpu::Buffer| -> Result<Vec<[u32; 4]>, GpuError> {
+                let staging = readback_buffer(&ctx.device, "rebase check", buffer.size());
+                let mut encoder = ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+                encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+                ctx.queue.submit([encoder.finish()]);
+                read_back(&ctx.device, &staging, buffer.size(), "rebase check")
+            };
+            let (source, target) = (read(&array.source)?, read(&array.target)?);
+            let twin = crate::passes::rebase::rebase_words(&source, &array.layout, hi, lo);
+            if let Some(k) = (0..twin.len()).find(|&k| twin[k] != target[k]) {
+                return Err(GpuError::Dispatch {
+                    pass: "rebase",
+                    reason: format!(
+                        "slot {k}: the GPU wrote {:?}, the CPU twin {:?}",
+                        target[k], twin[k]
+                    ),
+                });
+            }
+            compared += twin.len();
+        }
+        Ok(compared)
+    }
+
+    /// The last frame's display image (tone-mapped sRGB, made on the GPU), as 8-bit RGB.
+    pub fn display_image(&self) -> Result<Image<[u8; 3]>, GpuError> {
+        let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
+        let (w, h) = (t.width, t.height);
+        let mut pixels = Vec::with_capacity(w as usize * h as usize);
+        self.read_texture(&t.display, w, h, 4, &t.readback, |row: &[[u8; 4]]| {
+            pixels.extend(row.iter().map(|p| [p[0], p[1], p[2]]));
+        })?;
+        Image::from_pixels(w, h, pixels).ok_or(GpuError::EmptyImage(w, h))
+    }
+
+    /// Copies `texture` (`texel` bytes per pixel) to `readback` a band of rows at a time and
+    /// hands each row to `row` (unpadded).
+    fn read_texture<T: bytemuck::Pod>(
+        &self,
+        texture: &wgpu::Texture,
+        width: u32,
+        height: u32,
+        texel: u64,
+        readback: &wgpu::Buffer,
+        mut row: impl FnMut(&[T]),
+    ) -> Result<(), GpuError> {
+        let ctx = &self.renderer.ctx;
+        let stride = padded_row(width, texel);
+        let rows_per_copy = (readback.size() / stride).clamp(1, u64::from(height)) as u32;
+        for y0 in (0..height).step_by(rows_per_copy as usize) {
+            let rows = rows_per_copy.min(height - y0);
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("readback"),
+                });
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x: 0, y: y0, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: readback,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(stride as u32),
+                        rows_per_image: Some(rows),
+                    },
+                },
+                wgpu::Extent3d {
+                    width,
+                    height: rows,
+                    depth_or_array_layers: 1,
+                },
+            );
+            ctx.queue.submit([encoder.finish()]);
+            let bytes = stride * u64::from(rows);
+            map_read(&ctx.device, readback, bytes, "readback", |data| {
+                for r in 0..rows as usize {
+                    let start = r * stride as usize;
+                    let line = &data[start..start + (u64::from(width) * texel) as usize];
+                    match bytemuck::try_cast_slice::<u8, T>(line) {
+                        Ok(texels) => row(texels),
+                        Err(_) => row(&bytemuck::pod_collect_to_vec::<u8, T>(line)),
+                    }
+                }
+            })?;
+        }
+        Ok(())
+    }
 }
 
-/// Renders `scene` on a freshly opened GPU.
-pub fn render(scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> {
-    GpuRenderer::new()?.render(scene, settings)
+/// A frame's colour, depth and normal images.
+type FrameImages = (Image<fray_core::Rgb>, Image<f64>, Image<Vec3>);
+
+/// The bind groups of one frame.
+struct Groups {
+    frame: wgpu::BindGroup,
+    free_forms: wgpu::BindGroup,
+    work: wgpu::BindGroup,
+    shading: wgpu::BindGroup,
+    terrains: Option<wgpu::BindGroup>,
+    targets: wgpu::BindGroup,
+}
+
+/// Bytes per row of a texture copy: `width × texel`, padded to wgpu's 256-byte alignment.
+fn padded_row(width: u32, texel: u64) -> u64 {
+    (u64::from(width) * texel).next_multiple_of(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_of_texture_copies_are_aligned() {
+        assert_eq!(padded_row(96, 16), 1536);
+        assert_eq!(padded_row(100, 16), 1792);
+        assert_eq!(padded_row(1, 4), 256);
+    }
 }

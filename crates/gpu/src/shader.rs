@@ -1,73 +1,104 @@
-//! WGSL sources: the shader files embedded from `shaders/`, the Rust-generated prelude (structs,
-//! op codes, kinds, array sizes) and the pipeline specialisation (`override` constants).
+//! WGSL modules: the files of `shaders/` (one per concept), the include step that composes an
+//! entry module from them, the Rust-generated prelude (structs, constants, array sizes) and the
+//! pipeline specialisation (`override` constants).
+//!
+//! The include step reads directives in comments, so every file is valid WGSL on its own terms:
+//! - `// #include "file.wgsl"` — the file's text, once per module (WGSL declarations may come
+//!   in any order, so included text is simply appended);
+//! - `// #include "file.wgsl" if terrain` / `… unless terrain` — only with / without a terrain;
+//! - `// #instantiate "file.wgsl" { KEY: value; … }` — the file as a template, each `{{KEY}}`
+//!   replaced (the CSG evaluator, once per algebra);
+//! - `// #bindings frame, work, terrains if terrain` — the generated declarations of those bind
+//!   groups (`bindings::GROUPS`).
 
-use crate::{counters, params, work};
+use crate::{bindings, counters, params};
+use fray_core::gpu_struct::GpuStruct;
 use fray_geometry::gpu_layout;
-use fray_scene::Scene;
+use fray_scene::{PrimitiveKind, Scene};
 
-/// `shaders/freeform.wgsl`: free-form ray casting and shading over quadtree work items.
-pub const FREEFORM_WGSL: &str = include_str!("../../../shaders/freeform.wgsl");
-
-/// `shaders/terrain.wgsl`: the terrain ray cast (`cast_terrain`), without bindings or entry point.
-pub const TERRAIN_WGSL: &str = include_str!("../../../shaders/terrain.wgsl");
-/// `shaders/terrain_batch.wgsl`: the terrain pass over ray batches (bindings 3–4, `main`).
-pub const TERRAIN_BATCH_WGSL: &str = include_str!("../../../shaders/terrain_batch.wgsl");
-
-/// Every shader file in `shaders/` with its name (for validation tests).
-pub const SHADER_FILES: [(&str, &str); 3] = [
-    ("freeform.wgsl", FREEFORM_WGSL),
-    ("terrain.wgsl", TERRAIN_WGSL),
-    ("terrain_batch.wgsl", TERRAIN_BATCH_WGSL),
+/// Every shader file with its name: embedded at build time from `shaders/`.
+pub const SHADER_FILES: [(&str, &str); 17] = [
+    ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
+    (
+        "counters.wgsl",
+        include_str!("../../../shaders/counters.wgsl"),
+    ),
+    ("csg.wgsl", include_str!("../../../shaders/csg.wgsl")),
+    (
+        "freeform.wgsl",
+        include_str!("../../../shaders/freeform.wgsl"),
+    ),
+    (
+        "intersect_freeform.wgsl",
+        include_str!("../../../shaders/intersect_freeform.wgsl"),
+    ),
+    (
+        "intersect_terrain.wgsl",
+        include_str!("../../../shaders/intersect_terrain.wgsl"),
+    ),
+    (
+        "no_terrain.wgsl",
+        include_str!("../../../shaders/no_terrain.wgsl"),
+    ),
+    (
+        "quadric.wgsl",
+        include_str!("../../../shaders/quadric.wgsl"),
+    ),
+    ("ray.wgsl", include_str!("../../../shaders/ray.wgsl")),
+    ("raygen.wgsl", include_str!("../../../shaders/raygen.wgsl")),
+    ("rebase.wgsl", include_str!("../../../shaders/rebase.wgsl")),
+    (
+        "resolve.wgsl",
+        include_str!("../../../shaders/resolve.wgsl"),
+    ),
+    (
+        "samples.wgsl",
+        include_str!("../../../shaders/samples.wgsl"),
+    ),
+    ("shade.wgsl", include_str!("../../../shaders/shade.wgsl")),
+    (
+        "terrain.wgsl",
+        include_str!("../../../shaders/terrain.wgsl"),
+    ),
+    (
+        "terrain_batch.wgsl",
+        include_str!("../../../shaders/terrain_batch.wgsl"),
+    ),
+    (
+        "terrain_shadows.wgsl",
+        include_str!("../../../shaders/terrain_shadows.wgsl"),
+    ),
 ];
 
-/// The free-form module's terrain hook for a scene without terrain: no terrain to count or
-/// cast (and `HAS_TERRAIN` is false), so no terrain code or binding is compiled.
-pub const NO_TERRAIN_WGSL: &str = "\n// No terrain in this scene (its counters stay 0).\n\
-var<private> terrain_rays: u32;\n\
-var<private> terrain_segments: u32;\n\
-var<private> terrain_cells: u32;\n\
-var<private> terrain_stops: u32;\n\
-var<private> terrain_stop_levels: u32;\n\
-struct TerrainHit { t: f32, normal: vec3<f32>, kind: u32, levels_above: u32, cell: vec2<u32> }\n\
-fn terrain_count() -> u32 { return 0u; }\n\
-fn terrain_material(k: u32) -> u32 { return 0u; }\n\
-fn cast_terrain(k: u32, origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32, eps: f32, pixel_lod: bool) -> TerrainHit {\n\
-    var h: TerrainHit;\n\
-    h.t = -1.0;\n\
-    return h;\n\
-}\n\
-fn terrain_shading_normal(k: u32, origin: vec3<f32>, dir: vec3<f32>, h: TerrainHit) -> vec3<f32> {\n\
-    return h.normal;\n\
-}\n";
+/// The entry modules, one per pass (`passes::*` and `TerrainPass`).
+pub const ENTRY_MODULES: [&str; 7] = [
+    "raygen.wgsl",
+    "intersect_freeform.wgsl",
+    "intersect_terrain.wgsl",
+    "shade.wgsl",
+    "resolve.wgsl",
+    "rebase.wgsl",
+    "terrain_batch.wgsl",
+];
 
-/// The first binding of the terrains' buffers in the free-form module (after its 14).
-pub const FREEFORM_TERRAIN_BINDING: u32 = 14;
-
-/// The terrain bindings terrain.wgsl reads, at `first`, `first + 1`, `first + 2` of group 0:
-/// every terrain's parameter block (`terrains[k]`), and the concatenated max pyramids and
-/// samples.
-pub fn terrain_bindings(first: u32) -> String {
-    format!(
-        "@group(0) @binding({}) var<storage, read> terrains: array<GpuTerrainParams>;\n\
-         @group(0) @binding({}) var<storage, read> pyramid: array<f32>;\n\
-         @group(0) @binding({}) var<storage, read> samples: array<f32>;\n",
-        first,
-        first + 1,
-        first + 2
-    )
+/// The text of shader file `name`.
+pub fn file(name: &str) -> Option<&'static str> {
+    SHADER_FILES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
 }
 
-/// The complete terrain batch module (`TerrainPass`).
-pub fn terrain_batch_source() -> String {
-    prelude(ArraySizes::default()) + &terrain_bindings(0) + TERRAIN_WGSL + TERRAIN_BATCH_WGSL
-}
-
-/// Sizes of the per-invocation arrays, fixed per scene when the module is built.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Sizes fixed per scene when a module is built: the per-invocation arrays and the uniform
+/// tables.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ArraySizes {
     pub max_leaves: u32,
     pub max_perturbations: u32,
     pub max_stack: u32,
+    pub max_lights: u32,
+    pub max_materials: u32,
+    pub max_terrains: u32,
 }
 
 impl Default for ArraySizes {
@@ -76,67 +107,293 @@ impl Default for ArraySizes {
             max_leaves: 8,
             max_perturbations: 16,
             max_stack: 4,
+            max_lights: 4,
+            max_materials: 8,
+            max_terrains: 1,
         }
     }
 }
 
-/// The generated prelude: geometry structs and op codes (fray-geometry), frame/light/material
-/// structs and kinds and the frame counters' layout (this crate), the work-list structs (fray-quadtree's, mirrored by
-/// [`work::WGSL_STRUCTS`]), the tile side and the array sizes.
-pub fn prelude(sizes: ArraySizes) -> String {
+/// Bytes of per-invocation private memory the free-form code needs for `sizes` (its leaf and
+/// perturbation arrays and its stacks): `GpuScene` refuses a scene that needs more than
+/// [`MAX_PRIVATE_BYTES`].
+pub fn private_bytes(sizes: &ArraySizes) -> u64 {
+    // LeafRay: 2 f32, 2 bool, vec3, 2 u32 (48 with padding); a perturbation's vec4; the CSG
+    // stacks (bound: vec4; surface: vec4 + u32 → 32) and the segment stack (32 × vec2).
+    48 * u64::from(sizes.max_leaves)
+        + 16 * u64::from(sizes.max_perturbations)
+        + 32 * u64::from(sizes.max_stack)
+        + 8 * 32
+}
+
+/// The most per-invocation private memory a scene may need on the GPU (16 KiB): beyond it,
+/// drivers spill to slow scratch memory or refuse the pipeline, so the backend refuses the scene
+/// (`auto` renders it on the CPU).
+pub const MAX_PRIVATE_BYTES: u64 = 16 << 10;
+
+/// What a module is composed with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ModuleOptions {
+    pub sizes: ArraySizes,
+    /// The scene has terrains (`if terrain` / `unless terrain`).
+    pub terrain: bool,
+}
+
+impl Default for ModuleOptions {
+    fn default() -> Self {
+        Self {
+            sizes: ArraySizes::default(),
+            terrain: true,
+        }
+    }
+}
+
+/// Why a module could not be composed.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ComposeError {
+    #[error("{file}: includes {missing}, which is not a shader file")]
+    Missing { file: String, missing: String },
+    #[error("{file}: unknown bind group {group}")]
+    UnknownGroup { file: String, group: String },
+    #[error("{file}: a malformed directive: {line}")]
+    Malformed { file: String, line: String },
+    #[error("{file}: template {template} leaves {{{{{key}}}}} unreplaced")]
+    Unreplaced {
+        file: String,
+        template: String,
+        key: String,
+    },
+}
+
+/// The bind groups entry module `entry` binds, in the order of their indices (group `k` is the
+/// `k`-th): what its pass must lay out and bind in that order.
+pub fn module_groups(
+    entry: &str,
+    options: &ModuleOptions,
+) -> Result<Vec<bindings::Group>, ComposeError> {
+    let mut state = Compose {
+        options: *options,
+        included: Vec::new(),
+        groups: Vec::new(),
+        body: String::new(),
+    };
+    state.include(entry, entry)?;
+    Ok(state.groups)
+}
+
+/// The complete source of entry module `entry`: the prelude, the bind groups it asks for, and
+/// every file it includes (recursively, each once), then its own text.
+pub fn compose(entry: &str, options: &ModuleOptions) -> Result<String, ComposeError> {
+    let mut state = Compose {
+        options: *options,
+        included: Vec::new(),
+        groups: Vec::new(),
+        body: String::new(),
+    };
+    state.include(entry, entry)?;
+    let mut out = prelude(&options.sizes);
+    for (index, g) in state.groups.iter().enumerate() {
+        out.push_str(&g.declarations(index as u32));
+    }
+    out.push_str(&state.body);
+    Ok(out)
+}
+
+struct Compose {
+    options: ModuleOptions,
+    included: Vec<String>,
+    groups: Vec<bindings::Group>,
+    body: String,
+}
+
+impl Compose {
+    fn condition(&self, rest: &str) -> bool {
+        match rest.trim() {
+            "" => true,
+            "if terrain" => self.options.terrain,
+            "unless terrain" => !self.options.terrain,
+            _ => false,
+        }
+    }
+
+    fn include(&mut self, name: &str, from: &str) -> Result<(), ComposeError> {
+        if self.included.iter().any(|n| n == name) {
+            return Ok(());
+        }
+        let text = file(name).ok_or_else(|| ComposeError::Missing {
+            file: from.to_owned(),
+            missing: name.to_owned(),
+        })?;
+        self.included.push(name.to_owned());
+        for line in text.lines() {
+            let Some(directive) = line.trim().strip_prefix("// #") else {
+                continue;
+            };
+            let malformed = || ComposeError::Malformed {
+                file: name.to_owned(),
+                line: line.to_owned(),
+            };
+            if let Some(rest) = directive.strip_prefix("include ") {
+                let (target, condition) = quoted(rest).ok_or_else(malformed)?;
+                if self.condition(condition) {
+                    self.include(target, name)?;
+                }
+            } else if let Some(rest) = directive.strip_prefix("instantiate ") {
+                let (template, args) = quoted(rest).ok_or_else(malformed)?;
+                let text = instantiate(name, template, args)?;
+                self.body.push_str(&text);
+            } else if let Some(rest) = directive.strip_prefix("bindings ") {
+                for item in rest.split(',') {
+                    let item = item.trim();
+                    let (group, condition) = item.split_once(' ').unwrap_or((item, ""));
+                    if !self.condition(condition) {
+                        continue;
+                    }
+                    let g = bindings::GROUPS
+                        .iter()
+                        .find(|g| g.name == group)
+                        .ok_or_else(|| ComposeError::UnknownGroup {
+                            file: name.to_owned(),
+                            group: group.to_owned(),
+                        })?;
+                    if !self.groups.contains(g) {
+                        self.groups.push(*g);
+                    }
+                }
+            } else {
+                return Err(malformed());
+            }
+        }
+        self.body.push_str(&format!("\n// ---- {name} ----\n"));
+        self.body.push_str(text);
+        Ok(())
+    }
+}
+
+/// `"name" rest` → `(name, rest)`.
+fn quoted(s: &str) -> Option<(&str, &str)> {
+    let s = s.trim().strip_prefix('"')?;
+    let (name, rest) = s.split_once('"')?;
+    Some((name, rest))
+}
+
+/// Template `template` with `{ KEY: value; … }` substituted for each `{{KEY}}`.
+fn instantiate(from: &str, template: &str, args: &str) -> Result<String, ComposeError> {
+    let malformed = || ComposeError::Malformed {
+        file: from.to_owned(),
+        line: args.to_owned(),
+    };
+    let mut text = file(template)
+        .ok_or_else(|| ComposeError::Missing {
+            file: from.to_owned(),
+            missing: template.to_owned(),
+        })?
+        .to_owned();
+    let inner = args
+        .trim()
+        .strip_prefix('{')
+        .and_then(|a| a.strip_suffix('}'))
+        .ok_or_else(malformed)?;
+    for pair in inner.split(';') {
+        let pair = pair.trim();
+        if pair.is_empty() {
+            continue;
+        }
+        let (key, value) = pair.split_once(':').ok_or_else(malformed)?;
+        text = text.replace(&format!("{{{{{}}}}}", key.trim()), value.trim());
+    }
+    // Directive-free code only: a template's own comments may mention `{{…}}`, its code not.
+    let code: String = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    if let Some(start) = code.find("{{") {
+        let key = code[start + 2..]
+            .split("}}")
+            .next()
+            .unwrap_or_default()
+            .to_owned();
+        return Err(ComposeError::Unreplaced {
+            file: from.to_owned(),
+            template: template.to_owned(),
+            key,
+        });
+    }
+    Ok(format!(
+        "\n// ---- {template} (instantiated in {from}) ----\n{code}\n"
+    ))
+}
+
+/// The generated prelude: the geometry structs and op codes (fray-geometry), the terrain's
+/// parameter struct (fray-terrain), the work-list structs (fray-quadtree), this crate's frame,
+/// path, light, material and rebase structs, the shared constants, the counters' layout and the
+/// array sizes.
+pub fn prelude(sizes: &ArraySizes) -> String {
     let mut s = gpu_layout::wgsl_declarations();
+    s.push_str(&fray_terrain::gpu_layout::wgsl_declaration());
     s.push_str("// Generated by fray_gpu::shader — do not edit.\n");
-    for (name, value) in params::wgsl_constants() {
-        s.push_str(&format!("const {name}: u32 = {value}u;\n"));
-    }
-    for (name, value) in counters::wgsl_constants() {
-        s.push_str(&format!("const {name}: u32 = {value}u;\n"));
-    }
-    for (name, value) in [
-        ("KIND_FREE_FORM", fray_scene::PrimitiveKind::FreeForm.code()),
-        ("KIND_TERRAIN", fray_scene::PrimitiveKind::Terrain.code()),
+    for decl in [
+        fray_quadtree::WorkItem::declaration(),
+        fray_quadtree::Candidate::declaration(),
+        params::FrameParams::declaration(),
+        params::GpuPath::declaration(),
+        params::GpuLight::declaration(),
+        params::GpuMaterial::declaration(),
+        crate::passes::rebase::RebaseParams::declaration(),
     ] {
-        s.push_str(&format!("const {name}: u32 = {value}u;\n"));
+        s.push_str(&decl);
     }
+    let mut constants: Vec<(String, u32)> = params::wgsl_constants()
+        .into_iter()
+        .map(|(n, v)| (n.to_owned(), v))
+        .collect();
+    constants.extend(counters::wgsl_constants());
+    constants.extend([
+        ("KIND_FREE_FORM".to_owned(), PrimitiveKind::FreeForm.code()),
+        ("KIND_TERRAIN".to_owned(), PrimitiveKind::Terrain.code()),
+        ("TILE_THREADS".to_owned(), crate::work::TILE),
+    ]);
     for (name, value) in [
         ("MAX_LEAVES", sizes.max_leaves),
         ("MAX_PERTURBATIONS", sizes.max_perturbations),
         ("MAX_STACK", sizes.max_stack),
-        ("TILE_THREADS", work::TILE),
+        ("MAX_LIGHTS", sizes.max_lights),
+        ("MAX_MATERIALS", sizes.max_materials),
+        ("MAX_TERRAINS", sizes.max_terrains),
     ] {
-        s.push_str(&format!("const {name}: u32 = {}u;\n", value.max(1)));
+        constants.push((name.to_owned(), value.max(1)));
     }
-    for st in params::WGSL_STRUCTS.iter().chain(&work::WGSL_STRUCTS) {
-        s.push_str(&st.declaration());
+    for (name, value) in constants {
+        s.push_str(&format!("const {name}: u32 = {value}u;\n"));
     }
-    s.push_str(&fray_terrain::gpu_layout::wgsl_declaration());
+    s.push_str(&counters::wgsl_tables());
     s
 }
 
-/// The complete free-form module source for `sizes`; with `terrain`, the terrain's bindings
-/// (from [`FREEFORM_TERRAIN_BINDING`]) and terrain.wgsl, else the no-terrain hook.
-pub fn freeform_source(sizes: ArraySizes, terrain: bool) -> String {
-    let mut s = prelude(sizes);
-    if terrain {
-        s.push_str(&terrain_bindings(FREEFORM_TERRAIN_BINDING));
-        s.push_str(TERRAIN_WGSL);
-    } else {
-        s.push_str(NO_TERRAIN_WGSL);
+/// The array sizes `scene` needs.
+pub fn array_sizes(scene: &Scene, solids: &gpu_layout::GpuSolids) -> ArraySizes {
+    ArraySizes {
+        max_leaves: solids.max_leaves,
+        max_perturbations: solids.max_perturbations,
+        max_stack: solids.max_stack,
+        max_lights: scene.lights.len() as u32,
+        max_materials: scene.materials.len() as u32 + 1,
+        max_terrains: scene.terrains.len() as u32,
     }
-    s + FREEFORM_WGSL
 }
 
-/// What the free-form pipeline is specialised for: features absent here compile to nothing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What the pipelines are specialised for: features absent here compile to nothing. The
+/// default has no feature (what modules without overrides are built with).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Specialisation {
+    pub free_forms: bool,
     pub perturbations: bool,
     pub csg: bool,
     pub shadows: bool,
     pub sun: bool,
     pub point_lights: bool,
     pub projector: u32,
-    /// The scene's terrains (any number; each with its material in its parameter block) are
-    /// cast after the free forms.
     pub terrain: bool,
 }
 
@@ -145,6 +402,7 @@ impl Specialisation {
     pub fn for_scene(scene: &Scene, shadows: bool) -> Self {
         let f = &scene.features;
         Self {
+            free_forms: !scene.objects.is_empty(),
             perturbations: f.perturbations,
             csg: f.csg,
             shadows: shadows && f.shadows && !scene.lights.is_empty(),
@@ -155,21 +413,31 @@ impl Specialisation {
         }
     }
 
-    /// The `override` constants to build the pipeline with.
-    pub fn constants(&self) -> Vec<(&'static str, f64)> {
+    /// The `override` constants of entry module `entry` (each module declares only its own).
+    pub fn constants(&self, entry: &str) -> Vec<(&'static str, f64)> {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
-        vec![
+        let free_form = [
             ("HAS_PERTURBATIONS", b(self.perturbations)),
             ("HAS_CSG", b(self.csg)),
-            ("SHADOWS", b(self.shadows)),
-            ("HAS_SUN", b(self.sun)),
-            ("HAS_POINT", b(self.point_lights)),
-            ("PROJECTOR", f64::from(self.projector)),
-            ("HAS_TERRAIN", b(self.terrain)),
-        ]
+        ];
+        match entry {
+            "raygen.wgsl" => vec![("PROJECTOR", f64::from(self.projector))],
+            "intersect_freeform.wgsl" => free_form.to_vec(),
+            "shade.wgsl" => {
+                let mut c = free_form.to_vec();
+                c.extend([
+                    ("HAS_FREE_FORMS", b(self.free_forms)),
+                    ("SHADOWS", b(self.shadows)),
+                    ("HAS_SUN", b(self.sun)),
+                    ("HAS_POINT", b(self.point_lights)),
+                ]);
+                c
+            }
+            _ => Vec::new(),
+        }
     }
 
-    /// A short description for the frame's stats, e.g. `"freeform[pinhole, csg, shadows, sun]"`.
+    /// A short description for the frame's stats, e.g. `"pinhole, csg, shadows, sun"`.
     pub fn describe(&self) -> String {
         let projector = match self.projector {
             params::PROJECTOR_PINHOLE => "pinhole",
@@ -178,6 +446,7 @@ impl Specialisation {
         };
         let mut parts = vec![projector];
         for (on, name) in [
+            (self.free_forms, "free-form"),
             (self.perturbations, "perturbations"),
             (self.csg, "csg"),
             (self.shadows, "shadows"),
@@ -189,7 +458,7 @@ impl Specialisation {
                 parts.push(name);
             }
         }
-        format!("freeform[{}]", parts.join(", "))
+        parts.join(", ")
     }
 }
 
@@ -198,7 +467,7 @@ mod tests {
     use super::*;
     use std::collections::HashMap;
 
-    fn validate(name: &str, source: &str) -> naga::Module {
+    pub(crate) fn validate(name: &str, source: &str) -> naga::Module {
         let module = naga::front::wgsl::parse_str(source)
             .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
         naga::valid::Validator::new(
@@ -211,7 +480,7 @@ mod tests {
     }
 
     #[test]
-    fn every_shader_file_parses_and_validates_with_naga() {
+    fn every_shader_file_is_embedded_and_every_entry_module_validates_with_naga() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
         let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
             .unwrap()
@@ -220,44 +489,89 @@ mod tests {
             .filter(|n| n.ends_with(".wgsl"))
             .collect();
         on_disk.sort();
-        let mut embedded: Vec<String> = SHADER_FILES.iter().map(|(n, _)| n.to_string()).collect();
+        let mut embedded: Vec<String> = SHADER_FILES
+            .iter()
+            .filter(|(_, text)| !text.is_empty())
+            .map(|(n, _)| n.to_string())
+            .collect();
         embedded.sort();
-        assert_eq!(
-            on_disk, embedded,
-            "every file in shaders/ must be embedded and validated"
-        );
-        for sizes in [
-            ArraySizes::default(),
-            ArraySizes {
-                max_leaves: 1,
-                max_perturbations: 0,
-                max_stack: 1,
-            },
-        ] {
-            validate("freeform.wgsl", &freeform_source(sizes, false));
-            validate(
-                "freeform.wgsl + terrain.wgsl",
-                &freeform_source(sizes, true),
-            );
+        assert_eq!(on_disk, embedded, "every file in shaders/ must be embedded");
+        let mut reached: Vec<String> = Vec::new();
+        for terrain in [false, true] {
+            for sizes in [
+                ArraySizes::default(),
+                ArraySizes {
+                    max_leaves: 1,
+                    max_perturbations: 0,
+                    max_stack: 1,
+                    max_lights: 0,
+                    max_materials: 1,
+                    max_terrains: 0,
+                },
+            ] {
+                let options = ModuleOptions { sizes, terrain };
+                for entry in ENTRY_MODULES {
+                    let source = compose(entry, &options).unwrap();
+                    validate(&format!("{entry} (terrain {terrain})"), &source);
+                    for (name, text) in SHADER_FILES {
+                        if !text.is_empty() && source.contains(&format!("// ---- {name}")) {
+                            reached.push(name.to_owned());
+                        }
+                    }
+                }
+            }
         }
-        validate("terrain_batch.wgsl", &terrain_batch_source());
-        // Every file is part of a validated module.
         for (name, text) in SHADER_FILES {
             assert!(
-                freeform_source(ArraySizes::default(), true).contains(text)
-                    || terrain_batch_source().contains(text),
+                text.is_empty() || reached.iter().any(|r| r == name),
                 "{name} is in no module"
             );
         }
     }
 
     #[test]
-    fn generated_wgsl_layouts_match_rust() {
-        use fray_geometry::gpu_layout::{self as g};
-        use std::mem::{offset_of, size_of};
+    fn the_include_step_resolves_once_instantiates_and_reports_errors() {
+        let options = ModuleOptions::default();
+        let shade = compose("shade.wgsl", &options).unwrap();
+        // freeform.wgsl is included by shade.wgsl and reached again through nothing else: once.
+        assert_eq!(shade.matches("// ---- freeform.wgsl ----").count(), 1);
+        assert_eq!(shade.matches("// ---- ray.wgsl ----").count(), 1);
+        // The CSG template, once per algebra.
+        for name in ["csg_bound(", "csg_value(", "csg_surface("] {
+            assert_eq!(shade.matches(&format!("fn {name}")).count(), 1, "{name}");
+        }
+        assert!(!shade.contains("{{"), "every placeholder replaced");
+        // Conditional includes and bindings follow the terrain switch.
+        assert!(shade.contains("// ---- terrain.wgsl ----"));
+        assert!(!shade.contains("// ---- no_terrain.wgsl ----"));
+        let flat = compose(
+            "shade.wgsl",
+            &ModuleOptions {
+                terrain: false,
+                ..options
+            },
+        )
+        .unwrap();
+        assert!(
+            !flat.contains("// ---- terrain.wgsl ----")
+                && !flat.contains("var<storage, read> pyramid")
+        );
+        assert!(flat.contains("// ---- no_terrain.wgsl ----"));
+        assert!(matches!(
+            compose("nonexistent.wgsl", &options),
+            Err(ComposeError::Missing { .. })
+        ));
+        assert!(matches!(
+            instantiate("x", "csg.wgsl", "{ NAME: v }"),
+            Err(ComposeError::Unreplaced { .. })
+        ));
+    }
+
+    #[test]
+    fn generated_layouts_and_constants_are_the_rust_ones() {
         let module = validate(
-            "freeform.wgsl",
-            &freeform_source(ArraySizes::default(), true),
+            "shade.wgsl",
+            &compose("shade.wgsl", &ModuleOptions::default()).unwrap(),
         );
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
@@ -273,76 +587,39 @@ mod tests {
                 );
             }
         }
-        let expect = |name: &str, size: usize, offsets: &[usize]| {
-            let (s, o) = found.get(name).unwrap_or_else(|| panic!("{name} missing"));
-            assert_eq!(*s as usize, size, "{name} size");
-            let o: Vec<usize> = o.iter().map(|&x| x as usize).collect();
-            assert_eq!(o, offsets, "{name} offsets");
-        };
-        expect(
-            "GpuQuadric",
-            size_of::<g::GpuQuadric>(),
-            &[
-                offset_of!(g::GpuQuadric, origin),
-                offset_of!(g::GpuQuadric, c0),
-                offset_of!(g::GpuQuadric, c1),
-                offset_of!(g::GpuQuadric, c2),
-            ],
-        );
-        expect(
-            "GpuPerturbation",
-            size_of::<g::GpuPerturbation>(),
-            &[
-                offset_of!(g::GpuPerturbation, quadric),
-                offset_of!(g::GpuPerturbation, params),
-            ],
-        );
-        expect(
-            "GpuLeaf",
-            size_of::<g::GpuLeaf>(),
-            &[
-                offset_of!(g::GpuLeaf, base),
-                offset_of!(g::GpuLeaf, box_min),
-                offset_of!(g::GpuLeaf, box_max),
-                offset_of!(g::GpuLeaf, info),
-            ],
-        );
-        expect(
-            "GpuSolid",
-            size_of::<g::GpuSolid>(),
-            &[
-                offset_of!(g::GpuSolid, box_min),
-                offset_of!(g::GpuSolid, box_max),
-                offset_of!(g::GpuSolid, info),
-            ],
-        );
-        let p = |n: usize| (0..n).map(|i| 16 * i).collect::<Vec<_>>();
-        expect("FrameParams", size_of::<params::FrameParams>(), &p(10));
-        expect("GpuLight", size_of::<params::GpuLight>(), &p(3));
-        expect("GpuMaterial", size_of::<params::GpuMaterial>(), &p(3));
-        // The work-list structs: eight 4-byte scalars each.
-        let q = |n: usize| (0..n).map(|i| 4 * i).collect::<Vec<_>>();
-        expect("WorkItem", size_of::<fray_quadtree::WorkItem>(), &q(8));
-        expect("Candidate", size_of::<fray_quadtree::Candidate>(), &q(8));
-        // Constants come from Rust: the module's values are the Rust ones.
+        fn expect<T: GpuStruct>(found: &HashMap<String, (u32, Vec<u32>)>) {
+            let name = T::wgsl();
+            let (size, offsets) = found.get(&name).unwrap_or_else(|| panic!("{name} missing"));
+            assert_eq!(*size as usize, std::mem::size_of::<T>(), "{name} size");
+            let rust: Vec<u32> = T::fields().iter().map(|f| f.rust_offset as u32).collect();
+            assert_eq!(offsets, &rust, "{name} offsets");
+        }
+        expect::<gpu_layout::GpuQuadric>(&found);
+        expect::<gpu_layout::GpuPerturbation>(&found);
+        expect::<gpu_layout::GpuLeaf>(&found);
+        expect::<gpu_layout::GpuSolid>(&found);
+        expect::<params::FrameParams>(&found);
+        expect::<params::GpuPath>(&found);
+        expect::<params::GpuLight>(&found);
+        expect::<params::GpuMaterial>(&found);
+        expect::<fray_quadtree::WorkItem>(&found);
+        expect::<fray_quadtree::Candidate>(&found);
         let constants: HashMap<String, naga::Handle<naga::Expression>> = module
             .constants
             .iter()
             .filter_map(|(_, c)| c.name.clone().map(|n| (n, c.init)))
             .collect();
         for (name, value) in [
-            ("OP_LEAF", g::OP_LEAF),
-            ("OP_MAX", g::OP_MAX),
-            ("OP_MIN", g::OP_MIN),
-            ("OP_NEG", g::OP_NEG),
-            ("OP_BITS", g::OP_BITS),
+            ("OP_LEAF", gpu_layout::OP_LEAF),
+            ("OP_NEG", gpu_layout::OP_NEG),
+            ("OP_BITS", gpu_layout::OP_BITS),
             ("PROJECTOR_SPHERE", params::PROJECTOR_SPHERE),
             ("LIGHT_POINT", params::LIGHT_POINT),
-            ("TILE_THREADS", work::TILE),
+            ("KIND_TERRAIN", PrimitiveKind::Terrain.code()),
+            ("TILE_THREADS", crate::work::TILE),
         ] {
-            let init = constants[name];
             assert_eq!(
-                module.global_expressions[init],
+                module.global_expressions[constants[name]],
                 naga::Expression::Literal(naga::Literal::U32(value)),
                 "{name}"
             );
@@ -357,10 +634,10 @@ mod tests {
         )
         .unwrap();
         let s = Specialisation::for_scene(&scene, true);
-        assert!(!s.perturbations && !s.csg);
+        assert!(!s.perturbations && !s.csg && s.free_forms && !s.terrain);
         assert_eq!(s.projector, params::PROJECTOR_PINHOLE);
-        assert!(s.describe().starts_with("freeform[pinhole"));
-        assert_eq!(s.constants().len(), 7);
-        assert!(!s.terrain);
+        assert!(s.describe().starts_with("pinhole"));
+        assert_eq!(s.constants("shade.wgsl").len(), 6);
+        assert_eq!(s.constants("raygen.wgsl"), vec![("PROJECTOR", 0.0)]);
     }
 }

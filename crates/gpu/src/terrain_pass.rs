@@ -1,14 +1,16 @@
-//! The terrain pass (one struct, its pipeline and buffers): `shaders/terrain.wgsl` casts a batch
-//! of camera-relative rays against one terrain and reads back per ray the hit `(t, normal)` and
-//! `(kind, levels above the finest, cell)`. It is the f32 twin of
+//! The batch terrain pass (one struct, its pipeline and buffers): `shaders/terrain.wgsl` casts a
+//! batch of camera-relative rays against one terrain and reads back per ray the hit
+//! `(t, normal)` and `(kind, levels above the finest, cell)`. It is the f32 twin of
 //! `fray_terrain::Terrain::cast_footprint` (bilinear and B-spline bicubic, walls, starts, pixel
 //! LOD); a parity test bounds the difference. The GPU frame casts terrains with the same
-//! `cast_terrain`, from the free-form module (see `shader::freeform_source`), over the buffers
-//! [`terrain_buffers`] uploads for any number of terrains: their parameter blocks
+//! `cast_terrain` (the terrain intersection and shade passes) over the arrays
+//! [`terrain_arrays`] lays out for any number of terrains: their parameter blocks
 //! (`terrains[k]`), and their max pyramids (rectangular levels) and samples concatenated.
 
-use crate::bindings::entry;
+use crate::bindings::{self, TERRAIN_BATCH, TERRAINS};
+use crate::passes::PipelineCache;
 use crate::readback::{read_back, readback_buffer};
+use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_core::PixelFootprint;
 use fray_terrain::Terrain;
@@ -19,13 +21,24 @@ use wgpu::util::DeviceExt;
 const PASS: &str = "terrain";
 const WORKGROUP: u32 = 64;
 
-pub use crate::shader::TERRAIN_WGSL;
+/// What the batch module is composed with: one terrain.
+const OPTIONS: ModuleOptions = ModuleOptions {
+    sizes: ArraySizes {
+        max_leaves: 1,
+        max_perturbations: 1,
+        max_stack: 1,
+        max_lights: 1,
+        max_materials: 1,
+        max_terrains: 1,
+    },
+    terrain: true,
+};
 
 /// The complete terrain batch module: the generated prelude (which holds the terrain's parameter
-/// struct, from `fray_terrain::gpu_layout`), the terrain bindings, terrain.wgsl and
+/// struct, from `fray_terrain::gpu_layout`), the batch and terrain bindings, terrain.wgsl and
 /// terrain_batch.wgsl.
 pub fn terrain_source() -> String {
-    crate::shader::terrain_batch_source()
+    crate::shader::compose("terrain_batch.wgsl", &OPTIONS).unwrap_or_default()
 }
 
 /// One ray of a batch, relative to the pass's reference point: `(origin, t_lo)`,
@@ -150,26 +163,20 @@ fn terrain_layout(
     Ok((params, pyramid, samples))
 }
 
-/// The terrains' buffers for a module that includes terrain.wgsl: the parameter blocks, the
-/// concatenated max pyramids and the concatenated samples ([`terrain_layout`], checked against
-/// the device's limits first), the arrays written straight into buffers mapped at creation.
-pub(crate) fn terrain_buffers(
+/// The terrains' arrays for a module that includes terrain.wgsl: the parameter blocks (relative
+/// to `reference`), the concatenated max pyramids and the concatenated samples
+/// ([`terrain_layout`], checked against the device's limits first), the arrays written straight
+/// into buffers mapped at creation.
+pub(crate) fn terrain_arrays(
     ctx: &GpuContext,
     terrains: &[TerrainUpload<'_>],
     reference: DVec3,
-) -> Result<[wgpu::Buffer; 3], GpuError> {
+) -> Result<(Vec<GpuTerrainParams>, wgpu::Buffer, wgpu::Buffer), GpuError> {
     let limit = ctx
         .limits
         .max_storage_buffer_binding_size
         .min(ctx.limits.max_buffer_size);
     let (params, pyramid, samples) = terrain_layout(terrains, reference, limit)?;
-    let blocks = ctx
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("terrain params"),
-            contents: bytemuck::cast_slice(&params),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
     const CHUNK: usize = 1 << 16;
     let pyramids = mapped_f32_buffer(ctx, "terrain pyramids", pyramid, |write| {
         let mut chunk = vec![0.0f32; CHUNK];
@@ -189,15 +196,16 @@ pub(crate) fn terrain_buffers(
             }
         }
     })?;
-    Ok([blocks, pyramids, samples])
+    Ok((params, pyramids, samples))
 }
 
-/// The terrain pass of one terrain.
+/// The batch terrain pass of one terrain.
 #[derive(Debug)]
 pub struct TerrainPass {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
-    buffers: [wgpu::Buffer; 3],
+    cache: PipelineCache,
+    pipeline: std::sync::Arc<wgpu::ComputePipeline>,
+    /// The terrains group: its bind group (parameters, level of detail, pyramid, samples).
+    terrains: wgpu::BindGroup,
     /// Cast with the pixel footprint (1) or exactly (0).
     pixel_lod: u32,
     epsilon: f32,
@@ -239,49 +247,39 @@ impl TerrainPass {
             material: 0,
             footprint,
         };
-        let buffers = terrain_buffers(ctx, &[upload], reference)?;
-        let device = &ctx.device;
-        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("terrain.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(terrain_source().into()),
-        });
-        use wgpu::BufferBindingType as B;
-        let read = B::Storage { read_only: true };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(PASS),
-            entries: &[
-                entry(0, read),
-                entry(1, read),
-                entry(2, read),
-                entry(3, read),
-                entry(4, B::Storage { read_only: false }),
-                entry(5, B::Uniform),
+        let (params, pyramid, samples) = terrain_arrays(ctx, &[upload], reference)?;
+        use wgpu::BufferUsages as U;
+        let params_buffer = bindings::upload(
+            ctx,
+            "terrain params",
+            &params,
+            GpuTerrainParams::default(),
+            U::UNIFORM,
+        )?;
+        let lods: Vec<[f32; 4]> = params.iter().map(|p| p.lod).collect();
+        let lods = bindings::upload(ctx, "terrain lods", &lods, [0.0; 4], U::UNIFORM)?;
+        let cache = PipelineCache::default();
+        let pipeline = cache.pipeline(
+            ctx,
+            "terrain_batch.wgsl",
+            &[TERRAIN_BATCH, TERRAINS],
+            &OPTIONS,
+            &Specialisation::default(),
+        )?;
+        let terrains = TERRAINS.bind(
+            &ctx.device,
+            &cache.layout(ctx, &TERRAINS),
+            &[
+                params_buffer.as_entire_binding(),
+                lods.as_entire_binding(),
+                pyramid.as_entire_binding(),
+                samples.as_entire_binding(),
             ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(PASS),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(PASS),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
-        if let Some(e) = pollster::block_on(validation.pop()) {
-            return Err(GpuError::Pipeline {
-                pass: PASS,
-                reason: e.to_string(),
-            });
-        }
+        );
         Ok(Self {
+            cache,
             pipeline,
-            layout,
-            buffers,
+            terrains,
             pixel_lod: u32::from(!footprint.is_zero()),
             epsilon: 0.0,
         })
@@ -325,26 +323,15 @@ impl TerrainPass {
             mapped_at_creation: false,
         });
         let readback = readback_buffer(device, "terrain readback", bytes);
-        let resources = [
-            &self.buffers[0],
-            &self.buffers[1],
-            &self.buffers[2],
-            &ray_buffer,
-            &output,
-            &uniform,
-        ];
-        let entries: Vec<wgpu::BindGroupEntry> = (0..)
-            .zip(resources)
-            .map(|(binding, buffer)| wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(PASS),
-            layout: &self.layout,
-            entries: &entries,
-        });
+        let bind_group = TERRAIN_BATCH.bind(
+            device,
+            &self.cache.layout(ctx, &TERRAIN_BATCH),
+            &[
+                uniform.as_entire_binding(),
+                ray_buffer.as_entire_binding(),
+                output.as_entire_binding(),
+            ],
+        );
         let groups = (rays.len() as u32).div_ceil(WORKGROUP);
         let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
         let mut encoder =
@@ -356,6 +343,7 @@ impl TerrainPass {
             });
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(1, &self.terrains, &[]);
             pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);

@@ -1,4 +1,4 @@
-//! GPU time of a compute pass from timestamp queries: two timestamps (start and end of the
+//! GPU time of a band's compute pass (all its dispatches) from timestamp queries: two timestamps (start and end of the
 //! pass), resolved and read back after it, converted with the queue's timestamp period.
 
 use crate::GpuContext;
@@ -26,17 +26,17 @@ impl Timestamps {
         let device = &ctx.device;
         Some(Self {
             set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("free-form timestamps"),
+                label: Some("band timestamps"),
                 ty: wgpu::QueryType::Timestamp,
                 count: 2,
             }),
             resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("free-form timestamps resolve"),
+                label: Some("band timestamps resolve"),
                 size: TIMESTAMP_BYTES,
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
-            readback: readback_buffer(device, "free-form timestamps readback", TIMESTAMP_BYTES),
+            readback: readback_buffer(device, "band timestamps readback", TIMESTAMP_BYTES),
             period_ns,
         })
     }

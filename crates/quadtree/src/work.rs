@@ -1,45 +1,45 @@
 //! The flat, GPU-uploadable work list: work items (tiles), their candidates, and index arrays.
 //!
-//! Everything is plain `#[repr(C)]` u32/f32 (`bytemuck::Pod`), so the arrays upload as they are.
+//! Everything is plain `#[repr(C)]` u32/f32 (`bytemuck::Pod`), so the arrays upload as they are;
+//! the structs are declared with `fray_core::gpu_struct!`, which generates their WGSL twins.
 //! The scheduler does not know what a candidate *is*: it is a caller-given `(kind, object)` id
 //! with two caller-given index lists, called `leaves` and `perturbations` after their use in fray
 //! (the leaves of a CSG solid that may matter in the tile and the perturbations that may matter
 //! there; fray's kinds are its primitive kinds — free form, terrain — and `object` the index
 //! within the kind).
 
-use bytemuck::{Pod, Zeroable};
-
-/// A tile of the image `[x0, x1) × [y0, y1)` and its candidates `candidates[start..start+count]`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct WorkItem {
-    pub x0: u32,
-    pub y0: u32,
-    pub x1: u32,
-    pub y1: u32,
-    pub candidate_start: u32,
-    pub candidate_count: u32,
-    /// A conservative range of ray parameters where the candidates can be (hull over them).
-    pub t_min: f32,
-    pub t_max: f32,
+fray_core::gpu_struct! {
+    /// A tile of the image `[x0, x1) × [y0, y1)` and its candidates
+    /// `candidates[start..start+count]`.
+    pub struct WorkItem {
+        pub x0: u32,
+        pub y0: u32,
+        pub x1: u32,
+        pub y1: u32,
+        pub candidate_start: u32,
+        pub candidate_count: u32,
+        /// A conservative range of ray parameters where the candidates can be (hull over them).
+        pub t_min: f32,
+        pub t_max: f32,
+    }
 }
 
-/// One object that may be hit in a tile, with the index ranges of its active leaves and
-/// perturbations in [`WorkList::leaves`] and [`WorkList::perturbations`].
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Candidate {
-    /// The caller's kind of object (fray: its primitive kind).
-    pub kind: u32,
-    /// The object's index (fray: within its kind).
-    pub object: u32,
-    pub leaf_start: u32,
-    pub leaf_count: u32,
-    pub perturbation_start: u32,
-    pub perturbation_count: u32,
-    /// Conservative range of ray parameters where this object can be, for the tile's rays.
-    pub t_min: f32,
-    pub t_max: f32,
+fray_core::gpu_struct! {
+    /// One object that may be hit in a tile, with the index ranges of its active leaves and
+    /// perturbations in [`WorkList::leaves`] and [`WorkList::perturbations`].
+    pub struct Candidate {
+        /// The caller's kind of object (fray: its primitive kind).
+        pub kind: u32,
+        /// The object's index (fray: within its kind).
+        pub object: u32,
+        pub leaf_start: u32,
+        pub leaf_count: u32,
+        pub perturbation_start: u32,
+        pub perturbation_count: u32,
+        /// Conservative range of ray parameters where this object can be, for the tile's rays.
+        pub t_min: f32,
+        pub t_max: f32,
+    }
 }
 
 impl Candidate {

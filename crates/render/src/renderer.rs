@@ -153,6 +153,7 @@ impl Renderer {
                     shadows: settings.shadows,
                     culling: settings.culling,
                     samples: settings.samples,
+                    memory_budget: settings.memory_budget,
                 };
                 let gpu = || {
                     let frame = fray_gpu::render(&scene, &gpu_settings)?;

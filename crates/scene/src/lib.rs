@@ -49,4 +49,4 @@ pub use load::{load, parse, parse_description};
 pub use primitive::{PrimitiveId, PrimitiveKind};
 pub use resolve::MAX_IMAGE_SIDE;
 pub use scene::{Light, Material, Object, Scene, Settings, TerrainObject};
-pub use work::{work_list, work_list_within};
+pub use work::{work_list, work_list_view, work_list_within};

@@ -90,6 +90,17 @@ pub fn work_list_within(
     scene: &Scene,
     config: &QuadtreeConfig,
 ) -> Result<WorkList, fray_quadtree::QuadtreeError> {
+    work_list_view(scene, &scene.camera, (scene.width, scene.height), config)
+}
+
+/// [`work_list_within`] for a view of the scene other than its own: `camera` at `size` (a
+/// resident GPU scene seen from a moved camera).
+pub fn work_list_view(
+    scene: &Scene,
+    camera: &fray_core::Projector,
+    size: (u32, u32),
+    config: &QuadtreeConfig,
+) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     let boxes = object_boxes(scene);
     let terrains = terrain_boxes(scene);
     let (free_form, terrain) = (
@@ -169,11 +180,5 @@ pub fn work_list_within(
                 }
             }
         };
-    build_parallel(
-        &scene.camera,
-        (scene.width, scene.height),
-        config,
-        &root,
-        make_test,
-    )
+    build_parallel(camera, size, config, &root, make_test)
 }

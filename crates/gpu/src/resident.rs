@@ -1,0 +1,276 @@
+//! What stays on the GPU: a scene uploaded once, relative to a fixed anchor (the first view's
+//! eye), with the camera-relative copies the rebase pass refreshes from it — so a frame from a
+//! moved camera uploads only the camera and its work list. Free forms (solids, leaves,
+//! perturbations and their CSG programs, at the head of `indices`), lights, materials and the
+//! terrains (parameters, concatenated pyramids and samples); every buffer checked against the
+//! device's limits before it is made.
+
+use crate::bindings::{self};
+use crate::params::{self, GpuLight, GpuMaterial};
+use crate::passes::PipelineCache;
+use crate::passes::rebase::{RebaseLayout, Rebased};
+use crate::terrain_pass::{TerrainUpload, terrain_arrays};
+use crate::{GpuContext, GpuError};
+use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuQuadric, GpuSolid, GpuSolids};
+use fray_scene::Scene;
+use fray_terrain::gpu_layout::GpuTerrainParams;
+use glam::DVec3;
+use std::mem::{offset_of, size_of};
+use wgpu::BufferUsages as U;
+
+/// Where the positions and box corners of the scene's GPU structs are.
+pub const SOLID_LAYOUT: RebaseLayout = RebaseLayout::new(
+    size_of::<GpuSolid>(),
+    &[],
+    &[offset_of!(GpuSolid, box_min)],
+    &[offset_of!(GpuSolid, box_max)],
+);
+pub const LEAF_LAYOUT: RebaseLayout = RebaseLayout::new(
+    size_of::<GpuLeaf>(),
+    &[offset_of!(GpuLeaf, base) + offset_of!(GpuQuadric, origin)],
+    &[offset_of!(GpuLeaf, box_min)],
+    &[offset_of!(GpuLeaf, box_max)],
+);
+pub const PERTURBATION_LAYOUT: RebaseLayout = RebaseLayout::new(
+    size_of::<GpuPerturbation>(),
+    &[offset_of!(GpuPerturbation, quadric) + offset_of!(GpuQuadric, origin)],
+    &[],
+    &[],
+);
+pub const LIGHT_LAYOUT: RebaseLayout = RebaseLayout::new(
+    size_of::<GpuLight>(),
+    &[offset_of!(GpuLight, position)],
+    &[],
+    &[],
+);
+pub const TERRAIN_LAYOUT: RebaseLayout = RebaseLayout::new(
+    size_of::<GpuTerrainParams>(),
+    &[offset_of!(GpuTerrainParams, origin)],
+    &[],
+    &[],
+);
+
+/// The terrains on the GPU.
+#[derive(Debug)]
+pub struct ResidentTerrains {
+    /// The parameters (anchor-relative source, camera-relative copy).
+    pub params: Rebased,
+    /// The camera-relative parameters as the uniform table the passes read (copied from
+    /// `params.target` each frame the camera moves).
+    pub table: wgpu::Buffer,
+    /// This view's level-of-detail parameters, one vec4 per terrain (camera data, written per
+    /// frame).
+    pub lods: wgpu::Buffer,
+    pub pyramid: wgpu::Buffer,
+    pub samples: wgpu::Buffer,
+}
+
+/// A scene on the GPU.
+#[derive(Debug)]
+pub struct ResidentScene {
+    /// The point every resident position is relative to.
+    pub anchor: DVec3,
+    /// The solids flattened (for the work list: programs, first leaves).
+    pub flat: GpuSolids,
+    pub solids: Rebased,
+    pub leaves: Rebased,
+    pub perturbations: Rebased,
+    /// The scene's CSG programs, the head of every frame's `indices` (copied on the GPU).
+    pub programs: wgpu::Buffer,
+    pub lights: Rebased,
+    /// The camera-relative lights as the uniform table the shade pass reads.
+    pub lights_table: wgpu::Buffer,
+    pub materials: wgpu::Buffer,
+    pub terrains: Option<ResidentTerrains>,
+    /// Bytes uploaded.
+    pub bytes: u64,
+}
+
+impl ResidentScene {
+    /// Uploads `scene` relative to `anchor`.
+    pub fn upload(
+        ctx: &GpuContext,
+        cache: &PipelineCache,
+        scene: &Scene,
+        anchor: DVec3,
+    ) -> Result<Self, GpuError> {
+        let mut flat = GpuSolids::new(anchor);
+        let material_count = scene.materials.len() as u32;
+        for object in &scene.objects {
+            flat.push(&object.solid, |leaf| {
+                object
+                    .leaf_materials
+                    .get(leaf)
+                    .copied()
+                    .filter(|&m| m < material_count)
+                    .unwrap_or(material_count)
+            });
+        }
+        let mut bytes = 0;
+        let (solids, b) = Rebased::new(ctx, cache, "solids", &flat.solids, SOLID_LAYOUT)?;
+        bytes += b;
+        let (leaves, b) = Rebased::new(ctx, cache, "leaves", &flat.leaves, LEAF_LAYOUT)?;
+        bytes += b;
+        let (perturbations, b) = Rebased::new(
+            ctx,
+            cache,
+            "perturbations",
+            &flat.perturbations,
+            PERTURBATION_LAYOUT,
+        )?;
+        bytes += b;
+        let lights = params::lights(scene, anchor);
+        let (lights_rebased, b) = Rebased::new(ctx, cache, "lights", &lights, LIGHT_LAYOUT)?;
+        bytes += b;
+        let programs = bindings::upload(ctx, "programs", &flat.program, 0u32, U::COPY_SRC)?;
+        let lights_table = bindings::empty(
+            ctx,
+            "lights table",
+            (lights.len() * size_of::<GpuLight>()) as u64,
+            U::UNIFORM | U::COPY_DST,
+        )?;
+        let materials = params::materials(scene);
+        let materials_buffer = bindings::upload(
+            ctx,
+            "materials",
+            &materials,
+            GpuMaterial::default(),
+            U::UNIFORM,
+        )?;
+        bytes += programs.size() + materials_buffer.size();
+        let terrains = if scene.terrains.is_empty() {
+            None
+        } else {
+            let (t, b) = upload_terrains(ctx, cache, scene, anchor)?;
+            bytes += b;
+            Some(t)
+        };
+        Ok(Self {
+            anchor,
+            flat,
+            solids,
+            leaves,
+            perturbations,
+            programs,
+            lights: lights_rebased,
+            lights_table,
+            materials: materials_buffer,
+            terrains,
+            bytes,
+        })
+    }
+
+    /// Every array the rebase pass moves.
+    pub fn rebased(&self) -> Vec<&Rebased> {
+        let mut v = vec![
+            &self.solids,
+            &self.leaves,
+            &self.perturbations,
+            &self.lights,
+        ];
+        if let Some(t) = &self.terrains {
+            v.push(&t.params);
+        }
+        v
+    }
+
+    /// Copies the moved uniform tables (lights, terrain parameters) into their uniform buffers.
+    pub fn copy_tables(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.copy_buffer_to_buffer(
+            &self.lights.target,
+            0,
+            &self.lights_table,
+            0,
+            self.lights_table.size(),
+        );
+        if let Some(t) = &self.terrains {
+            encoder.copy_buffer_to_buffer(&t.params.target, 0, &t.table, 0, t.table.size());
+        }
+    }
+}
+
+/// The terrains' parameters (their pyramids and samples at offsets in the concatenated arrays,
+/// their materials) anchor-relative, and the concatenated arrays, written straight into mapped
+/// GPU buffers (`terrain_pass::terrain_arrays`); returns them and the bytes uploaded.
+fn upload_terrains(
+    ctx: &GpuContext,
+    cache: &PipelineCache,
+    scene: &Scene,
+    anchor: DVec3,
+) -> Result<(ResidentTerrains, u64), GpuError> {
+    let material_count = scene.materials.len() as u32;
+    let uploads: Vec<TerrainUpload<'_>> = scene
+        .terrains
+        .iter()
+        .map(|t| TerrainUpload {
+            terrain: &t.terrain,
+            material: t.material.min(material_count),
+            // The level of detail is the view's: `terrain_lods`, per frame.
+            footprint: fray_core::PixelFootprint::ZERO,
+        })
+        .collect();
+    let (params, pyramid, samples) = terrain_arrays(ctx, &uploads, anchor)?;
+    let (params_rebased, params_bytes) =
+        Rebased::new(ctx, cache, "terrain params", &params, TERRAIN_LAYOUT)?;
+    let table_bytes = (params.len() * size_of::<GpuTerrainParams>()) as u64;
+    let table = bindings::empty(ctx, "terrain table", table_bytes, U::UNIFORM | U::COPY_DST)?;
+    let lods = bindings::empty(
+        ctx,
+        "terrain lods",
+        16 * params.len() as u64,
+        U::UNIFORM | U::COPY_DST,
+    )?;
+    let bytes = params_bytes + pyramid.size() + samples.size();
+    Ok((
+        ResidentTerrains {
+            params: params_rebased,
+            table,
+            lods,
+            pyramid,
+            samples,
+        },
+        bytes,
+    ))
+}
+
+/// This view's level-of-detail parameters of each terrain of `scene` (camera rays at the
+/// terrain's `lod`; `GpuTerrainParams::with_pixel_lod`, exactly as the CPU casts them).
+pub fn terrain_lods(scene: &Scene, footprint: fray_core::PixelFootprint) -> Vec<[f32; 4]> {
+    scene
+        .terrains
+        .iter()
+        .map(|t| {
+            let fp = match t.lod {
+                fray_scene::TerrainLod::Pixel => footprint.coarser(t.terrain.options().lod_bias),
+                fray_scene::TerrainLod::Exact => fray_core::PixelFootprint::ZERO,
+            };
+            GpuTerrainParams::new(&t.terrain, DVec3::ZERO)
+                .with_pixel_lod(&t.terrain, fp)
+                .lod
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rebase_layouts_name_the_positions_and_boxes() {
+        assert_eq!(LEAF_LAYOUT.stride as usize, size_of::<GpuLeaf>() / 16);
+        assert_eq!(LEAF_LAYOUT.points, 1);
+        assert_eq!(
+            LEAF_LAYOUT.box_mins,
+            1 << (offset_of!(GpuLeaf, box_min) / 16)
+        );
+        assert_eq!(SOLID_LAYOUT.points, 0);
+        assert_eq!(
+            LIGHT_LAYOUT.points,
+            1 << (offset_of!(GpuLight, position) / 16)
+        );
+        // Directions are never moved: a sun's direction slot is not a position.
+        assert_eq!(LIGHT_LAYOUT.points & 1, 0);
+        assert_eq!(PERTURBATION_LAYOUT.points, 1);
+        assert_eq!(TERRAIN_LAYOUT.points, 1);
+    }
+}

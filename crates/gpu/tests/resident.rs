@@ -1,0 +1,317 @@
+//! The scene stays on the GPU: a second frame builds no pipeline and uploads no scene, a moved
+//! camera rebases the resident scene on the GPU (bit for bit the CPU twin's), frames repeat bit
+//! for bit, several bands agree with one, the display image is the CPU's tone map of the frame,
+//! and anti-aliased frames match the CPU's. Ignored without an adapter; a failure under
+//! `FRAY_REQUIRE_GPU=1`.
+
+mod common;
+
+use fray_core::PixelSamples;
+use fray_gpu::{GpuSettings, View};
+use fray_scene::Scene;
+use libtest_mimic::{Arguments, Trial};
+use std::path::Path;
+
+fn data_scene(name: &str, width: u32) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/scenes")
+        .join(name);
+    let mut s = fray_scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+    s.height = (u64::from(s.height) * u64::from(width) / u64::from(s.width)).max(1) as u32;
+    s.width = width;
+    s
+}
+
+/// The scene's pinhole camera moved by `offset` (and looking at the same point).
+fn moved(scene: &Scene, offset: glam::DVec3) -> fray_core::Projector {
+    let fray_core::Projector::Pinhole(p) = scene.camera else {
+        panic!("a pinhole scene");
+    };
+    let target = p.eye + p.basis.forward * 8.0;
+    let fov = 2.0 * p.tan_half_fov_y.atan();
+    fray_core::Projector::Pinhole(
+        fray_core::Pinhole::new(p.eye + offset, target, glam::DVec3::Y, fov, p.near).unwrap(),
+    )
+}
+
+fn bits(frame: &fray_core::Frame) -> (Vec<u32>, Vec<u64>, Vec<u32>) {
+    (
+        frame
+            .colour
+            .pixels()
+            .iter()
+            .flat_map(|c| c.to_array().map(f32::to_bits))
+            .collect(),
+        frame.depth.pixels().iter().map(|d| d.to_bits()).collect(),
+        frame
+            .normals
+            .pixels()
+            .iter()
+            .flat_map(|n| n.to_array().map(f32::to_bits))
+            .collect(),
+    )
+}
+
+/// The second frame of a resident scene builds no pipeline and uploads no scene (only its
+/// parameters and work list), from the same camera or a moved one, and is faster than the
+/// first; the same view renders the same bits again.
+fn a_second_frame_builds_no_pipeline_and_uploads_no_scene() {
+    let gpu = common::gpu("a_second_frame_builds_no_pipeline_and_uploads_no_scene");
+    for name in ["csg.ron", "terrain_low.ron"] {
+        let scene = data_scene(name, 96);
+        let settings = GpuSettings::for_scene(&scene);
+        let mut resident = gpu.upload(&scene, &settings).unwrap();
+        let view = View::of_scene(&scene, settings.samples);
+        let first = resident.render(&view).unwrap();
+        assert!(first.stats.scene_uploaded_bytes > 0, "{name}");
+        assert!(
+            first.stats.uploaded_bytes > first.stats.scene_uploaded_bytes,
+            "{name}"
+        );
+        let again = resident.render(&view).unwrap();
+        assert_eq!(
+            bits(&first),
+            bits(&again),
+            "{name}: the same view, other bits"
+        );
+        assert_eq!(
+            (
+                first.stats.hits,
+                first.stats.bound_evaluations,
+                first.stats.point_evaluations
+            ),
+            (
+                again.stats.hits,
+                again.stats.bound_evaluations,
+                again.stats.point_evaluations
+            ),
+            "{name}: stale counters"
+        );
+        // The passes' GPU time exists exactly when the device has timestamp queries, and lies
+        // within the frame's wall time.
+        let timestamps = gpu.context().timestamp_period_ns.is_some();
+        assert_eq!(again.stats.kernel_time.is_some(), timestamps, "{name}");
+        if let Some(k) = again.stats.kernel_time {
+            assert!(
+                k > std::time::Duration::ZERO && k <= again.stats.elapsed,
+                "{name}: {k:?}"
+            );
+        }
+        let mut view2 = view;
+        view2.camera = moved(&scene, glam::DVec3::new(0.4, 0.2, -0.3));
+        let second = resident.render(&view2).unwrap();
+        assert_eq!(second.stats.pipelines_built, 0, "{name}");
+        assert_eq!(second.stats.scene_uploaded_bytes, 0, "{name}");
+        assert!(
+            second.stats.uploaded_bytes > 0,
+            "{name}: the camera and the work list"
+        );
+        assert!(
+            second.stats.uploaded_bytes < first.stats.scene_uploaded_bytes / 2 || name == "csg.ron",
+            "{name}: {} bytes per frame vs {} for the scene",
+            second.stats.uploaded_bytes,
+            first.stats.scene_uploaded_bytes
+        );
+        assert_ne!(bits(&first).1, bits(&second).1, "{name}: the camera moved");
+        assert!(second.stats.hits > 0, "{name}");
+        eprintln!(
+            "{name}: first frame {:.1} ms ({} pipelines, {:.1} ms to build; {} bytes uploaded, {} of them the scene), moved camera {:.1} ms ({} bytes uploaded)",
+            first.stats.elapsed.as_secs_f64() * 1e3,
+            first.stats.pipelines_built,
+            first.stats.pipeline_build_time.as_secs_f64() * 1e3,
+            first.stats.uploaded_bytes,
+            first.stats.scene_uploaded_bytes,
+            second.stats.elapsed.as_secs_f64() * 1e3,
+            second.stats.uploaded_bytes
+        );
+        // A moved camera's frame equals a fresh upload anchored at the moved camera, up to the
+        // rebase's f32 rounding: the same hits, depth within the parity bound.
+        let mut at_moved = scene.clone();
+        at_moved.camera = view2.camera;
+        let fresh = gpu.render(&at_moved, &settings).unwrap();
+        let mut worst = 0.0f64;
+        let mut flips = 0;
+        for (a, b) in second.depth.pixels().iter().zip(fresh.depth.pixels()) {
+            if a.is_finite() != b.is_finite() {
+                flips += 1;
+            } else if a.is_finite() {
+                worst = worst.max((a - b).abs() / b.max(1e-9));
+            }
+        }
+        let pixels = second.depth.pixels().len();
+        assert!(flips * 200 <= pixels, "{name}: {flips} hit/miss flips");
+        assert!(worst < 1e-4, "{name}: relative depth difference {worst:e}");
+    }
+}
+
+/// A frame taller than one band (1024 × 2100 rays exceed the 64 MiB band limit) equals, bit for
+/// bit, the frame in a single band of a device with a higher limit would — checked here as: the
+/// top and the bottom bands both hold hits, culling on and off agree, and a second frame is the
+/// same.
+fn several_bands_render_like_one() {
+    let gpu = common::gpu("several_bands_render_like_one");
+    let scene = fray_scene::parse(
+        r#"Scene(
+            image: (width: 1024, height: 2100),
+            camera: Pinhole(eye: (0, 0, -6), look_at: (0, 0, 0), fov_y: 40),
+            lights: [Sun(direction: (1, 2, -1), irradiance: (3, 3, 3))],
+            objects: [(shape: Ellipsoid(center: (0, 0, 0), radii: (0.6, 3.0, 0.6)))],
+        )"#,
+        "two_bands.ron",
+    )
+    .unwrap();
+    let on = gpu.render(&scene, &GpuSettings::for_scene(&scene)).unwrap();
+    let settings = GpuSettings {
+        culling: false,
+        ..GpuSettings::for_scene(&scene)
+    };
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let view = View::of_scene(&scene, settings.samples);
+    let off = resident.render(&view).unwrap();
+    let again = resident.render(&view).unwrap();
+    assert_eq!(bits(&on), bits(&off));
+    assert_eq!(bits(&off), bits(&again));
+    let row_hits = |y: u32| (0..scene.width).any(|x| on.depth.get(x, y).is_finite());
+    assert!(
+        row_hits(20) && row_hits(2080),
+        "hits in the first and the last band"
+    );
+    assert_eq!(on.stats.hits, off.stats.hits);
+}
+
+/// The display image the resolve pass tone maps on the GPU is the CPU's tone map and sRGB
+/// encoding of the frame's linear colour, to one code value.
+fn the_display_image_is_the_frames_tone_map() {
+    let gpu = common::gpu("the_display_image_is_the_frames_tone_map");
+    let scene = data_scene("turboprop.ron", 96);
+    let settings = GpuSettings::for_scene(&scene);
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    for (tone_map, exposure) in [
+        (fray_core::ToneMap::Clamp, 1.0),
+        (fray_core::ToneMap::Reinhard, 2.5),
+    ] {
+        let view = View {
+            tone_map,
+            exposure,
+            ..View::of_scene(&scene, settings.samples)
+        };
+        let frame = resident.render(&view).unwrap();
+        let display = resident.display_image().unwrap();
+        let cpu = fray_render_like_srgb8(&frame, tone_map, exposure);
+        let worst = display
+            .pixels()
+            .iter()
+            .zip(cpu.pixels())
+            .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)))
+            .max()
+            .unwrap_or(0);
+        assert!(worst <= 1, "{tone_map:?}: {worst} code values apart");
+    }
+}
+
+/// `fray_render::output::srgb8` without depending on fray-render: tone map, sRGB, round.
+fn fray_render_like_srgb8(
+    frame: &fray_core::Frame,
+    tone_map: fray_core::ToneMap,
+    exposure: f32,
+) -> fray_core::Image<[u8; 3]> {
+    frame.colour.map(|c| {
+        c.to_array()
+            .map(|v| (fray_core::linear_to_srgb(tone_map.apply(v, exposure)) * 255.0).round() as u8)
+    })
+}
+
+/// The rebase pass moves the resident scene bit for bit as its CPU twin does.
+fn the_rebase_pass_is_its_cpu_twin() {
+    let gpu = common::gpu("the_rebase_pass_is_its_cpu_twin");
+    let scene = data_scene("turboprop.ron", 32);
+    let settings = GpuSettings::for_scene(&scene);
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let mut view = View::of_scene(&scene, settings.samples);
+    view.camera = moved(&scene, glam::DVec3::new(123.456, -7.25, 1.0e3 / 3.0));
+    resident.render(&view).unwrap();
+    let checked = resident.check_rebase_against_cpu().unwrap();
+    assert!(checked > 100, "{checked} slots");
+}
+
+/// Anti-aliasing on the GPU: the same strata and jitter as the CPU, so the frames agree within
+/// the parity bounds: depth and normals from the centre (equal to the unsampled frame's), colour
+/// close to the CPU's.
+fn anti_aliased_frames_match_the_cpu() {
+    let gpu = common::gpu("anti_aliased_frames_match_the_cpu");
+    let mut scene = data_scene("csg.ron", 80);
+    scene.settings.samples = PixelSamples::new(4).unwrap();
+    let settings = GpuSettings::for_scene(&scene);
+    let frame = gpu.render(&scene, &settings).unwrap();
+    assert_eq!(
+        frame.stats.primary_rays,
+        u64::from(scene.width * scene.height) * 5
+    );
+    let plain = gpu
+        .render(
+            &scene,
+            &GpuSettings {
+                samples: PixelSamples::ONE,
+                ..settings
+            },
+        )
+        .unwrap();
+    assert_eq!(bits(&frame).1, bits(&plain).1, "depth from the centre ray");
+    assert_eq!(
+        bits(&frame).2,
+        bits(&plain).2,
+        "normals from the centre ray"
+    );
+    let cpu =
+        fray_trace::render(&scene, &fray_trace::TraceSettings::for_scene(&scene), None).unwrap();
+    let (mut far, mut total) = (0usize, 0usize);
+    for (g, c) in frame.colour.pixels().iter().zip(cpu.colour.pixels()) {
+        total += 1;
+        if (*g - *c).abs().max_element() > 0.02 + 0.02 * c.max_element() {
+            far += 1;
+        }
+    }
+    // Silhouette and shadow-terminator samples may flip in f32; at most 2 % of pixels.
+    assert!(
+        far * 50 <= total,
+        "{far} of {total} pixels differ from the CPU's"
+    );
+}
+
+fn main() {
+    let args = Arguments::from_args();
+    let ignored = common::gpu_tests_ignored();
+    let tests: [(&str, fn()); 5] = [
+        (
+            "a_second_frame_builds_no_pipeline_and_uploads_no_scene",
+            a_second_frame_builds_no_pipeline_and_uploads_no_scene,
+        ),
+        (
+            "several_bands_render_like_one",
+            several_bands_render_like_one,
+        ),
+        (
+            "the_display_image_is_the_frames_tone_map",
+            the_display_image_is_the_frames_tone_map,
+        ),
+        (
+            "the_rebase_pass_is_its_cpu_twin",
+            the_rebase_pass_is_its_cpu_twin,
+        ),
+        (
+            "anti_aliased_frames_match_the_cpu",
+            anti_aliased_frames_match_the_cpu,
+        ),
+    ];
+    let trials = tests
+        .into_iter()
+        .map(|(name, test)| {
+            Trial::test(name, move || {
+                test();
+                Ok(())
+            })
+            .with_ignored_flag(ignored)
+        })
+        .collect();
+    libtest_mimic::run(&args, trials).exit();
+}

@@ -1,0 +1,128 @@
+// shade.wgsl — surfaces and shading: one invocation per ray of the band that hit something —
+// the surface interaction (a free form's normal and leaf from its CSG program, freeform.wgsl; a
+// terrain's normal from its hit), the cut face where the ray starts inside, then ambient +
+// Lambert (albedo/π) + normalised Phong with each light seen through a shadow ray that every
+// primitive kind answers any-hit (fray-trace's Integrator, in f32). Writes the radiance and the
+// outward shading normal into the path.
+//
+// #bindings frame, free_forms, shading, terrains if terrain
+// #include "freeform.wgsl"
+// #include "terrain.wgsl" if terrain
+// #include "terrain_shadows.wgsl" if terrain
+// #include "no_terrain.wgsl" unless terrain
+// #include "counters.wgsl"
+
+override HAS_FREE_FORMS: bool = true;
+override SHADOWS: bool = true;
+override HAS_SUN: bool = true;
+override HAS_POINT: bool = true;
+
+// Whether anything lies on the ray within [0, distance]: every solid whole, every terrain
+// exactly (fray-trace's transmittance of opaque kinds: 0 or 1).
+fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+    if HAS_FREE_FORMS && occluded_by_solids(o, d, distance, eps) {
+        return true;
+    }
+    return occluded_by_terrains(o, d, distance, eps);
+}
+
+var<private> shadow_rays: u32;
+
+fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, eps: f32) -> vec3<f32> {
+    var total = m.ambient.xyz * frame.ambient.xyz;
+    let diffuse = m.diffuse.xyz / PI;
+    let specular = m.specular.xyz;
+    let specular_on = any(specular != vec3<f32>(0.0));
+    let lobe_norm = (m.shininess + 2.0) / (2.0 * PI);
+    for (var i = 0u; i < frame.lights; i++) {
+        let light = lights[i];
+        var to_light: vec3<f32>;
+        var irradiance: vec3<f32>;
+        var distance: f32;
+        if light.kind == LIGHT_SUN {
+            if !HAS_SUN {
+                continue;
+            }
+            to_light = light.direction.xyz;
+            irradiance = light.colour.xyz;
+            distance = BIG;
+        } else {
+            if !HAS_POINT {
+                continue;
+            }
+            let dl = light.position.xyz - p;
+            let r2 = dot(dl, dl);
+            if r2 == 0.0 {
+                continue;
+            }
+            let r = sqrt(r2);
+            to_light = dl / r;
+            irradiance = light.colour.xyz / r2;
+            distance = r;
+        }
+        let cos_l = dot(n, to_light);
+        if cos_l <= 0.0 {
+            continue;
+        }
+        if SHADOWS {
+            shadow_rays++;
+            if occluded(p + n * frame.shadow_offset, to_light, distance, eps) {
+                continue;
+            }
+        }
+        var brdf = diffuse;
+        if specular_on {
+            let reflected = n * (2.0 * cos_l) - to_light;
+            let rv = max(dot(reflected, to_viewer), 0.0);
+            if rv > 0.0 {
+                brdf += specular * (lobe_norm * pow(rv, m.shininess));
+            }
+        }
+        total += brdf * irradiance * cos_l;
+    }
+    return total;
+}
+
+@compute @workgroup_size(64)
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+) {
+    zero_counts(local_index);
+    workgroupBarrier();
+    let k = id.x + id.y * groups.x * 64u;
+    shadow_rays = 0u;
+    if k < frame.width * frame.band_rows * frame.rays_per_pixel {
+        let path = paths[k];
+        let t = path.hit.x;
+        if path.origin.w >= 0.0 && t >= 0.0 {
+            let p = path.origin.xyz + path.dir.xyz * t;
+            let to_viewer = -path.dir.xyz;
+            var normal: vec3<f32>;
+            var material: u32;
+            if path.kind == KIND_TERRAIN {
+                normal = path.hit.yzw;
+                material = terrain_material(path.index);
+            } else {
+                let surface = surface_at(path.index, p, to_viewer);
+                normal = surface.normal;
+                material = leaves[surface.leaf].material;
+            }
+            if t <= path.origin.w {
+                // The picture surface cuts the object: the cut face, facing the viewer.
+                normal = to_viewer;
+            }
+            var shading_normal = normal;
+            if dot(normal, to_viewer) < 0.0 {
+                shading_normal = -normal;
+            }
+            let colour = radiance(p, shading_normal, to_viewer, materials[material], frame.epsilon);
+            paths[k].radiance = vec4<f32>(colour, 0.0);
+            paths[k].hit = vec4<f32>(t, normal);
+        }
+    }
+    count(COUNT_SHADOW_RAYS, shadow_rays);
+    workgroupBarrier();
+    flush_counts(local_index);
+}
