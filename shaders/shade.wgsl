@@ -1,8 +1,8 @@
 // shade.wgsl — surfaces and shading: one invocation per ray of the band that hit something —
 // the surface interaction (a free form's normal and leaf from its CSG program, freeform.wgsl; a
 // terrain's normal from its hit), the cut face where the ray starts inside, then ambient +
-// Lambert (albedo/π) + normalised Phong with each light seen through a shadow ray that every
-// primitive kind answers any-hit (fray-trace's Integrator, in f32). Writes the radiance and the
+// Lambert (albedo/π) + normalised Phong with each light seen through the RGB transmittance of a
+// shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32). Writes the radiance and the
 // outward shading normal into the path.
 //
 // #bindings frame, free_forms, shading, terrains if terrain
@@ -17,13 +17,17 @@ override SHADOWS: bool = true;
 override HAS_SUN: bool = true;
 override HAS_POINT: bool = true;
 
-// Whether anything lies on the ray within [0, distance]: every solid whole, every terrain
-// exactly (fray-trace's transmittance of opaque kinds: 0 or 1).
-fn occluded(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+// The RGB transmittance along the ray over [0, distance] (fray-trace's `transmittance`): the
+// product over every primitive kind — every solid whole, every terrain exactly — each opaque,
+// so 0 where one is hit and 1 where none is; the first that blocks all light ends it.
+fn transmittance(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> vec3<f32> {
     if HAS_FREE_FORMS && occluded_by_solids(o, d, distance, eps) {
-        return true;
+        return vec3<f32>(0.0);
     }
-    return occluded_by_terrains(o, d, distance, eps);
+    if occluded_by_terrains(o, d, distance, eps) {
+        return vec3<f32>(0.0);
+    }
+    return vec3<f32>(1.0);
 }
 
 var<private> shadow_rays: u32;
@@ -64,11 +68,14 @@ fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, ep
         if cos_l <= 0.0 {
             continue;
         }
+        var light_in = irradiance;
         if SHADOWS {
             shadow_rays++;
-            if occluded(p + n * frame.shadow_offset, to_light, distance, eps) {
+            let through = transmittance(p + n * frame.shadow_offset, to_light, distance, eps);
+            if all(through == vec3<f32>(0.0)) {
                 continue;
             }
+            light_in *= through;
         }
         var brdf = diffuse;
         if specular_on {
@@ -78,7 +85,7 @@ fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, ep
                 brdf += specular * (lobe_norm * pow(rv, m.shininess));
             }
         }
-        total += brdf * irradiance * cos_l;
+        total += brdf * light_in * cos_l;
     }
     return total;
 }

@@ -278,10 +278,68 @@ fn anti_aliased_frames_match_the_cpu() {
     );
 }
 
+/// What grows with the input is refused before it is made: a frame whose host images exceed the
+/// memory budget (16384² needs 16 GiB through the GPU path), a scene whose largest solid needs
+/// more per-invocation private memory than the GPU backend allows, an image side past the
+/// device's texture limit — each a clear error (`auto` renders such scenes on the CPU).
+fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
+    let gpu = common::gpu("oversized_frames_and_scenes_are_refused_with_clear_errors");
+    let scene = data_scene("csg.ron", 64);
+    let settings = GpuSettings {
+        memory_budget: fray_core::MemoryBudget::new(4 << 30),
+        ..GpuSettings::for_scene(&scene)
+    };
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let mut view = View::of_scene(&scene, settings.samples);
+    (view.width, view.height) = (16384, 16384);
+    let e = resident.render(&view).unwrap_err();
+    let fray_gpu::GpuError::Budget(b) = &e else {
+        panic!("expected a budget error, got {e}");
+    };
+    assert_eq!(b.needed, 16384 * 16384 * fray_gpu::HOST_BYTES_PER_PIXEL);
+    assert!(e.to_string().contains("GPU frame's readback and images"), "{e}");
+    // Past the texture limit (within the budget): refused, naming the limit.
+    let side = gpu.context().limits.max_texture_dimension_2d + 1;
+    let mut wide = View::of_scene(&scene, settings.samples);
+    (wide.width, wide.height) = (side, 1);
+    let e = resident.render(&wide).unwrap_err();
+    assert!(matches!(e, fray_gpu::GpuError::TooLarge { .. }), "{e}");
+    // A solid of 2000 perturbations needs 32 KiB of private memory per invocation.
+    let mut perturbations = String::new();
+    for k in 0..2000 {
+        let x = -1.0 + 2.0 * f64::from(k) / 2000.0;
+        perturbations.push_str(&format!(
+            "(form_factor: 0.1, quadric: Sphere(center: ({x}, 1, 0), radius: 0.05)),"
+        ));
+    }
+    let big = fray_scene::parse(
+        &format!(
+            "Scene(camera: Pinhole(eye: (0, 0, -5), look_at: (0, 0, 0)), \
+             objects: [(shape: FreeForm(base: Sphere(center: (0, 0, 0), radius: 1), \
+                                        perturbations: [{perturbations}]))])"
+        ),
+        "big.ron",
+    )
+    .unwrap();
+    let e = gpu
+        .upload(&big, &GpuSettings::for_scene(&big))
+        .unwrap_err();
+    match &e {
+        fray_gpu::GpuError::TooLarge { what, needed, limit } => {
+            assert!(what.contains("private memory") && needed > limit, "{e}");
+        }
+        other => panic!("expected TooLarge, got {other}"),
+    }
+}
+
 fn main() {
     let args = Arguments::from_args();
     let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 5] = [
+    let tests: [(&str, fn()); 6] = [
+        (
+            "oversized_frames_and_scenes_are_refused_with_clear_errors",
+            oversized_frames_and_scenes_are_refused_with_clear_errors,
+        ),
         (
             "a_second_frame_builds_no_pipeline_and_uploads_no_scene",
             a_second_frame_builds_no_pipeline_and_uploads_no_scene,

@@ -241,13 +241,21 @@ mod tests {
             pass: "free-form",
             reason: "injected".into(),
         };
+        // A scene past the device's limits (a buffer, private memory, a texture side).
+        let too_large = GpuError::TooLarge {
+            what: "per-invocation private memory (bytes) for the largest solid",
+            needed: 32 << 10,
+            limit: 16 << 10,
+        };
         for (requested, error, falls_back) in [
             (Backend::Gpu, &lost, true),
             (Backend::Auto, &lost, true),
             (Backend::Auto, &missing, true),
             (Backend::Auto, &pipeline, true),
+            (Backend::Auto, &too_large, true),
             (Backend::Gpu, &missing, false),
             (Backend::Gpu, &pipeline, false),
+            (Backend::Gpu, &too_large, false),
         ] {
             let mut warnings = Vec::new();
             let result = gpu_or_fallback(requested, || Err(error.clone()), cpu, &mut |w| {
