@@ -50,3 +50,35 @@ fn every_pixel_gets_the_hit_of_nearest_hit() {
         }
     }
 }
+
+/// The integrator's per-ray entry, `Integrator::radiance` — the one every non-camera ray will
+/// take — gives each camera ray exactly the colour the frame loop gave its pixel (which found the
+/// hits a tile at a time and culled the shadow rays' occluders per tile): one integrator.
+#[test]
+fn the_integrators_radiance_of_each_camera_ray_is_the_frames_colour() {
+    let mut ctx = fray_trace::TraceContext::default();
+    for path in common::data_scenes() {
+        let what = path.display().to_string();
+        let mut s = common::load_at_height(&path, 32);
+        for t in &mut s.terrains {
+            t.lod = fray_scene::TerrainLod::Exact;
+        }
+        let settings = TraceSettings::for_scene(&s);
+        let frame = render(&s, &settings, None).unwrap_or_else(|e| panic!("{what}: {e}"));
+        let integrator = fray_trace::Integrator::new(&s, &settings);
+        for y in 0..s.height {
+            for x in 0..s.width {
+                let Some(c) = s.camera.pixel_ray(x, y, s.width, s.height) else {
+                    continue;
+                };
+                let range = fray_core::Interval::new(c.t_near, f64::INFINITY);
+                let radiance = integrator.radiance(&mut ctx, &c.ray, range).as_vec3();
+                assert_eq!(
+                    radiance.to_array().map(f32::to_bits),
+                    frame.colour.get(x, y).to_array().map(f32::to_bits),
+                    "{what}: colour at ({x}, {y})"
+                );
+            }
+        }
+    }
+}
