@@ -6,6 +6,7 @@
 //
 // #bindings frame, free_forms, work
 // #include "freeform.wgsl"
+// #include "work_item.wgsl"
 // #include "counters.wgsl"
 
 // The parts of candidate `c` of the work list.
@@ -39,44 +40,40 @@ fn main(
     let item = items[frame.first_item + k];
     bound_evals = 0u;
     point_evals = 0u;
-    let px = item.x0 + local.x;
-    let py = item.y0 + local.y;
-    if px < item.x1 && py < item.y1 {
-        let eps = frame.epsilon;
-        let first = ((py - frame.band_y0) * frame.width + px) * frame.rays_per_pixel;
-        for (var r = first; r < first + frame.rays_per_pixel; r++) {
-            let path = paths[r];
-            if path.origin.w < 0.0 {
+    let rays = item_rays(item, local);
+    let eps = frame.epsilon;
+    for (var r = rays.x; r < rays.y; r++) {
+        let path = paths[r];
+        if path.origin.w < 0.0 {
+            continue;
+        }
+        let o = path.origin.xyz;
+        let d = path.dir.xyz;
+        var best = NO_HIT;
+        var solid = 0u;
+        for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
+            let cand = candidates[c];
+            if cand.kind != KIND_FREE_FORM {
                 continue;
             }
-            let o = path.origin.xyz;
-            let d = path.dir.xyz;
-            var best = NO_HIT;
-            var solid = 0u;
-            for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
-                let cand = candidates[c];
-                if cand.kind != KIND_FREE_FORM {
-                    continue;
-                }
-                var hi = BIG;
-                if best >= 0.0 {
-                    hi = best;
-                }
-                let t = cast_solid(cand.object, candidate_parts(c), o, d, path.origin.w, hi, eps);
-                if t >= 0.0 && (best < 0.0 || t < best) {
-                    best = t;
-                    solid = cand.object;
-                }
-            }
+            var hi = BIG;
             if best >= 0.0 {
-                paths[r].hit = vec4<f32>(best, 0.0, 0.0, 0.0);
-                paths[r].kind = KIND_FREE_FORM;
-                paths[r].index = solid;
+                hi = best;
+            }
+            let t = cast_solid(cand.object, candidate_parts(c), o, d, path.origin.w, hi, eps);
+            if t >= 0.0 && (best < 0.0 || t < best) {
+                best = t;
+                solid = cand.object;
             }
         }
-        count(COUNT_BOUND_EVALUATIONS, bound_evals);
-        count(COUNT_POINT_EVALUATIONS, point_evals);
+        if best >= 0.0 {
+            paths[r].hit = vec4<f32>(best, 0.0, 0.0, 0.0);
+            paths[r].kind = KIND_FREE_FORM;
+            paths[r].index = solid;
+        }
     }
+    count(COUNT_BOUND_EVALUATIONS, bound_evals);
+    count(COUNT_POINT_EVALUATIONS, point_evals);
     workgroupBarrier();
     flush_counts(local_index);
 }

@@ -7,6 +7,7 @@
 // #bindings frame, work, terrains
 // #include "ray.wgsl"
 // #include "terrain.wgsl"
+// #include "work_item.wgsl"
 // #include "counters.wgsl"
 
 @compute @workgroup_size(TILE_THREADS, TILE_THREADS)
@@ -28,45 +29,41 @@ fn main(
     terrain_cells = 0u;
     terrain_stops = 0u;
     terrain_stop_levels = 0u;
-    let px = item.x0 + local.x;
-    let py = item.y0 + local.y;
-    if px < item.x1 && py < item.y1 {
-        let eps = frame.epsilon;
-        let first = ((py - frame.band_y0) * frame.width + px) * frame.rays_per_pixel;
-        for (var r = first; r < first + frame.rays_per_pixel; r++) {
-            let path = paths[r];
-            if path.origin.w < 0.0 {
+    let rays = item_rays(item, local);
+    let eps = frame.epsilon;
+    for (var r = rays.x; r < rays.y; r++) {
+        let path = paths[r];
+        if path.origin.w < 0.0 {
+            continue;
+        }
+        let o = path.origin.xyz;
+        let d = path.dir.xyz;
+        var best = path.hit.x;
+        for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
+            let cand = candidates[c];
+            if cand.kind != KIND_TERRAIN {
                 continue;
             }
-            let o = path.origin.xyz;
-            let d = path.dir.xyz;
-            var best = path.hit.x;
-            for (var c = item.candidate_start; c < item.candidate_start + item.candidate_count; c++) {
-                let cand = candidates[c];
-                if cand.kind != KIND_TERRAIN {
-                    continue;
-                }
-                var hi = BIG;
-                if best >= 0.0 {
-                    hi = best;
-                }
-                let h = cast_terrain(cand.object, o, d, path.origin.w, hi, eps, true);
-                if h.t >= 0.0 && (best < 0.0 || h.t < best) {
-                    best = h.t;
-                    let normal = terrain_shading_normal(cand.object, o, d, h);
-                    paths[r].hit = vec4<f32>(h.t, normal);
-                    paths[r].kind = KIND_TERRAIN;
-                    paths[r].index = cand.object;
-                    paths[r].part = h.levels_above;
-                }
+            var hi = BIG;
+            if best >= 0.0 {
+                hi = best;
+            }
+            let h = cast_terrain(cand.object, o, d, path.origin.w, hi, eps, true);
+            if h.t >= 0.0 && (best < 0.0 || h.t < best) {
+                best = h.t;
+                let normal = terrain_shading_normal(cand.object, o, d, h);
+                paths[r].hit = vec4<f32>(h.t, normal);
+                paths[r].kind = KIND_TERRAIN;
+                paths[r].index = cand.object;
+                paths[r].part = h.levels_above;
             }
         }
-        count(COUNT_TERRAIN_RAYS, terrain_rays);
-        count(COUNT_TERRAIN_SEGMENTS, terrain_segments);
-        count(COUNT_TERRAIN_CELLS, terrain_cells);
-        count(COUNT_TERRAIN_STOPS, terrain_stops);
-        count(COUNT_TERRAIN_STOP_LEVELS, terrain_stop_levels);
     }
+    count(COUNT_TERRAIN_RAYS, terrain_rays);
+    count(COUNT_TERRAIN_SEGMENTS, terrain_segments);
+    count(COUNT_TERRAIN_CELLS, terrain_cells);
+    count(COUNT_TERRAIN_STOPS, terrain_stops);
+    count(COUNT_TERRAIN_STOP_LEVELS, terrain_stop_levels);
     workgroupBarrier();
     flush_counts(local_index);
 }

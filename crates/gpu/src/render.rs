@@ -404,12 +404,8 @@ impl<'a> GpuScene<'a> {
                     );
                 }
                 if let (Some(tp), Some(terrains)) = (&self.passes.terrains, &groups.terrains) {
-                    tp.encode(
-                        &mut pass,
-                        ctx,
-                        [&groups.frame, &groups.work, terrains],
-                        items.len() as u32,
-                    );
+                    let groups = [&groups.frame, &groups.work, terrains];
+                    tp.encode(&mut pass, ctx, groups, items.len() as u32);
                 }
                 self.passes.shade.encode(
                     &mut pass,
@@ -734,10 +730,7 @@ impl<'a> GpuScene<'a> {
 
     /// Reads the frame's colour + depth and normal textures back into images (misses: the
     /// background, depth `+∞`, normal 0).
-    fn read_frame(
-        &self,
-        background: fray_core::Rgb,
-    ) -> Result<FrameImages, GpuError> {
+    fn read_frame(&self, background: fray_core::Rgb) -> Result<FrameImages, GpuError> {
         let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
         let (w, h) = (t.width, t.height);
         let n = w as usize * h as usize;

@@ -17,7 +17,7 @@ use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/`.
-pub const SHADER_FILES: [(&str, &str); 17] = [
+pub const SHADER_FILES: [(&str, &str); 18] = [
     ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
     (
         "counters.wgsl",
@@ -67,6 +67,10 @@ pub const SHADER_FILES: [(&str, &str); 17] = [
     (
         "terrain_shadows.wgsl",
         include_str!("../../../shaders/terrain_shadows.wgsl"),
+    ),
+    (
+        "work_item.wgsl",
+        include_str!("../../../shaders/work_item.wgsl"),
     ),
 ];
 
@@ -171,26 +175,13 @@ pub fn module_groups(
     entry: &str,
     options: &ModuleOptions,
 ) -> Result<Vec<bindings::Group>, ComposeError> {
-    let mut state = Compose {
-        options: *options,
-        included: Vec::new(),
-        groups: Vec::new(),
-        body: String::new(),
-    };
-    state.include(entry, entry)?;
-    Ok(state.groups)
+    Ok(Compose::of(entry, options)?.groups)
 }
 
 /// The complete source of entry module `entry`: the prelude, the bind groups it asks for, and
 /// every file it includes (recursively, each once), then its own text.
 pub fn compose(entry: &str, options: &ModuleOptions) -> Result<String, ComposeError> {
-    let mut state = Compose {
-        options: *options,
-        included: Vec::new(),
-        groups: Vec::new(),
-        body: String::new(),
-    };
-    state.include(entry, entry)?;
+    let state = Compose::of(entry, options)?;
     let mut out = prelude(&options.sizes);
     for (index, g) in state.groups.iter().enumerate() {
         out.push_str(&g.declarations(index as u32));
@@ -207,6 +198,18 @@ struct Compose {
 }
 
 impl Compose {
+    /// Entry module `entry` read with everything it includes.
+    fn of(entry: &str, options: &ModuleOptions) -> Result<Self, ComposeError> {
+        let mut state = Self {
+            options: *options,
+            included: Vec::new(),
+            groups: Vec::new(),
+            body: String::new(),
+        };
+        state.include(entry, entry)?;
+        Ok(state)
+    }
+
     fn condition(&self, rest: &str) -> bool {
         match rest.trim() {
             "" => true,

@@ -6,7 +6,6 @@
 mod common;
 
 use fray_gpu::GpuContext;
-use libtest_mimic::{Arguments, Trial};
 
 /// A deliberately invalid buffer (mappable for reading *and* a storage buffer, which WebGPU
 /// forbids) outside any error scope: the error is recorded, not raised, and taken exactly once.
@@ -37,14 +36,11 @@ fn uncaptured_validation_error_is_recorded_not_raised() {
 }
 
 fn main() {
-    let args = Arguments::from_args();
-    let ignored = common::gpu_tests_ignored();
-    let trials = vec![
-        Trial::test("uncaptured_validation_error_is_recorded_not_raised", || {
-            uncaptured_validation_error_is_recorded_not_raised();
-            Ok(())
-        })
-        .with_ignored_flag(ignored),
-    ];
-    libtest_mimic::run(&args, trials).exit();
+    common::run(
+        &[(
+            "uncaptured_validation_error_is_recorded_not_raised",
+            uncaptured_validation_error_is_recorded_not_raised,
+        )],
+        &[],
+    );
 }

@@ -12,8 +12,6 @@
 
 mod common;
 
-use libtest_mimic::{Arguments, Trial};
-
 use fray_core::{Frame, Interval};
 use fray_gpu::{GpuRenderer, GpuSettings, gpu_epsilon};
 use fray_scene::Scene;
@@ -651,43 +649,33 @@ fn several_terrains_match_the_cpu_reference() {
 /// A custom harness (libtest-mimic) so that, without an adapter, these tests are reported as
 /// ignored rather than passed.
 fn main() {
-    let args = Arguments::from_args();
-    let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 6] = [
-        (
-            "every_data_scene_matches_the_cpu_reference",
-            every_data_scene_matches_the_cpu_reference,
-        ),
-        (
-            "synthetic_scenes_match_the_cpu_reference",
-            synthetic_scenes_match_the_cpu_reference,
-        ),
-        (
-            "culling_on_and_off_give_the_same_image",
-            culling_on_and_off_give_the_same_image,
-        ),
-        (
-            "terrain_scenes_match_the_cpu_reference",
-            terrain_scenes_match_the_cpu_reference,
-        ),
-        (
-            "terrain_work_is_counted_like_the_cpu",
-            terrain_work_is_counted_like_the_cpu,
-        ),
-        (
-            "several_terrains_match_the_cpu_reference",
-            several_terrains_match_the_cpu_reference,
-        ),
-    ];
-    let trials = tests
-        .into_iter()
-        .map(|(name, test)| {
-            Trial::test(name, move || {
-                test();
-                Ok(())
-            })
-            .with_ignored_flag(ignored)
-        })
-        .collect();
-    libtest_mimic::run(&args, trials).exit();
+    common::run(
+        &[
+            (
+                "every_data_scene_matches_the_cpu_reference",
+                every_data_scene_matches_the_cpu_reference,
+            ),
+            (
+                "synthetic_scenes_match_the_cpu_reference",
+                synthetic_scenes_match_the_cpu_reference,
+            ),
+            (
+                "culling_on_and_off_give_the_same_image",
+                culling_on_and_off_give_the_same_image,
+            ),
+            (
+                "terrain_scenes_match_the_cpu_reference",
+                terrain_scenes_match_the_cpu_reference,
+            ),
+            (
+                "terrain_work_is_counted_like_the_cpu",
+                terrain_work_is_counted_like_the_cpu,
+            ),
+            (
+                "several_terrains_match_the_cpu_reference",
+                several_terrains_match_the_cpu_reference,
+            ),
+        ],
+        &[],
+    );
 }

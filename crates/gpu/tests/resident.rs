@@ -9,7 +9,6 @@ mod common;
 use fray_core::PixelSamples;
 use fray_gpu::{GpuSettings, View};
 use fray_scene::Scene;
-use libtest_mimic::{Arguments, Trial};
 use std::path::Path;
 
 fn data_scene(name: &str, width: u32) -> Scene {
@@ -297,7 +296,10 @@ fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
         panic!("expected a budget error, got {e}");
     };
     assert_eq!(b.needed, 16384 * 16384 * fray_gpu::HOST_BYTES_PER_PIXEL);
-    assert!(e.to_string().contains("GPU frame's readback and images"), "{e}");
+    assert!(
+        e.to_string().contains("GPU frame's readback and images"),
+        "{e}"
+    );
     // Past the texture limit (within the budget): refused, naming the limit.
     let side = gpu.context().limits.max_texture_dimension_2d + 1;
     let mut wide = View::of_scene(&scene, settings.samples);
@@ -321,11 +323,13 @@ fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
         "big.ron",
     )
     .unwrap();
-    let e = gpu
-        .upload(&big, &GpuSettings::for_scene(&big))
-        .unwrap_err();
+    let e = gpu.upload(&big, &GpuSettings::for_scene(&big)).unwrap_err();
     match &e {
-        fray_gpu::GpuError::TooLarge { what, needed, limit } => {
+        fray_gpu::GpuError::TooLarge {
+            what,
+            needed,
+            limit,
+        } => {
             assert!(what.contains("private memory") && needed > limit, "{e}");
         }
         other => panic!("expected TooLarge, got {other}"),
@@ -333,43 +337,33 @@ fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
 }
 
 fn main() {
-    let args = Arguments::from_args();
-    let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 6] = [
-        (
-            "oversized_frames_and_scenes_are_refused_with_clear_errors",
-            oversized_frames_and_scenes_are_refused_with_clear_errors,
-        ),
-        (
-            "a_second_frame_builds_no_pipeline_and_uploads_no_scene",
-            a_second_frame_builds_no_pipeline_and_uploads_no_scene,
-        ),
-        (
-            "several_bands_render_like_one",
-            several_bands_render_like_one,
-        ),
-        (
-            "the_display_image_is_the_frames_tone_map",
-            the_display_image_is_the_frames_tone_map,
-        ),
-        (
-            "the_rebase_pass_is_its_cpu_twin",
-            the_rebase_pass_is_its_cpu_twin,
-        ),
-        (
-            "anti_aliased_frames_match_the_cpu",
-            anti_aliased_frames_match_the_cpu,
-        ),
-    ];
-    let trials = tests
-        .into_iter()
-        .map(|(name, test)| {
-            Trial::test(name, move || {
-                test();
-                Ok(())
-            })
-            .with_ignored_flag(ignored)
-        })
-        .collect();
-    libtest_mimic::run(&args, trials).exit();
+    common::run(
+        &[
+            (
+                "oversized_frames_and_scenes_are_refused_with_clear_errors",
+                oversized_frames_and_scenes_are_refused_with_clear_errors,
+            ),
+            (
+                "a_second_frame_builds_no_pipeline_and_uploads_no_scene",
+                a_second_frame_builds_no_pipeline_and_uploads_no_scene,
+            ),
+            (
+                "several_bands_render_like_one",
+                several_bands_render_like_one,
+            ),
+            (
+                "the_display_image_is_the_frames_tone_map",
+                the_display_image_is_the_frames_tone_map,
+            ),
+            (
+                "the_rebase_pass_is_its_cpu_twin",
+                the_rebase_pass_is_its_cpu_twin,
+            ),
+            (
+                "anti_aliased_frames_match_the_cpu",
+                anti_aliased_frames_match_the_cpu,
+            ),
+        ],
+        &[],
+    );
 }

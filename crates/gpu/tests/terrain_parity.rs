@@ -53,7 +53,6 @@ use fray_terrain::{
     TerrainStats,
 };
 use glam::{DVec2, DVec3};
-use libtest_mimic::{Arguments, Trial};
 use std::path::Path;
 
 fn scene(name: &str, width: u32) -> fray_scene::Scene {
@@ -757,55 +756,34 @@ fn edge_on_the_dem_from_terrain_high() {
 }
 
 fn main() {
-    let args = Arguments::from_args();
-    let ignored = common::gpu_tests_ignored();
-    let tests: [(&str, fn()); 6] = [
-        ("pixel_lod_views", pixel_lod_views),
-        (
-            "walls_and_starts_match_the_cpu",
-            walls_and_starts_match_the_cpu,
-        ),
-        ("a_long_thin_map_on_the_gpu", a_long_thin_map_on_the_gpu),
-        (
-            "low_view_bilinear_and_bicubic",
-            low_view_bilinear_and_bicubic,
-        ),
-        ("high_view_bilinear_and_lod", high_view_bilinear_and_lod),
-        ("high_view_bicubic", high_view_bicubic),
-    ];
-    let trials = tests
-        .into_iter()
-        .map(|(name, test)| {
-            Trial::test(name, move || {
-                test();
-                Ok(())
-            })
-            .with_ignored_flag(ignored)
-        })
-        .chain(
-            [
-                (
-                    "edge_neighbour_normal_accepted_only_within_tolerance",
-                    edge_neighbour_normal_accepted_only_within_tolerance as fn(),
-                ),
-                (
-                    "edge_corner_and_cut_out_cells",
-                    edge_corner_and_cut_out_cells,
-                ),
-                (
-                    "edge_on_the_dem_from_terrain_high",
-                    edge_on_the_dem_from_terrain_high,
-                ),
-            ]
-            .into_iter()
-            .map(|(name, test)| {
-                // The acceptance logic alone: no adapter needed, never ignored.
-                Trial::test(name, move || {
-                    test();
-                    Ok(())
-                })
-            }),
-        )
-        .collect();
-    libtest_mimic::run(&args, trials).exit();
+    common::run(
+        &[
+            ("pixel_lod_views", pixel_lod_views),
+            (
+                "walls_and_starts_match_the_cpu",
+                walls_and_starts_match_the_cpu,
+            ),
+            ("a_long_thin_map_on_the_gpu", a_long_thin_map_on_the_gpu),
+            (
+                "low_view_bilinear_and_bicubic",
+                low_view_bilinear_and_bicubic,
+            ),
+            ("high_view_bilinear_and_lod", high_view_bilinear_and_lod),
+            ("high_view_bicubic", high_view_bicubic),
+        ],
+        &[
+            (
+                "edge_neighbour_normal_accepted_only_within_tolerance",
+                edge_neighbour_normal_accepted_only_within_tolerance,
+            ),
+            (
+                "edge_corner_and_cut_out_cells",
+                edge_corner_and_cut_out_cells,
+            ),
+            (
+                "edge_on_the_dem_from_terrain_high",
+                edge_on_the_dem_from_terrain_high,
+            ),
+        ],
+    );
 }

@@ -3,16 +3,15 @@
 //! pruned CSG programs) by the halving search of `shaders/freeform.wgsl`, the f32 twin of
 //! `fray_geometry::RayCaster`; the nearest hit goes into each ray's path.
 
-use super::{PipelineCache, dispatch};
+use super::{Kernel, PipelineCache};
 use crate::bindings::{FRAME, FREE_FORMS, Group, WORK};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
-use std::sync::Arc;
 
 /// The free-form intersection pass.
 #[derive(Debug)]
 pub struct FreeFormPass {
-    pipeline: Arc<wgpu::ComputePipeline>,
+    kernel: Kernel,
 }
 
 impl FreeFormPass {
@@ -25,28 +24,19 @@ impl FreeFormPass {
         options: &ModuleOptions,
         specialisation: &Specialisation,
     ) -> Result<Self, GpuError> {
-        let pipeline = cache.pipeline(
-            ctx,
-            "intersect_freeform.wgsl",
-            &Self::GROUPS,
-            options,
-            specialisation,
-        )?;
-        Ok(Self { pipeline })
+        let entry = "intersect_freeform.wgsl";
+        let kernel = Kernel::new(cache, ctx, entry, &Self::GROUPS, options, specialisation)?;
+        Ok(Self { kernel })
     }
 
-    /// Casts the rays of `items` work items.
+    /// Casts the rays of `items` work items (bind groups in [`FreeFormPass::GROUPS`] order).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         ctx: &GpuContext,
-        [frame, free_forms, work]: [&wgpu::BindGroup; 3],
+        groups: [&wgpu::BindGroup; 3],
         items: u32,
     ) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, free_forms, &[]);
-        pass.set_bind_group(2, work, &[]);
-        dispatch(pass, ctx, items);
+        self.kernel.run(pass, ctx, &groups, items);
     }
 }

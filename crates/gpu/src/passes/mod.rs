@@ -143,6 +143,59 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     }
 }
 
+/// A pass's compute pipeline and the bind groups it takes (in its module's order): what every
+/// pass struct holds, so that each pass is only its module, its groups and its dispatch size.
+#[derive(Debug)]
+pub(crate) struct Kernel {
+    pipeline: Arc<wgpu::ComputePipeline>,
+}
+
+impl Kernel {
+    /// The pipeline of `entry` binding `groups` (from the cache, or built).
+    pub(crate) fn new(
+        cache: &PipelineCache,
+        ctx: &GpuContext,
+        entry: &'static str,
+        groups: &[Group],
+        options: &ModuleOptions,
+        specialisation: &Specialisation,
+    ) -> Result<Self, GpuError> {
+        Ok(Self {
+            pipeline: cache.pipeline(ctx, entry, groups, options, specialisation)?,
+        })
+    }
+
+    /// Binds `groups` (group `k` the `k`-th) and dispatches `workgroups` workgroups.
+    pub(crate) fn run(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        ctx: &GpuContext,
+        groups: &[&wgpu::BindGroup],
+        workgroups: u32,
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        for (k, g) in groups.iter().enumerate() {
+            pass.set_bind_group(k as u32, *g, &[]);
+        }
+        dispatch(pass, ctx, workgroups);
+    }
+
+    /// Binds `groups` and dispatches a 2D grid of `x × y` workgroups.
+    pub(crate) fn run_2d(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        groups: &[&wgpu::BindGroup],
+        x: u32,
+        y: u32,
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        for (k, g) in groups.iter().enumerate() {
+            pass.set_bind_group(k as u32, *g, &[]);
+        }
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
 /// Dispatches `groups` workgroups as a 2D grid when there are more than one dimension holds
 /// (the shaders fold `group.y * groups.x + group.x` or `id.y * groups.x * 64 + id.x` back).
 pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, ctx: &GpuContext, groups: u32) {

@@ -1,17 +1,17 @@
 //! Ray generation: the camera rays of a band of rows — per pixel its centre and, with
 //! anti-aliasing, its samples — into the frame's paths (`shaders/raygen.wgsl`). The CPU twin is
-//! `fray_core::Projector::ray` with `fray_core::PixelSamples`; `tests/passes.rs` checks the rays.
+//! `fray_core::Projector::ray` with `fray_core::PixelSamples` (the GPU's depth and anti-aliased
+//! colour are checked against the CPU's frames).
 
-use super::{PipelineCache, dispatch};
+use super::{Kernel, PipelineCache};
 use crate::bindings::{FRAME, Group};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
-use std::sync::Arc;
 
 /// The ray generation pass.
 #[derive(Debug)]
 pub struct RayGenPass {
-    pipeline: Arc<wgpu::ComputePipeline>,
+    kernel: Kernel,
 }
 
 impl RayGenPass {
@@ -24,9 +24,15 @@ impl RayGenPass {
         options: &ModuleOptions,
         specialisation: &Specialisation,
     ) -> Result<Self, GpuError> {
-        let pipeline =
-            cache.pipeline(ctx, "raygen.wgsl", &Self::GROUPS, options, specialisation)?;
-        Ok(Self { pipeline })
+        let kernel = Kernel::new(
+            cache,
+            ctx,
+            "raygen.wgsl",
+            &Self::GROUPS,
+            options,
+            specialisation,
+        )?;
+        Ok(Self { kernel })
     }
 
     /// Generates `rays` rays (the band's pixels × rays per pixel).
@@ -37,8 +43,6 @@ impl RayGenPass {
         frame: &wgpu::BindGroup,
         rays: u32,
     ) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        dispatch(pass, ctx, rays.div_ceil(64));
+        self.kernel.run(pass, ctx, &[frame], rays.div_ceil(64));
     }
 }

@@ -6,12 +6,11 @@
 //! twin (the GPU's result is bit-identical: f32 subtraction and multiplication by a power of two
 //! are correctly rounded on every backend).
 
-use super::{PipelineCache, dispatch};
+use super::{Kernel, PipelineCache};
 use crate::bindings::{self, REBASE};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use bytemuck::Pod;
-use std::sync::Arc;
 
 fray_core::gpu_struct! {
     /// One array's rebase: the offset, the array's size in 16-byte slots, its element stride in
@@ -165,19 +164,20 @@ impl Rebased {
 /// The rebase pass.
 #[derive(Debug)]
 pub struct RebasePass {
-    pipeline: Arc<wgpu::ComputePipeline>,
+    kernel: Kernel,
 }
 
 impl RebasePass {
     pub fn new(cache: &PipelineCache, ctx: &GpuContext) -> Result<Self, GpuError> {
-        let pipeline = cache.pipeline(
+        let kernel = Kernel::new(
+            cache,
             ctx,
             "rebase.wgsl",
             &[REBASE],
             &ModuleOptions::default(),
             &Specialisation::default(),
         )?;
-        Ok(Self { pipeline })
+        Ok(Self { kernel })
     }
 
     /// Writes each array's parameters for the offset `(hi, lo)` (returns the bytes written) and
@@ -210,10 +210,9 @@ impl RebasePass {
             label: Some("rebase"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
         for a in arrays {
-            pass.set_bind_group(0, &a.bind_group, &[]);
-            dispatch(&mut pass, ctx, a.words.div_ceil(64));
+            self.kernel
+                .run(&mut pass, ctx, &[&a.bind_group], a.words.div_ceil(64));
         }
         bytes
     }

@@ -3,16 +3,15 @@
 //! tone-mapped sRGB display image made on the GPU (`shaders/resolve.wgsl`; the CPU twins are the
 //! frame loop's box filter, `fray_core::ToneMap` and `linear_to_srgb`).
 
-use super::PipelineCache;
+use super::{Kernel, PipelineCache};
 use crate::bindings::{FRAME, Group, TARGETS};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
-use std::sync::Arc;
 
 /// The resolve pass.
 #[derive(Debug)]
 pub struct ResolvePass {
-    pipeline: Arc<wgpu::ComputePipeline>,
+    kernel: Kernel,
 }
 
 impl ResolvePass {
@@ -25,22 +24,26 @@ impl ResolvePass {
         options: &ModuleOptions,
         specialisation: &Specialisation,
     ) -> Result<Self, GpuError> {
-        let pipeline =
-            cache.pipeline(ctx, "resolve.wgsl", &Self::GROUPS, options, specialisation)?;
-        Ok(Self { pipeline })
+        let kernel = Kernel::new(
+            cache,
+            ctx,
+            "resolve.wgsl",
+            &Self::GROUPS,
+            options,
+            specialisation,
+        )?;
+        Ok(Self { kernel })
     }
 
-    /// Resolves a band `width` pixels wide and `rows` tall.
+    /// Resolves a band `width` pixels wide and `rows` tall (8 × 8 pixels per workgroup).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
-        [frame, targets]: [&wgpu::BindGroup; 2],
+        groups: [&wgpu::BindGroup; 2],
         width: u32,
         rows: u32,
     ) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, targets, &[]);
-        pass.dispatch_workgroups(width.div_ceil(8), rows.div_ceil(8), 1);
+        self.kernel
+            .run_2d(pass, &groups, width.div_ceil(8), rows.div_ceil(8));
     }
 }

@@ -1,18 +1,17 @@
 //! Surfaces and shading: one invocation per ray of the band that hit — the surface (a free
 //! form's normal and leaf, a terrain's normal), the cut face, ambient + Lambert + normalised
-//! Phong with each light through a shadow ray that every kind answers any-hit
-//! (`shaders/shade.wgsl`, fray-trace's `Integrator` in f32).
+//! Phong with each light through the RGB transmittance of a shadow ray that every kind answers
+//! any-hit (`shaders/shade.wgsl`, fray-trace's `Integrator` in f32).
 
-use super::{PipelineCache, dispatch};
+use super::{Kernel, PipelineCache};
 use crate::bindings::{FRAME, FREE_FORMS, Group, SHADING, TERRAINS};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
-use std::sync::Arc;
 
 /// The shade pass.
 #[derive(Debug)]
 pub struct ShadePass {
-    pipeline: Arc<wgpu::ComputePipeline>,
+    kernel: Kernel,
     terrain: bool,
 }
 
@@ -31,14 +30,14 @@ impl ShadePass {
         } else {
             &Self::GROUPS[..3]
         };
-        let pipeline = cache.pipeline(ctx, "shade.wgsl", groups, options, specialisation)?;
+        let kernel = Kernel::new(cache, ctx, "shade.wgsl", groups, options, specialisation)?;
         Ok(Self {
-            pipeline,
+            kernel,
             terrain: options.terrain,
         })
     }
 
-    /// Shades `rays` rays (the band's).
+    /// Shades `rays` rays (the band's); `terrains` is bound only with terrains.
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
@@ -47,13 +46,15 @@ impl ShadePass {
         terrains: Option<&wgpu::BindGroup>,
         rays: u32,
     ) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, free_forms, &[]);
-        pass.set_bind_group(2, shading, &[]);
-        if let (true, Some(t)) = (self.terrain, terrains) {
-            pass.set_bind_group(3, t, &[]);
+        let workgroups = rays.div_ceil(64);
+        match (self.terrain, terrains) {
+            (true, Some(t)) => {
+                self.kernel
+                    .run(pass, ctx, &[frame, free_forms, shading, t], workgroups)
+            }
+            _ => self
+                .kernel
+                .run(pass, ctx, &[frame, free_forms, shading], workgroups),
         }
-        dispatch(pass, ctx, rays.div_ceil(64));
     }
 }

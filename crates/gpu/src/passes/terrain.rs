@@ -4,16 +4,15 @@
 //! `[t_near, nearest hit so far]`, narrowing the paths' hits after the free forms. Built only
 //! for scenes with terrains.
 
-use super::{PipelineCache, dispatch};
+use super::{Kernel, PipelineCache};
 use crate::bindings::{FRAME, Group, TERRAINS, WORK};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
-use std::sync::Arc;
 
 /// The terrain intersection pass.
 #[derive(Debug)]
 pub struct TerrainIntersectPass {
-    pipeline: Arc<wgpu::ComputePipeline>,
+    kernel: Kernel,
 }
 
 impl TerrainIntersectPass {
@@ -26,28 +25,20 @@ impl TerrainIntersectPass {
         options: &ModuleOptions,
         specialisation: &Specialisation,
     ) -> Result<Self, GpuError> {
-        let pipeline = cache.pipeline(
-            ctx,
-            "intersect_terrain.wgsl",
-            &Self::GROUPS,
-            options,
-            specialisation,
-        )?;
-        Ok(Self { pipeline })
+        let entry = "intersect_terrain.wgsl";
+        let kernel = Kernel::new(cache, ctx, entry, &Self::GROUPS, options, specialisation)?;
+        Ok(Self { kernel })
     }
 
-    /// Casts the rays of `items` work items at their terrain candidates.
+    /// Casts the rays of `items` work items at their terrain candidates (bind groups in
+    /// [`TerrainIntersectPass::GROUPS`] order).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         ctx: &GpuContext,
-        [frame, work, terrains]: [&wgpu::BindGroup; 3],
+        groups: [&wgpu::BindGroup; 3],
         items: u32,
     ) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, work, &[]);
-        pass.set_bind_group(2, terrains, &[]);
-        dispatch(pass, ctx, items);
+        self.kernel.run(pass, ctx, &groups, items);
     }
 }

@@ -28,3 +28,22 @@ pub fn gpu(test: &str) -> GpuRenderer {
         Err(e) => panic!("{test}: the GPU is unavailable: {e}"),
     }
 }
+
+/// Runs `gpu_tests` (reported as ignored when [`gpu_tests_ignored`]) and `host_tests` (which need
+/// no adapter and always run) under libtest-mimic, then exits with the result.
+pub fn run(gpu_tests: &[(&'static str, fn())], host_tests: &[(&'static str, fn())]) -> ! {
+    let args = libtest_mimic::Arguments::from_args();
+    let ignored = gpu_tests_ignored();
+    let trial = |&(name, test): &(&'static str, fn())| {
+        libtest_mimic::Trial::test(name, move || {
+            test();
+            Ok(())
+        })
+    };
+    let trials = gpu_tests
+        .iter()
+        .map(|t| trial(t).with_ignored_flag(ignored))
+        .chain(host_tests.iter().map(trial))
+        .collect();
+    libtest_mimic::run(&args, trials).exit()
+}
