@@ -57,7 +57,7 @@ impl SpanSet {
     }
 
     #[inline]
-    fn spans(&self) -> &[(f64, f64)] {
+    pub(super) fn spans(&self) -> &[(f64, f64)] {
         &self.spans[..self.len]
     }
 

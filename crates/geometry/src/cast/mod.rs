@@ -44,6 +44,8 @@
 //!   a simple root. A ray that misses the exact solid by less than that may hit, within
 //!   `~2Δ/|∇F|` of the surface.
 
+#[cfg(test)]
+mod agreement;
 mod bound;
 mod closed_form;
 mod finish;

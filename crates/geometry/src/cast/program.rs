@@ -47,7 +47,7 @@ impl RayFunction for PlainLeaf<'_> {
 }
 
 /// Marks a deciding leaf index whose value reached the result negated.
-const NEGATED: u32 = 1 << 31;
+pub(super) const NEGATED: u32 = 1 << 31;
 
 /// A CSG program over prepared leaves.
 pub(super) struct ProgramOnRay<'a> {
@@ -65,10 +65,10 @@ pub(super) struct ProgramOnRay<'a> {
 
 /// Values at `t` with the leaf that decides each: `max`/`min` pick an operand (the first on a
 /// tie), negation keeps it and marks it [`NEGATED`] (or clears the mark).
-struct Deciding<'a> {
-    leaves: &'a [LeafOnRay],
-    perturbations: &'a [(f64, RayQuadratic)],
-    t: f64,
+pub(super) struct Deciding<'a> {
+    pub(super) leaves: &'a [LeafOnRay],
+    pub(super) perturbations: &'a [(f64, RayQuadratic)],
+    pub(super) t: f64,
 }
 
 impl CsgAlgebra for Deciding<'_> {

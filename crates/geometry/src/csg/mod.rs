@@ -10,6 +10,8 @@
 mod point;
 mod program;
 
+#[cfg(test)]
+pub(crate) use point::Surface;
 pub use program::{CsgAlgebra, INLINE_DEPTH, run, run_in};
 
 use crate::quadric::Magnitude;

@@ -35,9 +35,9 @@ impl CsgAlgebra for PointValue<'_> {
 /// Value, gradient and leaf of the operand that wins every `max`/`min` (the first on a tie); a
 /// negation negates value and gradient and keeps the leaf. `eval(i, leaf)` gives a leaf's value
 /// and gradient.
-struct Surface<'a, F> {
-    leaves: &'a [FreeForm],
-    eval: F,
+pub(crate) struct Surface<'a, F> {
+    pub(crate) leaves: &'a [FreeForm],
+    pub(crate) eval: F,
 }
 
 impl<F: Fn(usize, &FreeForm) -> (f64, DVec3)> CsgAlgebra for Surface<'_, F> {
