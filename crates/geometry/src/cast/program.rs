@@ -54,7 +54,7 @@ pub(super) struct ProgramOnRay<'a> {
     pub(super) leaves: &'a [LeafOnRay],
     pub(super) perturbations: &'a [(f64, RayQuadratic)],
     pub(super) program: &'a [CsgOp],
-    /// Scratch space for the evaluator's deep stacks.
+    /// The evaluator's stacks for bounds and for values, reused from call to call.
     pub(super) bounds: &'a mut Vec<Bound>,
     pub(super) values: &'a mut Vec<(f64, u32)>,
     pub(super) stats: &'a mut CastStats,
