@@ -6,8 +6,10 @@
 //! same answer as casting with everything exactly when the subset is *conservative* for the
 //! ray: every leaf left out has a box the ray misses, and every perturbation left out has a
 //! support the ray does not enter within its leaf's box — the same things the per-ray pruning
-//! drops, so the arithmetic that remains is the same, term for term.
+//! drops, so the arithmetic that remains is the same, term for term. The fold is an algebra of
+//! the one program evaluator (`csg::run`).
 
+use crate::csg::{CsgAlgebra, run_in};
 use crate::{CsgOp, Solid};
 use fray_core::Aabb;
 
@@ -104,59 +106,11 @@ impl ActiveSet {
 
     fn fold(&mut self, solid: &Solid) -> bool {
         self.program.clear();
-        self.stack.clear();
-        for op in solid.program() {
-            match *op {
-                CsgOp::Leaf(i) => {
-                    if self.leaf_is_active(i as usize) {
-                        self.stack.push(Term::Code(self.program.len()));
-                        self.program.push(CsgOp::Leaf(i));
-                    } else {
-                        self.stack.push(Term::NegInf);
-                    }
-                }
-                CsgOp::Neg => {
-                    let t = match self.stack.pop() {
-                        Some(Term::NegInf) | None => Term::PosInf,
-                        Some(Term::PosInf) => Term::NegInf,
-                        Some(Term::Code(s)) => {
-                            self.program.push(CsgOp::Neg);
-                            Term::Code(s)
-                        }
-                    };
-                    self.stack.push(t);
-                }
-                CsgOp::Max | CsgOp::Min => {
-                    let b = self.stack.pop().unwrap_or(Term::NegInf);
-                    let a = self.stack.pop().unwrap_or(Term::NegInf);
-                    // The absorbing constant of the operation, and its identity.
-                    let (absorbing, identity) = if *op == CsgOp::Max {
-                        (Term::PosInf, Term::NegInf)
-                    } else {
-                        (Term::NegInf, Term::PosInf)
-                    };
-                    let t = match (a, b) {
-                        (Term::Code(s), Term::Code(_)) => {
-                            self.program.push(*op);
-                            Term::Code(s)
-                        }
-                        (x, y) if x == absorbing || y == absorbing => {
-                            // Drop whatever code the operands left.
-                            if let Term::Code(s) = a {
-                                self.program.truncate(s);
-                            } else if let Term::Code(s) = b {
-                                self.program.truncate(s);
-                            }
-                            absorbing
-                        }
-                        (x, y) if x == identity => y,
-                        (x, _) => x, // y is the identity
-                    };
-                    self.stack.push(t);
-                }
-            }
-        }
-        match self.stack.pop() {
+        let mut fold = Fold {
+            active: &self.leaf_active,
+            out: &mut self.program,
+        };
+        match run_in(solid.program(), &mut fold, &mut self.stack) {
             Some(Term::Code(_)) => true,
             Some(Term::NegInf) | None => false,
             Some(Term::PosInf) => {
@@ -167,6 +121,65 @@ impl ActiveSet {
                 true
             }
         }
+    }
+}
+
+/// The program folded over absent leaves, as an algebra of the one evaluator: an operand is a
+/// constant (`±∞`) or code it has emitted at the end of `out`, which an absorbing constant drops
+/// again.
+struct Fold<'a> {
+    active: &'a [bool],
+    out: &'a mut Vec<CsgOp>,
+}
+
+impl Fold<'_> {
+    /// `max` (`absorbing = +∞`, identity `−∞`) or `min` (the other way round) of two terms.
+    fn combine(&mut self, op: CsgOp, a: Term, b: Term, absorbing: Term, identity: Term) -> Term {
+        match (a, b) {
+            (Term::Code(s), Term::Code(_)) => {
+                self.out.push(op);
+                Term::Code(s)
+            }
+            (x, y) if x == absorbing || y == absorbing => {
+                // Drop whatever code the operands left.
+                if let Term::Code(s) = a {
+                    self.out.truncate(s);
+                } else if let Term::Code(s) = b {
+                    self.out.truncate(s);
+                }
+                absorbing
+            }
+            (x, y) if x == identity => y,
+            (x, _) => x, // y is the identity
+        }
+    }
+}
+
+impl CsgAlgebra for Fold<'_> {
+    type Value = Term;
+    fn leaf(&mut self, i: u32) -> Option<Term> {
+        Some(if self.active.get(i as usize).copied().unwrap_or(false) {
+            self.out.push(CsgOp::Leaf(i));
+            Term::Code(self.out.len() - 1)
+        } else {
+            Term::NegInf
+        })
+    }
+    fn max(&mut self, a: Term, b: Term) -> Option<Term> {
+        Some(self.combine(CsgOp::Max, a, b, Term::PosInf, Term::NegInf))
+    }
+    fn min(&mut self, a: Term, b: Term) -> Option<Term> {
+        Some(self.combine(CsgOp::Min, a, b, Term::NegInf, Term::PosInf))
+    }
+    fn neg(&mut self, a: Term) -> Option<Term> {
+        Some(match a {
+            Term::NegInf => Term::PosInf,
+            Term::PosInf => Term::NegInf,
+            Term::Code(s) => {
+                self.out.push(CsgOp::Neg);
+                Term::Code(s)
+            }
+        })
     }
 }
 

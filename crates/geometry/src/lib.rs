@@ -31,8 +31,7 @@
 
 mod active;
 mod cast;
-mod closed_form;
-mod csg;
+pub mod csg;
 mod error;
 mod free_form;
 pub mod gpu_layout;

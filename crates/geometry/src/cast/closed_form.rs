@@ -24,7 +24,9 @@
 //! the same floats (roots, box faces), so a pruned program (culling) and the full one give the
 //! same bits, as the search does.
 
-use crate::{CsgOp, RayQuadratic};
+use super::on_ray::LeafOnRay;
+use crate::RayQuadratic;
+use crate::csg::CsgAlgebra;
 use fray_core::Interval;
 
 /// The most disjoint intervals a set holds; a program whose sets outgrow it is searched instead.
@@ -33,13 +35,13 @@ const CAPACITY: usize = 4;
 
 /// A union of disjoint closed intervals of `t`, sorted.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct SpanSet {
+pub(super) struct SpanSet {
     len: usize,
     spans: [(f64, f64); CAPACITY],
 }
 
 impl SpanSet {
-    pub(crate) const EMPTY: SpanSet = SpanSet {
+    pub(super) const EMPTY: SpanSet = SpanSet {
         len: 0,
         spans: [(0.0, 0.0); CAPACITY],
     };
@@ -55,7 +57,7 @@ impl SpanSet {
     }
 
     #[inline]
-    fn spans(&self) -> &[(f64, f64)] {
+    pub(super) fn spans(&self) -> &[(f64, f64)] {
         &self.spans[..self.len]
     }
 
@@ -82,7 +84,7 @@ impl SpanSet {
     /// Where `q ≥ 0` within `present` (the leaf's part of the ray): at most two spans. `None` if
     /// the roots are not finite numbers (overflow), so the caller searches instead.
     #[inline]
-    pub(crate) fn of_leaf(q: &RayQuadratic, present: Interval) -> Option<Self> {
+    pub(super) fn of_leaf(q: &RayQuadratic, present: Interval) -> Option<Self> {
         let mut s = Self::EMPTY;
         for (lo, hi) in nonnegative_spans(q)?.into_iter().flatten() {
             let (lo, hi) = (lo.max(present.lo), hi.min(present.hi));
@@ -98,7 +100,7 @@ impl SpanSet {
     /// that is one leaf: the same selection among the same floats, so the same bits (tested).
     /// `present` must lie within `range`, as a leaf's part of the ray does.
     #[inline]
-    pub(crate) fn first_of_leaf(
+    pub(super) fn first_of_leaf(
         q: &RayQuadratic,
         present: Interval,
         range: Interval,
@@ -178,7 +180,7 @@ impl SpanSet {
 
     /// The first point of the set in `range`.
     #[inline]
-    pub(crate) fn first_in(&self, range: Interval) -> Option<f64> {
+    pub(super) fn first_in(&self, range: Interval) -> Option<f64> {
         self.spans()
             .iter()
             .find(|s| s.1 >= range.lo)
@@ -233,63 +235,44 @@ fn nonnegative_spans(q: &RayQuadratic) -> Option<[Option<(f64, f64)>; 2]> {
     })
 }
 
-/// Where the program is non-negative, from its leaves' sets (`leaf_set(i)`, `None` to give up);
-/// `stack` is scratch space. `None` when a set outgrows [`CAPACITY`] or a leaf gives up.
-pub(crate) fn program_set(
-    program: &[CsgOp],
-    mut leaf_set: impl FnMut(u32) -> Option<SpanSet>,
-    stack: &mut Vec<SpanSet>,
-) -> Option<SpanSet> {
-    // The two-leaf programs of a union, intersection or difference, without a stack.
-    match *program {
-        [CsgOp::Leaf(i)] => return leaf_set(i),
-        [
-            CsgOp::Leaf(i),
-            CsgOp::Leaf(j),
-            op @ (CsgOp::Max | CsgOp::Min),
-        ] => return combine(op, &leaf_set(i)?, &leaf_set(j)?),
-        [
-            CsgOp::Leaf(i),
-            CsgOp::Leaf(j),
-            CsgOp::Neg,
-            op @ (CsgOp::Max | CsgOp::Min),
-        ] => return combine(op, &leaf_set(i)?, &leaf_set(j)?.complement()?),
-        _ => {}
-    }
-    stack.clear();
-    for op in program {
-        match *op {
-            CsgOp::Leaf(i) => stack.push(leaf_set(i)?),
-            CsgOp::Neg => {
-                let top = stack.pop().unwrap_or(SpanSet::EMPTY);
-                stack.push(top.complement()?);
-            }
-            CsgOp::Max | CsgOp::Min => {
-                if stack.len() < 2 {
-                    continue; // never compiled; keep the operand (as the search does)
-                }
-                let b = stack.pop().unwrap_or(SpanSet::EMPTY);
-                let a = stack.pop().unwrap_or(SpanSet::EMPTY);
-                stack.push(combine(*op, &a, &b)?);
-            }
-        }
-    }
-    Some(stack.pop().unwrap_or(SpanSet::EMPTY))
+/// Where the program is non-negative, as sets of `t`: the span-set algebra of the one CSG
+/// evaluator. A leaf's set comes from its roots within its part of the ray (empty where it is
+/// absent); max is union, min intersection, negation the complement. `None` when a set outgrows
+/// [`CAPACITY`] or a leaf's roots overflow.
+pub(super) struct SpanSets<'a> {
+    pub(super) leaves: &'a [LeafOnRay],
 }
 
-/// `max(a, b)` (union) or `min(a, b)` (intersection) of two sets; `None` if it does not fit.
-#[inline]
-fn combine(op: CsgOp, a: &SpanSet, b: &SpanSet) -> Option<SpanSet> {
-    if op == CsgOp::Max {
-        a.union(b)
-    } else {
-        Some(a.intersection(b))
+impl CsgAlgebra for SpanSets<'_> {
+    type Value = SpanSet;
+    #[inline(always)]
+    fn leaf(&mut self, i: u32) -> Option<SpanSet> {
+        match self.leaves.get(i as usize) {
+            Some(LeafOnRay {
+                present: Some(present),
+                base,
+                ..
+            }) => SpanSet::of_leaf(base, *present),
+            _ => Some(SpanSet::EMPTY),
+        }
+    }
+    #[inline(always)]
+    fn max(&mut self, a: SpanSet, b: SpanSet) -> Option<SpanSet> {
+        a.union(&b)
+    }
+    #[inline(always)]
+    fn min(&mut self, a: SpanSet, b: SpanSet) -> Option<SpanSet> {
+        Some(a.intersection(&b))
+    }
+    #[inline(always)]
+    fn neg(&mut self, a: SpanSet) -> Option<SpanSet> {
+        a.complement()
     }
 }
 
 /// The outcome of certifying a closed-form hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Certified {
+pub(super) enum Certified {
     /// The first point of the range where `F′ ≥ 0`, within ε (or no hit at all).
     Hit(Option<f64>),
     /// Rounding put the prediction where the point evaluations disagree: search instead.
@@ -302,7 +285,7 @@ pub(crate) enum Certified {
 /// the rounding (or, failing that, to `r + ε/2`) when `F′` is non-negative there. A miss needs
 /// no evaluation.
 #[inline]
-pub(crate) fn certify(
+pub(super) fn certify(
     first: Option<f64>,
     range: Interval,
     eps: f64,

@@ -1,12 +1,22 @@
 //! CSG trees of free-form objects and their flat postfix form, [`Solid`].
 //!
 //! Union is `max`, intersection `min`, difference `min(a, −b)`. The tree is compiled once into a
-//! postfix program over the leaves — the form that the ray caster and the GPU both evaluate.
+//! postfix program over the leaves — the form that the ray caster and the GPU both evaluate. The
+//! program has one interpreter, [`run`], generic over what a value is ([`CsgAlgebra`]; module
+//! `program`): point values and normals (module `point`), the caster's bounds, values and span
+//! sets (module `cast`), the fold over absent leaves (module `active`), and the compile-time
+//! facts below (stack depth, negated leaves).
+
+mod point;
+mod program;
+
+#[cfg(test)]
+pub(crate) use point::Surface;
+pub use program::{CsgAlgebra, INLINE_DEPTH, run, run_in};
 
 use crate::quadric::Magnitude;
 use crate::{FreeForm, GeometryError};
 use fray_core::Aabb;
-use glam::DVec3;
 
 /// A CSG tree whose leaves are free-form objects.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,16 +91,7 @@ impl Solid {
         let mut leaves = Vec::new();
         let mut program = Vec::new();
         let bounds = compile(shape, &mut leaves, &mut program)?;
-        let mut depth = 0usize;
-        let mut max_stack = 0usize;
-        for op in &program {
-            match op {
-                CsgOp::Leaf(_) => depth += 1,
-                CsgOp::Max | CsgOp::Min => depth -= 1,
-                CsgOp::Neg => {}
-            }
-            max_stack = max_stack.max(depth);
-        }
+        let max_stack = run(&program, &mut Depth).unwrap_or(0);
         let leaf_covers_solid = covers(&leaves, &bounds);
         let leaf_negated = negated(&program, leaves.len());
         let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &leaf_negated);
@@ -180,154 +181,6 @@ impl Solid {
     pub fn perturbation_count(&self) -> usize {
         self.leaves.iter().map(|l| l.perturbations().len()).sum()
     }
-
-    /// The CSG value at `p` (`≥ 0` inside).
-    pub fn eval(&self, p: DVec3) -> f64 {
-        let mut stack: Vec<f64> = Vec::with_capacity(self.max_stack);
-        for op in &self.program {
-            match *op {
-                CsgOp::Leaf(i) => stack.push(self.leaves[i as usize].eval(p)),
-                CsgOp::Max | CsgOp::Min => {
-                    let b = stack.pop().unwrap_or(f64::NEG_INFINITY);
-                    let a = stack.pop().unwrap_or(f64::NEG_INFINITY);
-                    stack.push(if *op == CsgOp::Max {
-                        a.max(b)
-                    } else {
-                        a.min(b)
-                    });
-                }
-                CsgOp::Neg => {
-                    if let Some(v) = stack.last_mut() {
-                        *v = -*v;
-                    }
-                }
-            }
-        }
-        stack.pop().unwrap_or(f64::NEG_INFINITY)
-    }
-
-    /// The outward unit normal at a surface point `p` and the leaf whose surface it is: the
-    /// gradient of the operand that is active in every `max`/`min`. Falls back to `fallback`
-    /// where the gradient vanishes (a cone's apex).
-    pub fn surface_at(&self, p: DVec3, fallback: DVec3) -> (DVec3, u32) {
-        if let [CsgOp::Leaf(i)] = self.program[..]
-            && let Some(leaf) = self.leaves.get(i as usize)
-        {
-            return Self::outward(leaf.eval_with_gradient(p).1, i, fallback);
-        }
-        self.surface_by(fallback, |_, leaf| leaf.eval_with_gradient(p))
-    }
-
-    /// [`Solid::surface_at`] evaluating each leaf with only the perturbations `active` lists for
-    /// it: bit-identical when every perturbation left out is zero at `p` (as for a point on a ray
-    /// that misses its support) — and as cheap as the active perturbations. Always inlined: a
-    /// frame loop calls it per hit, and a returned normal reloaded from memory stalls.
-    #[inline(always)]
-    pub fn surface_at_with(
-        &self,
-        p: DVec3,
-        fallback: DVec3,
-        active: &crate::ActiveSet,
-    ) -> (DVec3, u32) {
-        // One leaf: no program to run, and without a clipping box its value decides nothing.
-        if let [CsgOp::Leaf(i)] = self.program[..]
-            && let Some(leaf) = self.leaves.get(i as usize)
-        {
-            let subset = active.leaf_perturbations(i as usize);
-            let g = if leaf.clips() {
-                leaf.eval_with_gradient_subset(p, subset).1
-            } else {
-                leaf.gradient_subset(p, subset)
-            };
-            return Self::outward(g, i, fallback);
-        }
-        self.surface_by(fallback, |i, leaf| {
-            leaf.eval_with_gradient_subset(p, active.leaf_perturbations(i))
-        })
-    }
-
-    fn surface_by(
-        &self,
-        fallback: DVec3,
-        eval: impl Fn(usize, &FreeForm) -> (f64, DVec3),
-    ) -> (DVec3, u32) {
-        // A fixed stack for the usual shallow programs: no allocation per surface point.
-        const INLINE: usize = 8;
-        if self.max_stack <= INLINE {
-            let mut stack = [(0.0, DVec3::ZERO, 0u32); INLINE];
-            let mut len = 0usize;
-            for op in &self.program {
-                match *op {
-                    CsgOp::Leaf(i) => {
-                        let (v, g) = eval(i as usize, &self.leaves[i as usize]);
-                        stack[len] = (v, g, i);
-                        len += 1;
-                    }
-                    CsgOp::Max | CsgOp::Min => {
-                        let b = stack[len - 1];
-                        let a = stack[len - 2];
-                        len -= 1;
-                        let take_a = if *op == CsgOp::Max {
-                            a.0 >= b.0
-                        } else {
-                            a.0 <= b.0
-                        };
-                        stack[len - 1] = if take_a { a } else { b };
-                    }
-                    CsgOp::Neg => {
-                        let v = &mut stack[len - 1];
-                        v.0 = -v.0;
-                        v.1 = -v.1;
-                    }
-                }
-            }
-            let (_, g, leaf) = if len > 0 {
-                stack[len - 1]
-            } else {
-                (0.0, DVec3::ZERO, 0)
-            };
-            return Self::outward(g, leaf, fallback);
-        }
-        let mut stack: Vec<(f64, DVec3, u32)> = Vec::with_capacity(self.max_stack);
-        for op in &self.program {
-            match *op {
-                CsgOp::Leaf(i) => {
-                    let (v, g) = eval(i as usize, &self.leaves[i as usize]);
-                    stack.push((v, g, i));
-                }
-                CsgOp::Max | CsgOp::Min => {
-                    let b = stack.pop().unwrap_or((f64::NEG_INFINITY, DVec3::ZERO, 0));
-                    let a = stack.pop().unwrap_or((f64::NEG_INFINITY, DVec3::ZERO, 0));
-                    let take_a = if *op == CsgOp::Max {
-                        a.0 >= b.0
-                    } else {
-                        a.0 <= b.0
-                    };
-                    stack.push(if take_a { a } else { b });
-                }
-                CsgOp::Neg => {
-                    if let Some(v) = stack.last_mut() {
-                        v.0 = -v.0;
-                        v.1 = -v.1;
-                    }
-                }
-            }
-        }
-        let (_, g, leaf) = stack.pop().unwrap_or((0.0, DVec3::ZERO, 0));
-        Self::outward(g, leaf, fallback)
-    }
-
-    /// The outward unit normal from an F-rep gradient (`−∇F`), or `fallback` where it vanishes.
-    #[inline]
-    fn outward(g: DVec3, leaf: u32, fallback: DVec3) -> (DVec3, u32) {
-        let len = g.length();
-        let n = if len > 0.0 && len.is_finite() {
-            g * (-1.0 / len) // one division for the three components
-        } else {
-            fallback
-        };
-        (n, leaf)
-    }
 }
 
 /// Per leaf, whether its box contains `bounds` (never for an empty `bounds`: its slab test is not
@@ -342,32 +195,65 @@ fn covers(leaves: &[FreeForm], bounds: &Aabb) -> Vec<bool> {
         .collect()
 }
 
-/// Per leaf, whether an odd number of `Neg`s lies above it in `program` (`leaves` leaves).
-fn negated(program: &[CsgOp], leaves: usize) -> Vec<bool> {
-    let mut negated = vec![false; leaves];
-    // Each stack entry: the leaves of one operand.
-    let mut stack: Vec<Vec<u32>> = Vec::new();
-    for op in program {
-        match *op {
-            CsgOp::Leaf(i) => stack.push(vec![i]),
-            CsgOp::Neg => {
-                for &i in stack.last().into_iter().flatten() {
-                    if let Some(n) = negated.get_mut(i as usize) {
-                        *n = !*n;
-                    }
-                }
-            }
-            CsgOp::Max | CsgOp::Min => {
-                if stack.len() >= 2 {
-                    let b = stack.pop().unwrap_or_default();
-                    if let Some(a) = stack.last_mut() {
-                        a.extend(b);
-                    }
-                }
+/// The stack depth of the program: an operand's is its own, or one more than its second
+/// operand's while the first waits beneath it.
+struct Depth;
+
+impl CsgAlgebra for Depth {
+    type Value = usize;
+    fn leaf(&mut self, _: u32) -> Option<usize> {
+        Some(1)
+    }
+    fn max(&mut self, a: usize, b: usize) -> Option<usize> {
+        Some(a.max(b + 1))
+    }
+    fn min(&mut self, a: usize, b: usize) -> Option<usize> {
+        Some(a.max(b + 1))
+    }
+    fn neg(&mut self, a: usize) -> Option<usize> {
+        Some(a)
+    }
+}
+
+/// Which leaves an odd number of negations lies above. An operand's leaves are consecutive
+/// among the program's leaves (postfix keeps a subtree's ops together), so a value is the range
+/// of them, by position in `order`; a negation flips each.
+struct Negations {
+    order: Vec<u32>,
+    negated: Vec<bool>,
+}
+
+impl CsgAlgebra for Negations {
+    type Value = (usize, usize);
+    fn leaf(&mut self, i: u32) -> Option<(usize, usize)> {
+        self.order.push(i);
+        Some((self.order.len() - 1, self.order.len()))
+    }
+    fn max(&mut self, a: (usize, usize), b: (usize, usize)) -> Option<(usize, usize)> {
+        Some((a.0, b.1))
+    }
+    fn min(&mut self, a: (usize, usize), b: (usize, usize)) -> Option<(usize, usize)> {
+        Some((a.0, b.1))
+    }
+    fn neg(&mut self, a: (usize, usize)) -> Option<(usize, usize)> {
+        for &i in self.order.get(a.0..a.1)? {
+            if let Some(n) = self.negated.get_mut(i as usize) {
+                *n = !*n;
             }
         }
+        Some(a)
     }
-    negated
+}
+
+/// Per leaf, whether an odd number of `Neg`s lies above it in `program` (`leaves` leaves).
+fn negated(program: &[CsgOp], leaves: usize) -> Vec<bool> {
+    let mut negations = Negations {
+        order: Vec::with_capacity(leaves),
+        negated: vec![false; leaves],
+    };
+    // A malformed program (never compiled) leaves the rest unflipped.
+    let _ = run(program, &mut negations);
+    negations.negated
 }
 
 fn compile(
@@ -424,6 +310,7 @@ fn compile(
 mod tests {
     use super::*;
     use crate::Quadric;
+    use glam::DVec3;
 
     fn ball(c: DVec3, r: f64) -> Shape {
         Shape::FreeForm(FreeForm::new(Quadric::sphere(c, r), vec![], None).unwrap())
