@@ -48,6 +48,7 @@ const ILLINOIS_STEPS: usize = 100;
 ///   monotone (no root between two positive ends); a piece no wider than `eps` with `f(m) ≤ 0`
 ///   brackets a root in `[a, m]` (Illinois); one with `f(m) > 0` is dropped (a graze thinner
 ///   than `eps`); else split.
+#[inline]
 pub(super) fn bicubic_root(
     f: &impl Fn(f64) -> (f64, f64, DVec2),
     k1: f64,
@@ -90,6 +91,7 @@ pub(super) fn bicubic_root(
 }
 
 /// Illinois (modified regula falsi) on a bracket `f(a) > 0 ≥ f(b)`, to `|b − a| ≤ eps`.
+#[inline]
 fn illinois(
     f: &impl Fn(f64) -> (f64, f64, DVec2),
     mut a: f64,

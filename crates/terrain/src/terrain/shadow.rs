@@ -80,6 +80,7 @@ impl Terrain {
 }
 
 /// The level-`level` cell holding map point `p` when that is unambiguous under rounding.
+#[inline]
 fn point_cell(
     p: DVec3,
     err: DVec3,
