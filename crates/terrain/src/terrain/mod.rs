@@ -7,7 +7,6 @@
 //! border or from below hits a vertical wall or the base, and a ray that starts inside the solid
 //! hits at its start (like free forms: `F ≥ 0` is inside).
 //!
-//!
 //! The type, its construction and accessors are here; the search is in `search` (the
 //! pyramid halving), `cell` (the finest cells' intersections, their roots in `roots`), `lod`
 //! (max-column tops), `shadow` (`occluded`), `surface` (heights and shading normals) and
