@@ -6,13 +6,13 @@
 use crate::bindings::{self, FRAME, FREE_FORMS, SHADING, TARGETS, TERRAINS, WORK};
 use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams, GpuPath, View};
-use crate::passes::PipelineCache;
 use crate::passes::freeform::FreeFormPass;
 use crate::passes::raygen::RayGenPass;
 use crate::passes::rebase::RebasePass;
 use crate::passes::resolve::ResolvePass;
 use crate::passes::shade::ShadePass;
 use crate::passes::terrain::TerrainIntersectPass;
+use crate::passes::{PassSetup, PipelineCache};
 use crate::readback::{map_read, read_back, readback_buffer};
 use crate::resident::{ResidentScene, terrain_lods};
 use crate::shader::{self, ModuleOptions, Specialisation};
@@ -226,18 +226,24 @@ impl<'a> GpuScene<'a> {
         };
         let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
+        let setup = PassSetup {
+            cache,
+            ctx,
+            options: &options,
+            specialisation: &specialisation,
+        };
         let passes = Passes {
             rebase: RebasePass::new(cache, ctx)?,
-            raygen: RayGenPass::new(cache, ctx, &options, &specialisation)?,
+            raygen: RayGenPass::new(&setup)?,
             free_forms: (!scene.objects.is_empty())
-                .then(|| FreeFormPass::new(cache, ctx, &options, &specialisation))
+                .then(|| FreeFormPass::new(&setup))
                 .transpose()?,
             terrains: options
                 .terrain
-                .then(|| TerrainIntersectPass::new(cache, ctx, &options, &specialisation))
+                .then(|| TerrainIntersectPass::new(&setup))
                 .transpose()?,
-            shade: ShadePass::new(cache, ctx, &options, &specialisation)?,
-            resolve: ResolvePass::new(cache, ctx, &options, &specialisation)?,
+            shade: ShadePass::new(&setup)?,
+            resolve: ResolvePass::new(&setup)?,
         };
         let pending_pipelines = cache.take_built();
         let buffers = FrameBuffers {

@@ -3,9 +3,8 @@
 //! pruned CSG programs) by the halving search of `shaders/freeform.wgsl`, the f32 twin of
 //! `fray_geometry::RayCaster`; the nearest hit goes into each ray's path.
 
-use super::{Kernel, PipelineCache};
+use super::{Kernel, PassSetup};
 use crate::bindings::{FRAME, FREE_FORMS, Group, WORK};
-use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 
 /// The free-form intersection pass.
@@ -18,14 +17,9 @@ impl FreeFormPass {
     /// The groups it binds.
     pub const GROUPS: [Group; 3] = [FRAME, FREE_FORMS, WORK];
 
-    pub fn new(
-        cache: &PipelineCache,
-        ctx: &GpuContext,
-        options: &ModuleOptions,
-        specialisation: &Specialisation,
-    ) -> Result<Self, GpuError> {
+    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
         let entry = "intersect_freeform.wgsl";
-        let kernel = Kernel::new(cache, ctx, entry, &Self::GROUPS, options, specialisation)?;
+        let kernel = Kernel::new(setup, entry, &Self::GROUPS)?;
         Ok(Self { kernel })
     }
 

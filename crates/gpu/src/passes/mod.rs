@@ -143,6 +143,16 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     }
 }
 
+/// What every pass is built from: the renderer's cache and device, the scene's composition
+/// options and its specialisation (the same for all passes of one scene).
+#[derive(Clone, Copy, Debug)]
+pub struct PassSetup<'a> {
+    pub cache: &'a PipelineCache,
+    pub ctx: &'a GpuContext,
+    pub options: &'a ModuleOptions,
+    pub specialisation: &'a Specialisation,
+}
+
 /// A pass's compute pipeline and the bind groups it takes (in its module's order): what every
 /// pass struct holds, so that each pass is only its module, its groups and its dispatch size.
 #[derive(Debug)]
@@ -153,13 +163,16 @@ pub(crate) struct Kernel {
 impl Kernel {
     /// The pipeline of `entry` binding `groups` (from the cache, or built).
     pub(crate) fn new(
-        cache: &PipelineCache,
-        ctx: &GpuContext,
+        setup: &PassSetup<'_>,
         entry: &'static str,
         groups: &[Group],
-        options: &ModuleOptions,
-        specialisation: &Specialisation,
     ) -> Result<Self, GpuError> {
+        let PassSetup {
+            cache,
+            ctx,
+            options,
+            specialisation,
+        } = *setup;
         Ok(Self {
             pipeline: cache.pipeline(ctx, entry, groups, options, specialisation)?,
         })

@@ -3,9 +3,8 @@
 //! `fray_core::Projector::ray` with `fray_core::PixelSamples` (the GPU's depth and anti-aliased
 //! colour are checked against the CPU's frames).
 
-use super::{Kernel, PipelineCache};
+use super::{Kernel, PassSetup};
 use crate::bindings::{FRAME, Group};
-use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 
 /// The ray generation pass.
@@ -18,20 +17,8 @@ impl RayGenPass {
     /// The groups it binds.
     pub const GROUPS: [Group; 1] = [FRAME];
 
-    pub fn new(
-        cache: &PipelineCache,
-        ctx: &GpuContext,
-        options: &ModuleOptions,
-        specialisation: &Specialisation,
-    ) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(
-            cache,
-            ctx,
-            "raygen.wgsl",
-            &Self::GROUPS,
-            options,
-            specialisation,
-        )?;
+    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
+        let kernel = Kernel::new(setup, "raygen.wgsl", &Self::GROUPS)?;
         Ok(Self { kernel })
     }
 

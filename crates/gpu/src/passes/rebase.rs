@@ -6,7 +6,7 @@
 //! twin (the GPU's result is bit-identical: f32 subtraction and multiplication by a power of two
 //! are correctly rounded on every backend).
 
-use super::{Kernel, PipelineCache};
+use super::{Kernel, PassSetup, PipelineCache};
 use crate::bindings::{self, REBASE};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
@@ -169,14 +169,14 @@ pub struct RebasePass {
 
 impl RebasePass {
     pub fn new(cache: &PipelineCache, ctx: &GpuContext) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(
+        // The same module for every scene: no composition options, no specialisation.
+        let setup = PassSetup {
             cache,
             ctx,
-            "rebase.wgsl",
-            &[REBASE],
-            &ModuleOptions::default(),
-            &Specialisation::default(),
-        )?;
+            options: &ModuleOptions::default(),
+            specialisation: &Specialisation::default(),
+        };
+        let kernel = Kernel::new(&setup, "rebase.wgsl", &[REBASE])?;
         Ok(Self { kernel })
     }
 

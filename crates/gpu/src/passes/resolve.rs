@@ -3,10 +3,9 @@
 //! tone-mapped sRGB display image made on the GPU (`shaders/resolve.wgsl`; the CPU twins are the
 //! frame loop's box filter, `fray_core::ToneMap` and `linear_to_srgb`).
 
-use super::{Kernel, PipelineCache};
+use super::{Kernel, PassSetup};
 use crate::bindings::{FRAME, Group, TARGETS};
-use crate::shader::{ModuleOptions, Specialisation};
-use crate::{GpuContext, GpuError};
+use crate::GpuError;
 
 /// The resolve pass.
 #[derive(Debug)]
@@ -18,20 +17,8 @@ impl ResolvePass {
     /// The groups it binds.
     pub const GROUPS: [Group; 2] = [FRAME, TARGETS];
 
-    pub fn new(
-        cache: &PipelineCache,
-        ctx: &GpuContext,
-        options: &ModuleOptions,
-        specialisation: &Specialisation,
-    ) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(
-            cache,
-            ctx,
-            "resolve.wgsl",
-            &Self::GROUPS,
-            options,
-            specialisation,
-        )?;
+    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
+        let kernel = Kernel::new(setup, "resolve.wgsl", &Self::GROUPS)?;
         Ok(Self { kernel })
     }
 

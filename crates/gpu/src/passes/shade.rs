@@ -3,9 +3,8 @@
 //! Phong with each light through the RGB transmittance of a shadow ray that every kind answers
 //! any-hit (`shaders/shade.wgsl`, fray-trace's `Integrator` in f32).
 
-use super::{Kernel, PipelineCache};
+use super::{Kernel, PassSetup};
 use crate::bindings::{FRAME, FREE_FORMS, Group, SHADING, TERRAINS};
-use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 
 /// The shade pass.
@@ -19,21 +18,16 @@ impl ShadePass {
     /// The groups it binds (the terrains' only with terrains).
     pub const GROUPS: [Group; 4] = [FRAME, FREE_FORMS, SHADING, TERRAINS];
 
-    pub fn new(
-        cache: &PipelineCache,
-        ctx: &GpuContext,
-        options: &ModuleOptions,
-        specialisation: &Specialisation,
-    ) -> Result<Self, GpuError> {
-        let groups = if options.terrain {
+    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
+        let groups = if setup.options.terrain {
             &Self::GROUPS[..]
         } else {
             &Self::GROUPS[..3]
         };
-        let kernel = Kernel::new(cache, ctx, "shade.wgsl", groups, options, specialisation)?;
+        let kernel = Kernel::new(setup, "shade.wgsl", groups)?;
         Ok(Self {
             kernel,
-            terrain: options.terrain,
+            terrain: setup.options.terrain,
         })
     }
 

@@ -4,9 +4,8 @@
 //! `[t_near, nearest hit so far]`, narrowing the paths' hits after the free forms. Built only
 //! for scenes with terrains.
 
-use super::{Kernel, PipelineCache};
+use super::{Kernel, PassSetup};
 use crate::bindings::{FRAME, Group, TERRAINS, WORK};
-use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 
 /// The terrain intersection pass.
@@ -19,14 +18,9 @@ impl TerrainIntersectPass {
     /// The groups it binds.
     pub const GROUPS: [Group; 3] = [FRAME, WORK, TERRAINS];
 
-    pub fn new(
-        cache: &PipelineCache,
-        ctx: &GpuContext,
-        options: &ModuleOptions,
-        specialisation: &Specialisation,
-    ) -> Result<Self, GpuError> {
+    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
         let entry = "intersect_terrain.wgsl";
-        let kernel = Kernel::new(cache, ctx, entry, &Self::GROUPS, options, specialisation)?;
+        let kernel = Kernel::new(setup, entry, &Self::GROUPS)?;
         Ok(Self { kernel })
     }
 
