@@ -4,8 +4,8 @@
 //! frame loop's box filter, `fray_core::ToneMap` and `linear_to_srgb`).
 
 use super::{Kernel, PassSetup};
-use crate::bindings::{FRAME, Group, TARGETS};
 use crate::GpuError;
+use crate::bindings::{FRAME, Group, TARGETS};
 
 /// The resolve pass.
 #[derive(Debug)]
