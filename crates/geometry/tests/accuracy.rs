@@ -124,6 +124,16 @@ impl<'a> Target<'a> {
         }
     }
 
+    /// [`Target::cast`] over the full range, checked against the double-double truth
+    /// ([`check`], tallied in `tally`).
+    fn cast_checked(&mut self, name: &str, ray: &Ray, eps: f64, tally: &mut Tally) -> Option<f64> {
+        let range = full_range();
+        let hit = self.cast(ray, range, eps, &mut tally.stats);
+        let truth = plain_truth(self.solid, ray, range, eps);
+        check(name, self.solid, ray, range, eps, hit, &truth, tally);
+        hit
+    }
+
     /// The hit of `cast`, after checking that `cast_with` (whole and culled to the ray) and
     /// `cast_planned` (fresh and kept plans, whole and with the active sets) give the same bits.
     fn cast(&mut self, ray: &Ray, range: Interval, eps: f64, stats: &mut CastStats) -> Option<f64> {
@@ -439,17 +449,10 @@ fn plain_classes(
             let Some(ray) = gen_ray(&mut rng, i) else {
                 continue;
             };
-            let range = full_range();
-            let hit = target.cast(&ray, range, eps, &mut tally.stats);
-            let truth = plain_truth(&solid, &ray, range, eps);
-            check(
+            target.cast_checked(
                 &format!("{kind} {class} ({method:?})"),
-                &solid,
                 &ray,
-                range,
                 eps,
-                hit,
-                &truth,
                 &mut tally,
             );
         }
@@ -630,10 +633,7 @@ fn plain_csg_keeps_the_contract() {
                     };
                     r
                 };
-                let range = full_range();
-                let hit = target.cast(&ray, range, eps, &mut tally.stats);
-                let truth = plain_truth(&solid, &ray, range, eps);
-                check(name, &solid, &ray, range, eps, hit, &truth, &mut tally);
+                target.cast_checked(name, &ray, eps, &mut tally);
             }
             tally.report(&format!("CSG {name} ({method:?})"));
             assert!(tally.long * 10 >= tally.rays, "{name}: too few hits");
@@ -788,10 +788,7 @@ fn grazing_spans_at_least_eps_long_are_found() {
                         let Some(ray) = grazing_ray(ff, &mut rng, Some(camera), offsets) else {
                             continue;
                         };
-                        let range = full_range();
-                        let hit = target.cast(&ray, range, eps, &mut tally.stats);
-                        let truth = plain_truth(&solid, &ray, range, eps);
-                        check("grazing", &solid, &ray, range, eps, hit, &truth, &mut tally);
+                        let hit = target.cast_checked("grazing", &ray, eps, &mut tally);
                         // The true span around the tangent point, and the noise width there.
                         let q = reference::quadric_on_ray(ff.base(), &ray);
                         let Some(tv) = q.vertex() else { continue };
@@ -801,7 +798,8 @@ fn grazing_spans_at_least_eps_long_are_found() {
                         let Some(&(s0, s1)) = span else {
                             // A near miss: within the loose widening of tangency?
                             let peak = q.q.eval(tv).to_f64();
-                            let loose = reference::widenings(&solid, &ray, range)[0] + q.delta(tv);
+                            let loose =
+                                reference::widenings(&solid, &ray, full_range())[0] + q.delta(tv);
                             if peak >= -loose && ff.bounds().contains(ray.at(tv)) {
                                 near_miss += 1;
                                 near_miss_hit += usize::from(hit.is_some());
@@ -1083,15 +1081,12 @@ fn rays_along_generator_lines_are_stable() {
             for s in [-5.0, -1.0, 0.0, 1.0, 5.0] {
                 for sign in [1.0, -1.0] {
                     let ray = Ray::new(on_surface + dir * s, dir * sign).unwrap();
-                    let range = full_range();
-                    let hit = target.cast(&ray, range, eps, &mut tally.stats);
-                    let truth = plain_truth(&solid, &ray, range, eps);
-                    check(name, &solid, &ray, range, eps, hit, &truth, &mut tally);
+                    let hit = target.cast_checked(name, &ray, eps, &mut tally);
                     if let Some(t) = hit {
                         let p = ray.at(t);
                         let g = ff.base().gradient(p).length().max(1e-300);
                         let off_surface = ff.base().eval(p).abs() / g;
-                        let w = reference::widenings(&solid, &ray, range)[0];
+                        let w = reference::widenings(&solid, &ray, full_range())[0];
                         // At the cone's apex the gradient vanishes; there the point is the check.
                         let at_apex = name == "cone" && (p - c).length() < 1e-6;
                         assert!(
@@ -1214,19 +1209,7 @@ fn thin_slabs_are_found_from_eps_up() {
             let Some(ray) = Ray::new(origin, p + rng.direction() * 0.2 - origin) else {
                 continue;
             };
-            let range = full_range();
-            let hit = target.cast(&ray, range, eps, &mut tally.stats);
-            let truth = plain_truth(&solid, &ray, range, eps);
-            check(
-                &format!("slab {i} h = {h:e}"),
-                &solid,
-                &ray,
-                range,
-                eps,
-                hit,
-                &truth,
-                &mut tally,
-            );
+            target.cast_checked(&format!("slab {i} h = {h:e}"), &ray, eps, &mut tally);
         }
         tally.report(&format!("thin slabs ({method:?})"));
     }
