@@ -123,20 +123,14 @@ fn a_long_thin_map_resolves_with_a_small_pyramid() {
     let dir = std::env::temp_dir().join(format!("fray-scene-thin-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (w, h) = (32768usize, 2usize);
-    let mut header = format!("{{'descr': '<u2', 'fortran_order': False, 'shape': ({h}, {w}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    for j in 0..h {
-        for i in 0..w {
+    let samples: Vec<u8> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
             let v = 1000.0 + 400.0 * (i as f64 * 0.01).sin() + 50.0 * j as f64;
-            bytes.extend_from_slice(&(v as u16).to_le_bytes());
-        }
-    }
+            (v as u16).to_le_bytes()
+        })
+        .collect();
+    let bytes = fray_terrain::npy::encode("<u2", h, w, &samples);
     std::fs::write(dir.join("thin.npy"), &bytes).unwrap();
     let src = "Scene(image: (width: 64, height: 36), \
         camera: Pinhole(eye: (490000, 3000, 400), look_at: (480000, 1000, 15)), \

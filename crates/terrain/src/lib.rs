@@ -43,7 +43,7 @@ pub mod gpu_layout;
 mod heightmap;
 mod interpolation;
 mod load;
-mod npy;
+pub mod npy;
 mod placement;
 mod pyramid;
 pub mod sweep;

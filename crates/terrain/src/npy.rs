@@ -1,4 +1,5 @@
-//! A minimal reader for NumPy `.npy` arrays — the subset fray needs, with no dependency.
+//! A minimal reader for NumPy `.npy` arrays — the subset fray needs, with no dependency — and
+//! [`encode`], the writer of that subset (for tools and tests that make height maps).
 //!
 //! Format (NumPy's `format.py`, versions 1.0–3.0): the magic `\x93NUMPY`, a major and a minor
 //! version byte, the header length (`u16` little-endian in 1.0, `u32` in 2.0 and 3.0), then an
@@ -189,8 +190,11 @@ fn dict_value<'a>(header: &'a str, key: &str) -> Result<&'a str, String> {
     Ok(rest[..end].trim())
 }
 
-#[cfg(test)]
-pub(crate) fn encode(descr: &str, rows: usize, columns: usize, data: &[u8]) -> Vec<u8> {
+/// The bytes of a 2-D `.npy` file (format 1.0, C order): a header naming the dtype `descr`
+/// (e.g. `"<f4"`) and the shape `(rows, columns)`, then `data` as given (row-major samples in
+/// that dtype — not checked against the shape, so that broken files can be written too). What
+/// [`crate::Heightmap::load`] reads from a `.npy` path.
+pub fn encode(descr: &str, rows: usize, columns: usize, data: &[u8]) -> Vec<u8> {
     let mut header =
         format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {columns}), }}");
     while (10 + header.len() + 1) % 64 != 0 {

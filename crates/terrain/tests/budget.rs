@@ -36,19 +36,6 @@ fn png(path: &Path, w: u32, h: u32, f: impl Fn(u32, u32) -> u16) {
         .unwrap();
 }
 
-fn npy(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
-    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend_from_slice(data);
-    out
-}
-
 /// The budget error of `result`, checked to name `path` (when given), `what` and the limit.
 fn refused<T: std::fmt::Debug>(
     result: Result<T, TerrainError>,
@@ -157,7 +144,11 @@ fn samples_over_the_budget_are_refused_before_decoding() {
     // .npy: a header claiming 8192 × 8192 f32 (256 MiB) over a 128-byte file: refused by a
     // 64 MiB budget from the header alone (the default budget would find it truncated).
     let claims = d.join("claims.npy");
-    std::fs::write(&claims, npy("<f4", "(8192, 8192)", &[0; 64])).unwrap();
+    std::fs::write(
+        &claims,
+        fray_terrain::npy::encode("<f4", 8192, 8192, &[0; 64]),
+    )
+    .unwrap();
     refused(
         Heightmap::load_within(&claims, &MemoryBudget::new(64 << 20)),
         Some(&claims),

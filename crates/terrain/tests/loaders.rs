@@ -14,19 +14,6 @@ fn dir(name: &str) -> PathBuf {
     d
 }
 
-fn npy(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
-    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend_from_slice(data);
-    out
-}
-
 fn err_text(path: &Path) -> String {
     let e = Heightmap::load(path).unwrap_err();
     let text = e.to_string();
@@ -71,7 +58,7 @@ fn npy_loads_every_accepted_dtype_and_names_the_rest() {
         .iter()
         .flat_map(|v| v.to_le_bytes())
         .collect();
-    std::fs::write(&path, npy("<i2", "(2, 3)", &data)).unwrap();
+    std::fs::write(&path, fray_terrain::npy::encode("<i2", 2, 3, &data)).unwrap();
     let m = Heightmap::load(&path).unwrap();
     assert_eq!(
         (m.width(), m.height(), m.at(1, 0), m.at(0, 1)),
@@ -81,16 +68,16 @@ fn npy_loads_every_accepted_dtype_and_names_the_rest() {
         .iter()
         .flat_map(|v| v.to_le_bytes())
         .collect();
-    std::fs::write(&path, npy("<f8", "(2, 2)", &data)).unwrap();
+    std::fs::write(&path, fray_terrain::npy::encode("<f8", 2, 2, &data)).unwrap();
     assert_eq!(Heightmap::load(&path).unwrap().at(1, 1), 3.5);
-    std::fs::write(&path, npy("<c8", "(2, 2)", &[0; 32])).unwrap();
+    std::fs::write(&path, fray_terrain::npy::encode("<c8", 2, 2, &[0; 32])).unwrap();
     assert!(err_text(&path).contains("unsupported .npy dtype '<c8'"));
     // NaN in the data: the sample is named.
     let data: Vec<u8> = [0.0f32, f32::NAN, 1.0, 2.0]
         .iter()
         .flat_map(|v| v.to_le_bytes())
         .collect();
-    std::fs::write(&path, npy("<f4", "(2, 2)", &data)).unwrap();
+    std::fs::write(&path, fray_terrain::npy::encode("<f4", 2, 2, &data)).unwrap();
     assert!(err_text(&path).contains("sample (1, 0) is not finite"));
 }
 
@@ -142,7 +129,11 @@ fn unreadable_empty_wrong_format_and_absurd_inputs_are_clear_errors() {
     assert!(err_text(&thin).contains("at least 2 × 2"));
     // An absurd .npy shape is refused from the header alone (no 10¹⁰-sample allocation).
     let huge = d.join("huge.npy");
-    std::fs::write(&huge, npy("<f4", "(100000, 100000)", &[0; 64])).unwrap();
+    std::fs::write(
+        &huge,
+        fray_terrain::npy::encode("<f4", 100000, 100000, &[0; 64]),
+    )
+    .unwrap();
     assert!(err_text(&huge).contains("too large"));
     // An unknown extension.
     let tiff = d.join("map.tiff");

@@ -12,19 +12,11 @@ fn map_dir(name: &str, n: usize, f: impl Fn(usize, usize) -> f32) -> PathBuf {
     let dir =
         std::env::temp_dir().join(format!("fray-trace-terrain-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({n}, {n}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    for j in 0..n {
-        for i in 0..n {
-            bytes.extend_from_slice(&f(i, j).to_le_bytes());
-        }
-    }
+    let samples: Vec<u8> = (0..n)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .flat_map(|(i, j)| f(i, j).to_le_bytes())
+        .collect();
+    let bytes = fray_terrain::npy::encode("<f4", n, n, &samples);
     std::fs::write(dir.join("map.npy"), bytes).unwrap();
     dir
 }
