@@ -1,0 +1,23 @@
+//! `fray-atmosphere`: the atmosphere of the method (DESIGN.md §5), the reference implementation.
+//! Usable alone: no GPU, no scene files.
+//!
+//! - [`FogLayer`]: Klassen's horizontal fog layer — a slab of extinction `B` (optionally falling
+//!   off exponentially with height) — with the method's two terms (eq. 14, object light; eq. 15,
+//!   fog in-scatter) in radiometric units, exact single scattering (the sun's path in the fog
+//!   varies with the height of each point; one closed form for the homogeneous slab and the
+//!   falloff) and an independent f64 numerical reference ([`reference`]).
+//! - [`Phase`]: the normalised Henyey–Greenstein phase function and the source's printed form.
+//! - [`sky`]: a physically based sky beyond the fog.
+
+mod error;
+mod fog;
+mod method;
+mod phase;
+pub mod quadrature;
+pub mod reference;
+mod single_scattering;
+pub mod sky;
+
+pub use error::AtmosphereError;
+pub use fog::{FogLayer, FogLighting, FogModel, FogTerms, Sunlight};
+pub use phase::Phase;
