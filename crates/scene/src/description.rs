@@ -17,6 +17,12 @@ pub type Vec3 = [f64; 3];
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scene")]
 pub struct Scene {
+    /// Other scene files (relative to this one) whose `materials` and `objects` this scene
+    /// uses, as if written here (their other fields are ignored). Each is checked as a scene of
+    /// its own first, so its errors name it; a material name defined differently in two files
+    /// is an error.
+    #[serde(default)]
+    pub include: Vec<String>,
     #[serde(default)]
     pub image: Image,
     #[serde(default)]
@@ -34,6 +40,9 @@ pub struct Scene {
     pub materials: BTreeMap<String, Material>,
     #[serde(default)]
     pub objects: Vec<Object>,
+    /// Fog and sky: media between the camera and what it sees (default: none).
+    #[serde(default)]
+    pub atmosphere: Atmosphere,
     #[serde(default)]
     pub settings: Settings,
 }
@@ -374,6 +383,83 @@ impl Default for Transform {
             scale: ones(),
         }
     }
+}
+
+/// The atmosphere: a fog layer, a physically based sky, and how their terms are evaluated.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Atmosphere {
+    #[serde(default)]
+    pub fog: Option<Fog>,
+    /// The method's "per vertex" evaluation: the media's terms on a grid of pixels this many
+    /// apart, interpolated where the depths agree (a whole number in `2..=64`, read as any
+    /// number so a bad value gets a clear message); default: every pixel.
+    #[serde(default)]
+    pub grid: Option<f64>,
+}
+
+/// Klassen's horizontal fog layer (DESIGN §5).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fog {
+    /// Height of the layer's bottom; default 0.
+    #[serde(default)]
+    pub base: f64,
+    /// Height of the layer's top, above `base`.
+    pub top: f64,
+    /// Extinction coefficient `B` in 1/m (at `base` with a falloff), `≥ 0`; default 1e-3.
+    #[serde(default = "default_extinction")]
+    pub extinction: f64,
+    /// Single-scattering albedo in `[0, 1]`; default `(0.95, 0.95, 0.95)`.
+    #[serde(default = "default_fog_albedo")]
+    pub albedo: Vec3,
+    /// Scale height (m) of an exponential falloff of the extinction with height; default none.
+    #[serde(default)]
+    pub falloff: Option<f64>,
+    #[serde(default)]
+    pub phase: Phase,
+    /// Which formula: `Exact` single scattering (default) or the `Method`'s.
+    #[serde(default)]
+    pub model: FogModel,
+}
+
+fn default_extinction() -> f64 {
+    1e-3
+}
+
+fn default_fog_albedo() -> Vec3 {
+    [0.95, 0.95, 0.95]
+}
+
+/// A phase function; `g` in `(−1, 1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Phase {
+    Isotropic,
+    /// The normalised Henyey–Greenstein function (the default, `g = 0.76`).
+    HenyeyGreenstein {
+        g: f64,
+    },
+    /// The source's printed form `(1 − g)² / (1 + g² − 2g cos θ)^{3/2}` (not normalised).
+    Printed {
+        g: f64,
+    },
+}
+
+impl Default for Phase {
+    fn default() -> Self {
+        Phase::HenyeyGreenstein { g: 0.76 }
+    }
+}
+
+/// How fog light is evaluated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum FogModel {
+    /// Exact single scattering (the sun's path from each point to the layer's top).
+    #[default]
+    Exact,
+    /// The method's formulas (14) and (15): the sun through the whole layer everywhere.
+    Method,
 }
 
 /// Render settings stored in the scene.

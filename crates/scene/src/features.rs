@@ -17,6 +17,8 @@ pub struct FeatureSet {
     pub sun: bool,
     /// At least one point light.
     pub point_lights: bool,
+    /// A fog layer.
+    pub fog: bool,
 }
 
 impl FeatureSet {
@@ -30,6 +32,7 @@ impl FeatureSet {
             (self.shadows, "shadows"),
             (self.sun, "sun"),
             (self.point_lights, "point-lights"),
+            (self.fog, "fog"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

@@ -30,6 +30,7 @@
 //! # Ok::<(), SceneError>(())
 //! ```
 
+mod atmosphere;
 pub mod description;
 mod error;
 mod features;
@@ -42,6 +43,7 @@ mod scene;
 mod terrain;
 mod work;
 
+pub use atmosphere::{Atmosphere, Fog, GRID_SPACINGS};
 pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;

@@ -21,10 +21,66 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// Parses, validates and resolves scene text; `file` is the name errors report, and asset paths
 /// are relative to its folder.
 pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
-    let d = parse_description(source, file)?;
+    parse_at_depth(source, file, 0).map(|(scene, _)| scene)
+}
+
+/// How deep `include`s may nest (a file that includes itself stops here).
+const MAX_INCLUDE_DEPTH: usize = 8;
+
+/// [`parse`] of a file `depth` includes deep; also returns its description with its includes
+/// merged, for the file that includes it.
+fn parse_at_depth(
+    source: &str,
+    file: &str,
+    depth: usize,
+) -> Result<(Scene, description::Scene), SceneError> {
+    let mut d = parse_description(source, file)?;
     // Assets (height maps) are found relative to the scene file.
     let base = Path::new(file).parent().unwrap_or(Path::new(""));
-    resolve(&d, base).map_err(|e| {
+    let located = |path: FieldPath, message: String| {
+        let LineColumn { line, column } = locate(source, &path);
+        SceneError::Invalid {
+            file: file.to_owned(),
+            line,
+            column,
+            field: path.to_string(),
+            message,
+        }
+    };
+    let includes = std::mem::take(&mut d.include);
+    for (i, name) in includes.iter().enumerate() {
+        let at = FieldPath::root().field("include").index(i);
+        if depth >= MAX_INCLUDE_DEPTH {
+            return Err(located(
+                at,
+                format!("includes nest deeper than {MAX_INCLUDE_DEPTH} files (a cycle?)"),
+            ));
+        }
+        let path = base.join(name);
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| located(at.clone(), format!("cannot read {}: {e}", path.display())))?;
+        let (_, mut included) = parse_at_depth(&text, &path.display().to_string(), depth + 1)?;
+        rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
+        for (material, m) in included.materials {
+            match d.materials.get(&material) {
+                Some(own) if *own != m => {
+                    return Err(located(
+                        at,
+                        format!(
+                            "material `{material}` is defined differently here and in {}",
+                            path.display()
+                        ),
+                    ));
+                }
+                Some(_) => {}
+                None => {
+                    d.materials.insert(material, m);
+                }
+            }
+        }
+        d.objects.extend(included.objects);
+    }
+    let scene = resolve(&d, base).map_err(|e| {
         let LineColumn { line, column } = locate(source, &e.path);
         SceneError::Invalid {
             file: file.to_owned(),
@@ -33,7 +89,29 @@ pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
             field: e.path.to_string(),
             message: e.message,
         }
-    })
+    })?;
+    Ok((scene, d))
+}
+
+/// Makes the asset paths of an included file's objects (height maps, relative to that file's
+/// folder `folder`) absolute, so they resolve from the including file too.
+fn rebase_assets(d: &mut description::Scene, folder: &Path) {
+    fn shape(s: &mut description::Shape, folder: &Path) {
+        use description::Shape;
+        match s {
+            Shape::Terrain(t) => t.path = folder.join(&t.path).display().to_string(),
+            Shape::Union(v) | Shape::Intersection(v) => v.iter_mut().for_each(|s| shape(s, folder)),
+            Shape::Difference(a, b) => {
+                shape(a, folder);
+                shape(b, folder);
+            }
+            Shape::Transformed { shape: s, .. } => shape(s, folder),
+            Shape::FreeForm(_) | Shape::Quadric(_) => {}
+        }
+    }
+    for o in &mut d.objects {
+        shape(&mut o.shape, folder);
+    }
 }
 
 /// Parses scene text into its [`description::Scene`] without validating values (types, field

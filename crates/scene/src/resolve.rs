@@ -153,6 +153,8 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
         samples,
     };
     features.shadows = settings.shadows && !lights.is_empty();
+    let atmosphere = crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere)?;
+    features.fog = atmosphere.fog.is_some();
 
     Ok(Scene {
         width,
@@ -164,6 +166,7 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
         materials,
         objects,
         terrains,
+        atmosphere,
         settings,
         features,
     })

@@ -24,6 +24,8 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Height-map terrains, built once (pyramids included) and shared by the backends.
     pub terrains: Vec<TerrainObject>,
+    /// Fog (and later sky) between the camera and the surfaces; empty by default.
+    pub atmosphere: crate::Atmosphere,
     pub settings: Settings,
     /// What this scene uses; backends build only what is listed.
     pub features: FeatureSet,

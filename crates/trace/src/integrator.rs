@@ -1,12 +1,15 @@
 //! The CPU integrator: the radiance a ray brings back — the nearest surface over every primitive
 //! kind, shaded by its material with each light's direct light times the RGB transmittance of a
-//! shadow ray toward it, or the background where nothing is hit. Camera rays enter at
-//! [`Integrator::surface_radiance`] with hits the frame loop found a tile at a time; any other
-//! ray through [`Integrator::radiance`]. Shading happens here and nowhere else.
+//! shadow ray toward it (and of the media on its way), or the background where nothing is hit;
+//! then the media along the ray (`T · L + L_in`). Camera rays enter at
+//! [`Integrator::surface_radiance`] and [`Integrator::through_media`] with hits the frame loop
+//! found a tile at a time; any other ray through [`Integrator::radiance`]. Shading happens here
+//! and nowhere else.
 
 use crate::TraceSettings;
 use crate::hit::{nearest_hit, transmittance, transmittance_among};
 use crate::interaction::SurfaceInteraction;
+use crate::media::Media;
 use crate::primitive::TraceContext;
 use crate::shade::Reflectance;
 use fray_core::{Interval, Ray};
@@ -22,6 +25,8 @@ pub struct Integrator<'a> {
     epsilon: f64,
     /// Used where a part names no material.
     default_material: Material,
+    /// The scene's fog (`None`: it has none, and nothing of it runs).
+    media: Option<Media>,
 }
 
 impl<'a> Integrator<'a> {
@@ -31,6 +36,36 @@ impl<'a> Integrator<'a> {
             shadows: settings.shading && settings.shadows && scene.features.shadows,
             epsilon: settings.epsilon,
             default_material: Material::default(),
+            // Visibility-only frames show normals: no light, no media.
+            media: if settings.shading {
+                Media::of(scene)
+            } else {
+                None
+            },
+        }
+    }
+
+    /// The frame's media, if the scene has any.
+    pub fn media(&self) -> Option<&Media> {
+        self.media.as_ref()
+    }
+
+    /// The radiance reaching a ray's origin from `range.hi` (a surface hit there, or `∞`) when
+    /// `behind` leaves that point: through the media over `range`.
+    #[inline]
+    pub fn through_media(&self, ray: &Ray, range: Interval, behind: DVec3) -> DVec3 {
+        match &self.media {
+            Some(media) => media.terms(ray, range).apply(behind),
+            None => behind,
+        }
+    }
+
+    /// The radiance of a ray that hits nothing after `t_near`: the background, through the media.
+    #[inline]
+    pub fn miss_radiance(&self, ray: &Ray, t_near: f64) -> DVec3 {
+        match &self.media {
+            Some(media) => media.miss(ray, t_near),
+            None => self.scene.background.as_dvec3(),
         }
     }
 
@@ -40,11 +75,14 @@ impl<'a> Integrator<'a> {
     }
 
     /// The radiance arriving along `ray` from `range`: the outgoing radiance of the nearest
-    /// surface toward the ray's origin, or the scene's background.
+    /// surface toward the ray's origin, or the scene's background, through the media.
     pub fn radiance(&self, ctx: &mut TraceContext, ray: &Ray, range: Interval) -> DVec3 {
         match nearest_hit(self.scene, ctx, ray, range, self.epsilon) {
-            Some(si) => self.surface_radiance(ctx, &si, -ray.dir, None),
-            None => self.scene.background.as_dvec3(),
+            Some(si) => {
+                let surface = self.surface_radiance(ctx, &si, -ray.dir, None);
+                self.through_media(ray, Interval::new(range.lo, si.t), surface)
+            }
+            None => self.miss_radiance(ray, range.lo),
         }
     }
 
@@ -91,6 +129,10 @@ impl<'a> Integrator<'a> {
                 continue;
             }
             let mut light_in = irradiance;
+            if let Some(media) = &self.media {
+                // Not a shadow: the medium dims the light whether or not shadows are on.
+                light_in *= media.light_transmittance(si.p, light, to_light, distance);
+            }
             if self.shadows {
                 let lists = occluders.and_then(|l| l.get(index));
                 let through = self.shadow_transmittance(ctx, si, n, to_light, distance, lists);

@@ -31,6 +31,7 @@ mod freeform;
 mod hit;
 mod integrator;
 mod interaction;
+mod media;
 mod primitive;
 mod render;
 mod settings;
@@ -49,6 +50,7 @@ pub use hit::{
 };
 pub use integrator::Integrator;
 pub use interaction::SurfaceInteraction;
+pub use media::{Media, MediaTerms};
 pub use primitive::{KindHit, PART_PENDING, Primitive, RayCounts, Surface, TraceContext};
 pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
 pub use settings::{TraceError, TraceSettings};

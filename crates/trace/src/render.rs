@@ -9,7 +9,7 @@ use crate::integrator::Integrator;
 use crate::primitive::{RayCounts, TraceContext};
 use crate::shadow_cull;
 use crate::{TraceError, TraceSettings};
-use fray_core::{CameraRay, Frame, Image, RenderStats, Rgb};
+use fray_core::{CameraRay, Frame, Image, Interval, RenderStats, Rgb};
 use fray_geometry::ActiveSet;
 use fray_quadtree::{PixelCoverage, QuadtreeConfig, WorkList};
 use fray_scene::{PrimitiveId, PrimitiveKind, Scene, work_list_within};
@@ -184,10 +184,16 @@ pub fn render_into(
                 },
                 |scratch, (k, (((colour, depth), normals), band))| {
                     // Background where no tile (or no surface) is.
-                    colour.fill(scene.background);
+                    let y0 = k as u32 * ts;
+                    if integrator.media().is_some() {
+                        // Seen through the media: every pixel's own, computed as a tile's
+                        // miss would be, so culling stays lossless.
+                        fill_misses(scene, settings, &integrator, y0, colour);
+                    } else {
+                        colour.fill(scene.background);
+                    }
                     depth.fill(f64::INFINITY);
                     normals.fill(Vec3::ZERO);
-                    let y0 = k as u32 * ts;
                     let mut out = BandImages {
                         y0,
                         width,
@@ -280,7 +286,7 @@ pub fn render_into(
         // Visibility only: no light was evaluated.
         stats
             .passes
-            .retain(|p| !matches!(p.as_str(), "shadows" | "sun" | "point-lights"));
+            .retain(|p| !matches!(p.as_str(), "shadows" | "sun" | "point-lights" | "fog"));
     }
     stats.elapsed = start.elapsed();
     frame.stats = stats;
@@ -438,10 +444,10 @@ fn render_tile(
             // The surfaces are complete: no active subsets needed.
             let (t, n) = if shading {
                 let si = interaction(scene, &camera_ray.ray, camera_ray.t_near, hit, None);
-                let wo = -camera_ray.ray.dir;
-                *c = integrator
-                    .surface_radiance(ctx, &si, wo, occluders.as_deref())
-                    .as_vec3();
+                let ray = &camera_ray.ray;
+                let surface = integrator.surface_radiance(ctx, &si, -ray.dir, occluders.as_deref());
+                let range = Interval::new(camera_ray.t_near, si.t);
+                *c = integrator.through_media(ray, range, surface).as_vec3();
                 (si.t, si.shading_normal.as_vec3())
             } else {
                 // Visibility only: the normal as a colour.
@@ -454,6 +460,43 @@ fn render_tile(
                 *hits_found += 1;
             }
         }
+    }
+}
+
+/// The colour of every pixel of the band from row `y0` as if its rays hit nothing: the
+/// background through the media — the centre ray's, or the samples' box-filtered, in the same
+/// order and arithmetic as a tile's misses.
+#[cold]
+fn fill_misses(
+    scene: &Scene,
+    settings: &TraceSettings,
+    integrator: &Integrator<'_>,
+    y0: u32,
+    colour: &mut [Rgb],
+) {
+    let (width, height) = (scene.width, scene.height);
+    let background = scene.background.as_dvec3();
+    let miss = |ray: Option<CameraRay>| match ray {
+        Some(c) => integrator.miss_radiance(&c.ray, c.t_near),
+        None => background,
+    };
+    for (k, c) in colour.iter_mut().enumerate() {
+        let (px, py) = ((k as u32) % width, y0 + (k as u32) / width);
+        if py >= height {
+            break;
+        }
+        let samples = settings.samples;
+        *c = if samples.count() == 1 {
+            miss(scene.camera.pixel_ray(px, py, width, height)).as_vec3()
+        } else {
+            let mut sum = glam::DVec3::ZERO;
+            for s in 0..samples.count() {
+                let q = samples.sample(px, py, s);
+                let (x, y) = (f64::from(px) + q.dx, f64::from(py) + q.dy);
+                sum += q.weight * miss(scene.camera.ray(x, y, width, height));
+            }
+            sum.as_vec3()
+        };
     }
 }
 
@@ -518,13 +561,16 @@ fn write_sampled_pixels(
                 let radiance = match (camera_ray, hit) {
                     (Some(c), Some(hit)) if settings.shading => {
                         let si = interaction(scene, &c.ray, c.t_near, hit, None);
-                        integrator.surface_radiance(ctx, &si, -c.ray.dir, occluders)
+                        let surface = integrator.surface_radiance(ctx, &si, -c.ray.dir, occluders);
+                        let range = Interval::new(c.t_near, si.t);
+                        integrator.through_media(&c.ray, range, surface)
                     }
                     (Some(c), Some(hit)) => {
                         let si = interaction(scene, &c.ray, c.t_near, hit, None);
                         glam::DVec3::splat(0.5) + 0.5 * si.shading_normal
                     }
-                    _ => background,
+                    (Some(c), None) => integrator.miss_radiance(&c.ray, c.t_near),
+                    (None, _) => background,
                 };
                 colour += weight * radiance;
             }
