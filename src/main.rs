@@ -61,6 +61,11 @@ struct RenderArgs {
     /// scene's `settings.samples`, else 1]. Depth and normals come from the pixel centre.
     #[arg(long, value_name = "N", value_parser = parse_samples)]
     samples: Option<fray_core::PixelSamples>,
+    /// CPU: evaluate fog on a grid of pixels N apart (2..=64), interpolated where depths agree
+    /// (the method's per-vertex mode); 0 evaluates every pixel exactly [default: the scene's
+    /// `atmosphere.grid`, else every pixel]
+    #[arg(long, value_name = "N", value_parser = parse_media_grid)]
+    media_grid: Option<u32>,
     /// Turn shadow rays off.
     #[arg(long)]
     no_shadows: bool,
@@ -134,6 +139,18 @@ fn main() -> ExitCode {
     }
 }
 
+fn parse_media_grid(text: &str) -> Result<u32, String> {
+    let range = fray_scene::GRID_SPACINGS;
+    match text.parse::<u32>() {
+        Ok(n) if n == 0 || range.contains(&n) => Ok(n),
+        _ => Err(format!(
+            "0 (every pixel) or a spacing in {}..={} pixels is needed, got {text:?}",
+            range.start(),
+            range.end()
+        )),
+    }
+}
+
 fn parse_samples(text: &str) -> Result<fray_core::PixelSamples, String> {
     let n: u32 = text
         .parse()
@@ -202,6 +219,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         closed_form: args.no_closed_form.then_some(false),
         memory_budget: args.memory_budget,
         samples: args.samples,
+        media_grid: args.media_grid,
     });
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);

@@ -53,6 +53,10 @@ pub struct RenderStats {
     pub terrain_stops: u64,
     /// Sum over those stops of their level's distance above the finest level.
     pub terrain_stop_levels: u64,
+    /// Media on a grid: camera rays whose terms were interpolated, and those evaluated exactly
+    /// because their depth disagreed with a node's (both 0 when the media run per pixel).
+    pub media_interpolated: u64,
+    pub media_exact: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).
     pub passes: Vec<String>,
     /// Wall time of the render call.

@@ -58,6 +58,10 @@ pub struct RenderOptions {
     pub memory_budget: Option<fray_core::MemoryBudget>,
     /// Anti-aliasing samples per pixel (overrides the scene's `settings.samples`).
     pub samples: Option<fray_core::PixelSamples>,
+    /// CPU: the media's evaluation (overrides the scene's `atmosphere.grid`): `Some(0)` every
+    /// pixel exactly, `Some(n)` on a grid of pixels `n` apart (`fray_scene::GRID_SPACINGS`).
+    /// The GPU evaluates the media per pixel.
+    pub media_grid: Option<u32>,
 }
 
 /// Why a render failed.
@@ -123,6 +127,9 @@ impl Renderer {
         }
         if let Some(s) = self.options.shadows {
             settings.shadows = s;
+        }
+        if let Some(n) = self.options.media_grid {
+            settings.media_grid = (n > 0).then_some(n);
         }
         let cpu = |settings: &TraceSettings| fray_trace::render(&scene, settings, progress);
         if let Some(c) = self.options.culling {

@@ -10,6 +10,7 @@ use crate::TraceSettings;
 use crate::hit::{nearest_hit, transmittance, transmittance_among};
 use crate::interaction::SurfaceInteraction;
 use crate::media::Media;
+use crate::media_grid::{MediaGrid, camera_terms};
 use crate::primitive::TraceContext;
 use crate::shade::Reflectance;
 use fray_core::{Interval, Ray};
@@ -27,6 +28,8 @@ pub struct Integrator<'a> {
     default_material: Material,
     /// The scene's fog (`None`: it has none, and nothing of it runs).
     media: Option<Media>,
+    /// The media's terms on a pixel grid, for camera rays (`None`: every ray exactly).
+    grid: Option<MediaGrid>,
 }
 
 impl<'a> Integrator<'a> {
@@ -42,7 +45,56 @@ impl<'a> Integrator<'a> {
             } else {
                 None
             },
+            grid: None,
         }
+    }
+
+    /// Evaluates the media of camera rays on `grid` from now on.
+    pub fn set_media_grid(&mut self, grid: MediaGrid) {
+        self.grid = Some(grid);
+    }
+
+    /// The media grid camera rays use, if any.
+    pub fn media_grid(&self) -> Option<&MediaGrid> {
+        self.grid.as_ref()
+    }
+
+    /// [`Integrator::through_media`] for the camera ray through image point `at` (pixel units):
+    /// from the media grid where it interpolates.
+    #[inline]
+    pub fn camera_through_media(
+        &self,
+        ctx: &mut TraceContext,
+        at: (f64, f64),
+        ray: &Ray,
+        range: Interval,
+        behind: DVec3,
+    ) -> DVec3 {
+        match &self.media {
+            Some(media) => {
+                camera_terms(media, self.grid.as_ref(), ctx, at, ray, range).apply(behind)
+            }
+            None => behind,
+        }
+    }
+
+    /// [`Integrator::miss_radiance`] for the camera ray through image point `at`.
+    #[inline]
+    pub fn camera_miss(
+        &self,
+        ctx: &mut TraceContext,
+        at: (f64, f64),
+        ray: &Ray,
+        t_near: f64,
+    ) -> DVec3 {
+        let background = self.scene.background.as_dvec3();
+        self.camera_through_media(
+            ctx,
+            at,
+            ray,
+            Interval::new(t_near, f64::INFINITY),
+            background,
+        )
     }
 
     /// The frame's media, if the scene has any.

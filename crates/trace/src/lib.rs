@@ -32,6 +32,7 @@ mod hit;
 mod integrator;
 mod interaction;
 mod media;
+mod media_grid;
 mod primitive;
 mod render;
 mod settings;
@@ -51,6 +52,7 @@ pub use hit::{
 pub use integrator::Integrator;
 pub use interaction::SurfaceInteraction;
 pub use media::{Media, MediaTerms};
+pub use media_grid::{DEPTH_TOLERANCE, MediaGrid, TERMS_TOLERANCE};
 pub use primitive::{KindHit, PART_PENDING, Primitive, RayCounts, Surface, TraceContext};
 pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
 pub use settings::{TraceError, TraceSettings};

@@ -35,6 +35,10 @@ pub struct RayCounts {
     pub terrain: TerrainStats,
     /// Shadow rays cast (one per lit point and light).
     pub shadow_rays: u64,
+    /// Camera rays whose media terms were interpolated from the media grid, and those the grid
+    /// could not interpolate (depths disagree) and evaluated exactly.
+    pub media_interpolated: u64,
+    pub media_exact: u64,
 }
 
 impl TraceContext {

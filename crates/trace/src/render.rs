@@ -6,6 +6,7 @@
 use crate::SceneHit;
 use crate::hit::{complete_surface, interaction, nearest_hits_deferred, shading_normal};
 use crate::integrator::Integrator;
+use crate::media_grid::MediaGrid;
 use crate::primitive::{RayCounts, TraceContext};
 use crate::shadow_cull;
 use crate::{TraceError, TraceSettings};
@@ -165,7 +166,19 @@ pub fn render_into(
             .unwrap_or_else(|| Image::filled(width, height, Vec3::ZERO));
     }
     let w = width as usize;
-    let integrator = Integrator::new(scene, settings);
+    let mut integrator = Integrator::new(scene, settings);
+    if let (Some(media), Some(spacing)) = (integrator.media(), settings.media_grid) {
+        let grid = pool.install(|| {
+            MediaGrid::build(
+                scene,
+                media,
+                spacing,
+                settings.epsilon,
+                &settings.memory_budget,
+            )
+        })?;
+        integrator.set_media_grid(grid);
+    }
     let counters: Vec<(RayCounts, u64)> = pool.install(|| {
         frame
             .colour
@@ -188,7 +201,7 @@ pub fn render_into(
                     if integrator.media().is_some() {
                         // Seen through the media: every pixel's own, computed as a tile's
                         // miss would be, so culling stays lossless.
-                        fill_misses(scene, settings, &integrator, y0, colour);
+                        fill_misses(scene, settings, &integrator, &mut scratch.ctx, y0, colour);
                     } else {
                         colour.fill(scene.background);
                     }
@@ -263,6 +276,8 @@ pub fn render_into(
         stats.terrain_cells += t.terrain.cells;
         stats.terrain_stops += t.terrain.stops;
         stats.terrain_stop_levels += t.terrain.stop_levels_above_finest;
+        stats.media_interpolated += t.media_interpolated;
+        stats.media_exact += t.media_exact;
     }
     if list.is_some() {
         stats.passes.push("quadtree".into());
@@ -281,6 +296,13 @@ pub fn render_into(
         .extend(scene.features.names().iter().map(|s| s.to_string()));
     if !(settings.shadows && scene.features.shadows) {
         stats.passes.retain(|p| p != "shadows");
+    }
+    if let Some(grid) = integrator.media_grid() {
+        stats.passes.push(format!(
+            "media grid every {} px ({} nodes)",
+            grid.spacing(),
+            grid.len()
+        ));
     }
     if !settings.shading {
         // Visibility only: no light was evaluated.
@@ -437,7 +459,10 @@ fn render_tile(
         let colour = out.colour[at..at + w].iter_mut();
         let depth = out.depth[at..at + w].iter_mut();
         let normals = out.normals[at..at + w].iter_mut();
-        for ((((camera_ray, hit), c), d), nrm) in pixels.zip(colour).zip(depth).zip(normals) {
+        let columns = x0..x1;
+        for (((((camera_ray, hit), c), d), nrm), px) in
+            pixels.zip(colour).zip(depth).zip(normals).zip(columns)
+        {
             let (Some(camera_ray), Some(hit)) = (camera_ray, hit) else {
                 continue;
             };
@@ -447,7 +472,10 @@ fn render_tile(
                 let ray = &camera_ray.ray;
                 let surface = integrator.surface_radiance(ctx, &si, -ray.dir, occluders.as_deref());
                 let range = Interval::new(camera_ray.t_near, si.t);
-                *c = integrator.through_media(ray, range, surface).as_vec3();
+                let at = (f64::from(px) + 0.5, f64::from(py) + 0.5);
+                *c = integrator
+                    .camera_through_media(ctx, at, ray, range, surface)
+                    .as_vec3();
                 (si.t, si.shading_normal.as_vec3())
             } else {
                 // Visibility only: the normal as a colour.
@@ -471,13 +499,14 @@ fn fill_misses(
     scene: &Scene,
     settings: &TraceSettings,
     integrator: &Integrator<'_>,
+    ctx: &mut TraceContext,
     y0: u32,
     colour: &mut [Rgb],
 ) {
     let (width, height) = (scene.width, scene.height);
     let background = scene.background.as_dvec3();
-    let miss = |ray: Option<CameraRay>| match ray {
-        Some(c) => integrator.miss_radiance(&c.ray, c.t_near),
+    let mut miss = |ray: Option<CameraRay>, at: (f64, f64)| match ray {
+        Some(c) => integrator.camera_miss(ctx, at, &c.ray, c.t_near),
         None => background,
     };
     for (k, c) in colour.iter_mut().enumerate() {
@@ -487,13 +516,14 @@ fn fill_misses(
         }
         let samples = settings.samples;
         *c = if samples.count() == 1 {
-            miss(scene.camera.pixel_ray(px, py, width, height)).as_vec3()
+            let centre = (f64::from(px) + 0.5, f64::from(py) + 0.5);
+            miss(scene.camera.pixel_ray(px, py, width, height), centre).as_vec3()
         } else {
             let mut sum = glam::DVec3::ZERO;
             for s in 0..samples.count() {
                 let q = samples.sample(px, py, s);
                 let (x, y) = (f64::from(px) + q.dx, f64::from(py) + q.dy);
-                sum += q.weight * miss(scene.camera.ray(x, y, width, height));
+                sum += q.weight * miss(scene.camera.ray(x, y, width, height), (x, y));
             }
             sum.as_vec3()
         };
@@ -557,19 +587,20 @@ fn write_sampled_pixels(
             let at = (py - out.y0) as usize * out.width as usize + px as usize;
             let mut colour = glam::DVec3::ZERO;
             for (k, (camera_ray, hit)) in rays[1..].iter().enumerate() {
-                let weight = samples.sample(px, py, k as u32).weight;
+                let q = samples.sample(px, py, k as u32);
+                let (weight, point) = (q.weight, (f64::from(px) + q.dx, f64::from(py) + q.dy));
                 let radiance = match (camera_ray, hit) {
                     (Some(c), Some(hit)) if settings.shading => {
                         let si = interaction(scene, &c.ray, c.t_near, hit, None);
                         let surface = integrator.surface_radiance(ctx, &si, -c.ray.dir, occluders);
                         let range = Interval::new(c.t_near, si.t);
-                        integrator.through_media(&c.ray, range, surface)
+                        integrator.camera_through_media(ctx, point, &c.ray, range, surface)
                     }
                     (Some(c), Some(hit)) => {
                         let si = interaction(scene, &c.ray, c.t_near, hit, None);
                         glam::DVec3::splat(0.5) + 0.5 * si.shading_normal
                     }
-                    (Some(c), None) => integrator.miss_radiance(&c.ray, c.t_near),
+                    (Some(c), None) => integrator.camera_miss(ctx, point, &c.ray, c.t_near),
                     (None, _) => background,
                 };
                 colour += weight * radiance;

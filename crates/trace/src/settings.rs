@@ -31,6 +31,9 @@ pub struct TraceSettings {
     /// Anti-aliasing samples per pixel (the scene's `settings.samples`): colour is their
     /// box-filtered radiance; depth and normals come from the pixel centre.
     pub samples: PixelSamples,
+    /// The media's evaluation: `Some(n)`, on a grid of pixels `n` apart, interpolated where the
+    /// depths agree (the scene's `atmosphere.grid`); `None`, every pixel exactly.
+    pub media_grid: Option<u32>,
 }
 
 impl TraceSettings {
@@ -46,6 +49,7 @@ impl TraceSettings {
             method: CastMethod::ClosedForm,
             memory_budget: MemoryBudget::default(),
             samples: scene.settings.samples,
+            media_grid: scene.atmosphere.grid,
         }
     }
 }

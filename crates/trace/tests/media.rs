@@ -146,3 +146,41 @@ fn fog_dims_the_sun_even_without_shadows_and_a_scene_without_fog_runs_none() {
     let frame = render(&s, &vis, None).unwrap();
     assert!(!frame.stats.passes.iter().any(|p| p == "fog"));
 }
+
+/// The method's per-vertex mode: at the grid's nodes it is the exact frame bit for bit (a node
+/// is its own interpolation); between them it stays within a small relative error of it; and
+/// the sphere's silhouette, where depths disagree, falls back to exact evaluation.
+#[test]
+fn the_media_grid_is_exact_at_its_nodes_and_close_between_them() {
+    // At a size where a cell of 8 pixels spans 2.5°, not the 13° of the small frames above.
+    let mut s = scene(FOGGY);
+    (s.width, s.height) = (192, 144);
+    let exact_settings = TraceSettings::for_scene(&s);
+    let exact = render(&s, &exact_settings, None).unwrap();
+    let mut worst = 0.0f32;
+    for spacing in [2, 4, 8] {
+        let mut settings = exact_settings.clone();
+        settings.media_grid = Some(spacing);
+        let grid = render(&s, &settings, None).unwrap();
+        let (i, e) = (grid.stats.media_interpolated, grid.stats.media_exact);
+        println!("spacing {spacing}: {i} interpolated, {e} exact");
+        assert!(i > 0 && e > 0, "{i} interpolated, {e} exact");
+        assert!(
+            grid.stats
+                .passes
+                .iter()
+                .any(|p| p.starts_with("media grid"))
+        );
+        for y in 0..s.height {
+            for x in 0..s.width {
+                let (a, b) = (*exact.colour.get(x, y), *grid.colour.get(x, y));
+                if x % spacing == 0 && y % spacing == 0 {
+                    assert_eq!(a, b, "node ({x}, {y}) at spacing {spacing}");
+                }
+                worst = worst.max(((a - b) / a).abs().max_element());
+            }
+        }
+    }
+    println!("media grid: worst relative difference {worst:.2e}");
+    assert!(worst < 5e-3, "{worst}");
+}
