@@ -1,6 +1,7 @@
 //! `cargo xtask`: fray's developer tasks. This file only parses arguments and dispatches.
 
 mod bench;
+mod bench_atmosphere;
 mod bless;
 mod compare;
 mod regress;
@@ -27,20 +28,33 @@ enum Command {
     Regress(RegressArgs),
     /// Render scenes on the CPU backend and write them as the new references.
     Bless(BlessArgs),
-    /// Terrain sweeps: time vs map size (exact, pixel LOD), time vs error over the LOD bias and
-    /// the fixed-step march, DEM scenes exact vs default; target/bench/terrain.{csv,md}.
+    /// Sweeps. `terrain`: time vs map size (exact, pixel LOD), time vs error over the LOD bias
+    /// and the fixed-step march, DEM scenes exact vs default; target/bench/terrain.{csv,md}.
+    /// `atmosphere`: frame time and error against the numerical reference of each fog
+    /// evaluation mode; target/bench/atmosphere.md. Default: both.
     Bench(BenchArgs),
 }
 
 #[derive(Debug, Args)]
 struct BenchArgs {
-    /// Directory for terrain.csv and terrain.md [default: target/bench]
+    /// Which sweeps to run
+    #[arg(value_enum, default_value_t = Sweeps::All)]
+    sweeps: Sweeps,
+    /// Directory for terrain.csv, terrain.md and atmosphere.md [default: target/bench]
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Repetitions per timing (the median is reported)
     #[arg(long, value_name = "N", default_value_t = 5,
           value_parser = clap::value_parser!(u32).range(1..=100))]
     repeats: u32,
+}
+
+/// The sweep sets of `cargo xtask bench`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Sweeps {
+    Terrain,
+    Atmosphere,
+    All,
 }
 
 /// Arguments shared by the tasks that render the scene set.
@@ -106,14 +120,35 @@ fn main() -> ExitCode {
             stems: args.stems,
         })
         .map(|()| true),
-        Command::Bench(args) => bench::run(&bench::BenchOptions {
-            out: args.out.unwrap_or_else(workspace::default_bench_out),
-            repeats: args.repeats as usize,
-        })
-        .map(|summary| {
-            println!("{summary}");
-            true
-        }),
+        Command::Bench(args) => {
+            let out = args.out.unwrap_or_else(workspace::default_bench_out);
+            let repeats = args.repeats as usize;
+            let mut summary = String::new();
+            let terrain = matches!(args.sweeps, Sweeps::Terrain | Sweeps::All);
+            let atmosphere = matches!(args.sweeps, Sweeps::Atmosphere | Sweeps::All);
+            let mut result = Ok(());
+            if terrain {
+                result = bench::run(&bench::BenchOptions {
+                    out: out.clone(),
+                    repeats,
+                })
+                .map(|md| summary.push_str(&md));
+            }
+            if atmosphere && result.is_ok() {
+                result = bench_atmosphere::run(repeats).and_then(|md| {
+                    let path = out.join("atmosphere.md");
+                    std::fs::create_dir_all(&out)
+                        .and_then(|()| std::fs::write(&path, &md))
+                        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                    summary.push_str(&md);
+                    Ok(())
+                });
+            }
+            result.map(|()| {
+                println!("{summary}");
+                true
+            })
+        }
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
