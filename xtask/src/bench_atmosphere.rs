@@ -1,13 +1,17 @@
-//! `cargo xtask bench atmosphere`: the media's time/error knob on the fog scene
-//! (`data/scenes/fog_aircraft_low_sun.ron`), written to `target/bench/atmosphere.md`.
+//! `cargo xtask bench atmosphere`: the media's time/error knob, written to
+//! `target/bench/atmosphere.md`, on two scenes: fog (`fog_aircraft_low_sun.ron`, the closed form
+//! per pixel) and the sky's air seen from 66 km (`haze_dem_high.ron`, a 16-step aerial-perspective
+//! march per pixel).
 //!
-//! - Frame times (CPU, 2 threads, medians): the scene without its fog, with fog per pixel by the
-//!   exact formula and by the method's, and on media grids of 4, 8 and 16 pixels.
-//! - Errors of the media's terms against the numerical reference
-//!   (`fray_atmosphere::reference::single_scattering`, nested Gauss–Kronrod) on every pixel of a
-//!   smaller frame, along each pixel's centre ray to its depth: the in-scattered radiance's
-//!   relative error (max, RMS over pixels; the largest channel) and the transmittance's absolute
-//!   error, per mode; for the grids also the share of pixels interpolated.
+//! - Frame times (CPU, 2 threads, medians): the scene without its media, with them per pixel (for
+//!   fog by the exact formula and by the method's), and on media grids of 4, 8 and 16 pixels.
+//! - Errors of the media's terms against the numerical reference (fog:
+//!   `fray_atmosphere::reference::single_scattering`, nested Gauss–Kronrod; sky:
+//!   `fray_atmosphere::sky::reference::single_scattering`) on every pixel of the same frame,
+//!   along each pixel's centre ray to its depth: the in-scattered radiance's error (max, RMS over
+//!   pixels; the largest channel) relative to the frame's brightest in-scatter, and the
+//!   transmittance's absolute error, per mode; for the grids also the share of pixels
+//!   interpolated.
 
 use crate::workspace;
 use fray_atmosphere::reference::single_scattering;
@@ -19,11 +23,14 @@ use fray_trace::{Media, MediaGrid, MediaTerms};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-/// The scene the sweep renders.
-const SCENE: &str = "data/scenes/fog_aircraft_low_sun.ron";
+/// The scenes the sweep renders: fog, and the sky's air.
+const SCENES: [&str; 2] = [
+    "data/scenes/fog_aircraft_low_sun.ron",
+    "data/scenes/haze_dem_high.ron",
+];
 /// Frame sizes: timed frames, and the frame whose every pixel is checked against the reference.
 const TIMED: (u32, u32) = (640, 360);
-const CHECKED: (u32, u32) = (160, 90);
+const CHECKED: (u32, u32) = TIMED;
 const GRIDS: [u32; 3] = [4, 8, 16];
 
 /// The median wall time of `repeats` renders, in milliseconds.
@@ -44,72 +51,86 @@ fn frame_ms(scene: &Scene, grid: u32, repeats: usize) -> Result<f64, String> {
     Ok(times[times.len() / 2])
 }
 
-/// Errors of one mode's terms against the reference's.
+/// Errors of one mode's terms against the reference's, per pixel: the in-scattered radiance's
+/// difference (largest channel) relative to the frame's brightest reference in-scatter — what
+/// shows in the picture, and defined where the in-scatter itself is near 0 — and the
+/// transmittance's absolute difference.
 #[derive(Default)]
 struct Errors {
-    max_rel: f64,
-    sum_sq_rel: f64,
+    in_scatter: Vec<f64>,
     max_transmittance: f64,
-    pixels: usize,
     interpolated: usize,
 }
 
 impl Errors {
     fn add(&mut self, got: &MediaTerms, reference: &MediaTerms) {
-        let rel = ((got.in_scatter - reference.in_scatter).abs()
-            / reference.in_scatter.max(glam::DVec3::splat(1e-300)))
-        .max_element();
-        self.max_rel = self.max_rel.max(rel);
-        self.sum_sq_rel += rel * rel;
+        self.in_scatter
+            .push((got.in_scatter - reference.in_scatter).abs().max_element());
         let dt = (got.transmittance - reference.transmittance)
             .abs()
             .max_element();
         self.max_transmittance = self.max_transmittance.max(dt);
-        self.pixels += 1;
     }
 
-    fn rms(&self) -> f64 {
-        (self.sum_sq_rel / self.pixels.max(1) as f64).sqrt()
+    /// (max, RMS) of the in-scatter differences over `scale`.
+    fn in_scatter_relative(&self, scale: f64) -> (f64, f64) {
+        let n = self.in_scatter.len().max(1) as f64;
+        let max = self.in_scatter.iter().copied().fold(0.0, f64::max);
+        let rms = (self.in_scatter.iter().map(|e| e * e).sum::<f64>() / n).sqrt();
+        (max / scale, rms / scale)
     }
 }
 
 use fray_core::glam;
 
-/// Runs the sweep; returns its markdown.
+/// Runs the sweeps; returns their markdown.
 pub fn run(repeats: usize) -> Result<String, String> {
-    let path = workspace::root().join(SCENE);
+    let mut out =
+        String::from("# Atmosphere: media evaluation modes (`cargo xtask bench atmosphere`)\n");
+    for scene in SCENES {
+        out.push_str(&sweep(scene, repeats)?);
+    }
+    Ok(out)
+}
+
+/// One scene's sweep.
+fn sweep(name: &str, repeats: usize) -> Result<String, String> {
+    let path = workspace::root().join(name);
     let mut scene = fray_scene::load(&path).map_err(|e| e.to_string())?;
-    let Some(fog) = scene.atmosphere.fog else {
+    let fog = scene.atmosphere.fog;
+    let sky = scene.atmosphere.sky.clone();
+    if fog.is_none() == sky.is_none() {
         return Err(format!(
-            "{}: the sweep needs a scene with fog",
+            "{}: the sweep needs fog or a sky, not both",
             path.display()
         ));
-    };
+    }
     let mut out = format!(
-        "# Atmosphere: fog evaluation modes (`cargo xtask bench atmosphere`; {SCENE})\n\n\
-         Frames {}×{}, CPU, 2 threads, medians of {repeats}:\n\n\
-         | mode | frame ms | × per pixel exact |\n|---|---:|---:|\n",
+        "\n## {name}\n\nFrames {}×{}, CPU, 2 threads, medians of {repeats}:\n\n\
+         | mode | frame ms | × per pixel |\n|---|---:|---:|\n",
         TIMED.0, TIMED.1
     );
     (scene.width, scene.height) = TIMED;
     let mut clear = scene.clone();
     clear.atmosphere = fray_scene::Atmosphere::default();
-    clear.features.fog = false;
+    (clear.features.fog, clear.features.sky) = (false, false);
     let mut method = scene.clone();
     if let Some(f) = method.atmosphere.fog.as_mut() {
         f.model = FogModel::Method;
     }
     let exact_ms = frame_ms(&scene, 0, repeats)?;
     let mut rows = vec![
-        ("no fog".to_owned(), frame_ms(&clear, 0, repeats)?),
-        ("per pixel, exact".to_owned(), exact_ms),
-        (
+        ("no media".to_owned(), frame_ms(&clear, 0, repeats)?),
+        ("per pixel".to_owned(), exact_ms),
+    ];
+    if fog.is_some() {
+        rows.push((
             "per pixel, method".to_owned(),
             frame_ms(&method, 0, repeats)?,
-        ),
-    ];
+        ));
+    }
     for g in GRIDS {
-        rows.push((format!("grid {g} px, exact"), frame_ms(&scene, g, repeats)?));
+        rows.push((format!("grid {g} px"), frame_ms(&scene, g, repeats)?));
     }
     for (mode, ms) in &rows {
         let _ = writeln!(out, "| {mode} | {ms:.1} | {:.3} |", ms / exact_ms);
@@ -133,7 +154,7 @@ pub fn run(repeats: usize) -> Result<String, String> {
         .map(|&g| MediaGrid::build(&scene, &exact_media, g, eps, &budget))
         .collect::<Result<_, _>>()
         .map_err(|e| e.to_string())?;
-    let lighting = FogLighting {
+    let lighting = &FogLighting {
         suns: scene
             .lights
             .iter()
@@ -151,6 +172,7 @@ pub fn run(repeats: usize) -> Result<String, String> {
         ambient: scene.ambient.as_dvec3(),
     };
     let mut errors: Vec<Errors> = (0..2 + GRIDS.len()).map(|_| Errors::default()).collect();
+    let mut brightest = 0.0f64;
     let start = Instant::now();
     for y in 0..scene.height {
         for x in 0..scene.width {
@@ -158,14 +180,36 @@ pub fn run(repeats: usize) -> Result<String, String> {
                 continue;
             };
             let range = Interval::new(c.t_near, *frame.depth.get(x, y));
-            let r = single_scattering(&fog.layer, &c.ray, range, &lighting);
-            let reference = MediaTerms {
-                transmittance: glam::DVec3::splat(r.transmittance),
-                in_scatter: r.in_scatter,
+            let reference = match (&fog, &sky) {
+                (Some(fog), _) => {
+                    let r = single_scattering(&fog.layer, &c.ray, range, lighting);
+                    MediaTerms {
+                        transmittance: glam::DVec3::splat(r.transmittance),
+                        in_scatter: r.in_scatter,
+                    }
+                }
+                (None, Some(sky)) if range.hi.is_finite() => {
+                    let r = fray_atmosphere::sky::reference::single_scattering(
+                        sky.sky.model(),
+                        sky.sky.sun(),
+                        c.ray.origin,
+                        c.ray.dir,
+                        range.hi,
+                    );
+                    MediaTerms {
+                        transmittance: r.transmittance,
+                        in_scatter: r.in_scatter,
+                    }
+                }
+                // A sky pixel: the background, not media terms.
+                _ => continue,
             };
+            brightest = brightest.max(reference.in_scatter.max_element());
             let exact = exact_media.terms(&c.ray, range);
             errors[0].add(&exact, &reference);
-            errors[1].add(&method_media.terms(&c.ray, range), &reference);
+            if fog.is_some() {
+                errors[1].add(&method_media.terms(&c.ray, range), &reference);
+            }
             for (k, grid) in grids.iter().enumerate() {
                 let at = (f64::from(x) + 0.5, f64::from(y) + 0.5);
                 let e = &mut errors[2 + k];
@@ -182,31 +226,34 @@ pub fn run(repeats: usize) -> Result<String, String> {
     let _ = write!(
         out,
         "\nErrors of the media terms against the quadrature reference, every pixel of a {}×{} \
-         frame along its centre ray to its depth ({:.1} s of reference):\n\n\
-         | mode | in-scatter max rel | in-scatter RMS rel | transmittance max abs | interpolated |\n\
+         frame along its centre ray to its depth ({:.1} s of reference); in-scatter errors relative \
+         to the frame's brightest in-scatter ({brightest:.3e} W/(m² sr)):\n\n\
+         | mode | in-scatter max | in-scatter RMS | transmittance max abs | interpolated |\n\
          |---|---:|---:|---:|---:|\n",
         CHECKED.0,
         CHECKED.1,
         start.elapsed().as_secs_f64()
     );
-    let names = ["per pixel, exact", "per pixel, method"]
+    let names = ["per pixel", "per pixel, method"]
         .into_iter()
         .map(String::from)
         .chain(GRIDS.iter().map(|g| format!("grid {g} px")));
     for (name, e) in names.zip(&errors) {
+        if e.in_scatter.is_empty() {
+            continue;
+        }
+        let (max, rms) = e.in_scatter_relative(brightest.max(1e-300));
         let share = if name.starts_with("grid") {
             format!(
                 "{:.1} %",
-                100.0 * e.interpolated as f64 / e.pixels.max(1) as f64
+                100.0 * e.interpolated as f64 / e.in_scatter.len().max(1) as f64
             )
         } else {
             String::new()
         };
         let _ = writeln!(
             out,
-            "| {name} | {:.2e} | {:.2e} | {:.2e} | {share} |",
-            e.max_rel,
-            e.rms(),
+            "| {name} | {max:.2e} | {rms:.2e} | {:.2e} | {share} |",
             e.max_transmittance
         );
     }

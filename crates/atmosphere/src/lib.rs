@@ -5,7 +5,7 @@
 //!   off exponentially with height) — with the method's two terms (eq. 14, object light; eq. 15,
 //!   fog in-scatter) in radiometric units, exact single scattering (the sun's path in the fog
 //!   varies with the height of each point; one closed form for the homogeneous slab and the
-//!   falloff) and an independent f64 numerical reference ([`reference`]).
+//!   falloff) and an independent f64 numerical reference ([`reference`](mod@reference)).
 //! - [`Phase`]: the normalised Henyey–Greenstein phase function and the source's printed form.
 //! - [`sky`]: a physically based sky beyond the fog.
 

@@ -1,11 +1,16 @@
 //! The scene's atmosphere: what a file's `atmosphere:` means once checked — a fog layer (with its
-//! model) and how the media's terms are evaluated — and its resolution with located errors.
+//! model), a physically based sky (its transmittance table built once), and how the media's
+//! terms are evaluated — and its resolution with located errors.
 
+use crate::Light;
 use crate::description;
 use crate::path::FieldPath;
 use crate::resolve::{Result, finite, invalid};
+use fray_atmosphere::sky::{SkyModel, SkySun, SkyTables};
 use fray_atmosphere::{FogLayer, FogModel, Phase};
+use fray_core::MemoryBudget;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// The grid spacings accepted for the "per vertex" evaluation, in pixels.
 pub const GRID_SPACINGS: std::ops::RangeInclusive<u32> = 2..=64;
@@ -14,6 +19,7 @@ pub const GRID_SPACINGS: std::ops::RangeInclusive<u32> = 2..=64;
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Atmosphere {
     pub fog: Option<Fog>,
+    pub sky: Option<Sky>,
     /// `Some(n)`: the media's terms on a grid of pixels `n` apart, interpolated where the
     /// depths agree (the method's per-vertex evaluation); `None`: every pixel.
     pub grid: Option<u32>,
@@ -22,7 +28,7 @@ pub struct Atmosphere {
 impl Atmosphere {
     /// Whether any medium is present.
     pub fn is_empty(&self) -> bool {
-        self.fog.is_none()
+        self.fog.is_none() && self.sky.is_none()
     }
 }
 
@@ -33,11 +39,53 @@ pub struct Fog {
     pub model: FogModel,
 }
 
-/// Checks `d` (at `path`, the file's `atmosphere`).
-pub(crate) fn resolve(path: &FieldPath, d: &description::Atmosphere) -> Result<Atmosphere> {
+/// The physically based sky of a scene.
+#[derive(Clone, Debug)]
+pub struct Sky {
+    /// The model, its sun and its transmittance table (built once, shared by the backends).
+    pub sky: Arc<fray_atmosphere::sky::Sky>,
+    /// Which of the scene's lights is the sky's sun (its first `Sun`); `None`: no sun.
+    pub sun_light: Option<usize>,
+    pub sun_disc: bool,
+    pub aerial_perspective: bool,
+    /// Steps of the aerial-perspective march.
+    pub steps: u32,
+}
+
+impl PartialEq for Sky {
+    fn eq(&self, other: &Self) -> bool {
+        self.sky.model() == other.sky.model()
+            && self.sky.sun() == other.sky.sun()
+            && (
+                self.sun_light,
+                self.sun_disc,
+                self.aerial_perspective,
+                self.steps,
+            ) == (
+                other.sun_light,
+                other.sun_disc,
+                other.aerial_perspective,
+                other.steps,
+            )
+    }
+}
+
+/// The most steps an aerial-perspective march may take.
+pub const MAX_SKY_STEPS: u32 = 256;
+
+/// Checks `d` (at `path`, the file's `atmosphere`); `lights` are the scene's, resolved.
+pub(crate) fn resolve(
+    path: &FieldPath,
+    d: &description::Atmosphere,
+    lights: &[Light],
+) -> Result<Atmosphere> {
     let fog = match &d.fog {
         None => None,
         Some(f) => Some(fog(&path.field("fog"), f)?),
+    };
+    let sky = match &d.sky {
+        None => None,
+        Some(s) => Some(sky(&path.field("sky"), s, lights)?),
     };
     let grid = match d.grid {
         None => None,
@@ -53,7 +101,55 @@ pub(crate) fn resolve(path: &FieldPath, d: &description::Atmosphere) -> Result<A
             }
         }
     };
-    Ok(Atmosphere { fog, grid })
+    Ok(Atmosphere { fog, sky, grid })
+}
+
+fn sky(path: &FieldPath, d: &description::Sky, lights: &[Light]) -> Result<Sky> {
+    let ground = finite(&path.field("ground_elevation"), d.ground_elevation)?;
+    if !(d.haze.is_finite() && d.haze >= 0.0) {
+        return invalid(&path.field("haze"), format!("must be ≥ 0, got {}", d.haze));
+    }
+    let steps = d.steps;
+    if !(steps.fract() == 0.0 && steps >= 1.0 && steps <= f64::from(MAX_SKY_STEPS)) {
+        return invalid(
+            &path.field("steps"),
+            format!("must be a whole number in 1..={MAX_SKY_STEPS}, got {steps}"),
+        );
+    }
+    let earth = SkyModel::earth();
+    let model = SkyModel {
+        ground_elevation: ground,
+        mie_scattering: earth.mie_scattering * d.haze,
+        mie_absorption: earth.mie_absorption * d.haze,
+        ozone_absorption: if d.ozone {
+            earth.ozone_absorption
+        } else {
+            DVec3::ZERO
+        },
+        ..earth
+    };
+    let sun_light = lights.iter().position(|l| matches!(l, Light::Sun { .. }));
+    let sun = match sun_light.map(|i| lights[i]) {
+        Some(Light::Sun {
+            direction,
+            irradiance,
+        }) => SkySun::new(direction, irradiance.as_dvec3()),
+        // No sun: a dark sky (the tables still describe the air's transmittance).
+        _ => SkySun::new(DVec3::Y, DVec3::ZERO),
+    };
+    let built =
+        fray_atmosphere::sky::Sky::new(model, sun, SkyTables::default(), &MemoryBudget::default())
+            .map_err(|e| crate::resolve::Invalid {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
+    Ok(Sky {
+        sky: Arc::new(built),
+        sun_light,
+        sun_disc: d.sun_disc,
+        aerial_perspective: d.aerial_perspective,
+        steps: steps as u32,
+    })
 }
 
 fn fog(path: &FieldPath, f: &description::Fog) -> Result<Fog> {

@@ -391,6 +391,12 @@ impl Default for Transform {
 pub struct Atmosphere {
     #[serde(default)]
     pub fog: Option<Fog>,
+    /// A physically based sky (Rayleigh + Mie + ozone over a spherical Earth): the radiance of
+    /// rays that hit nothing (instead of `background`), the air in front of surfaces, and the
+    /// sunlight it lets through. Its sun is the scene's first `Sun` light, whose irradiance is
+    /// then read as at the top of the atmosphere.
+    #[serde(default)]
+    pub sky: Option<Sky>,
     /// The method's "per vertex" evaluation: the media's terms on a grid of pixels this many
     /// apart, interpolated where the depths agree (a whole number in `2..=64`, read as any
     /// number so a bad value gets a clear message); default: every pixel.
@@ -421,6 +427,35 @@ pub struct Fog {
     /// Which formula: `Exact` single scattering (default) or the `Method`'s.
     #[serde(default)]
     pub model: FogModel,
+}
+
+/// The physically based sky (`docs/sky.md`).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sky {
+    /// The scene `y` of the planet's surface (sea level); default 0.
+    #[serde(default)]
+    pub ground_elevation: f64,
+    /// Aerosols: a factor on the Mie (haze) scattering and absorption, `≥ 0`; default 1 (a
+    /// clear day); 3–10 is hazy.
+    #[serde(default = "one")]
+    pub haze: f64,
+    /// Ozone absorption (what keeps the twilight sky blue); default true.
+    #[serde(default = "yes")]
+    pub ozone: bool,
+    /// Draw the sun's disc; default true.
+    #[serde(default = "yes")]
+    pub sun_disc: bool,
+    /// The air between the camera and surfaces (aerial perspective); default true.
+    #[serde(default = "yes")]
+    pub aerial_perspective: bool,
+    /// Steps of the aerial-perspective march, a whole number in `1..=256`; default 16.
+    #[serde(default = "default_sky_steps")]
+    pub steps: f64,
+}
+
+fn default_sky_steps() -> f64 {
+    16.0
 }
 
 fn default_extinction() -> f64 {

@@ -19,6 +19,8 @@ pub struct FeatureSet {
     pub point_lights: bool,
     /// A fog layer.
     pub fog: bool,
+    /// A physically based sky.
+    pub sky: bool,
 }
 
 impl FeatureSet {
@@ -33,6 +35,7 @@ impl FeatureSet {
             (self.sun, "sun"),
             (self.point_lights, "point-lights"),
             (self.fog, "fog"),
+            (self.sky, "sky"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

@@ -43,7 +43,7 @@ mod scene;
 mod terrain;
 mod work;
 
-pub use atmosphere::{Atmosphere, Fog, GRID_SPACINGS};
+pub use atmosphere::{Atmosphere, Fog, GRID_SPACINGS, MAX_SKY_STEPS, Sky};
 pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;

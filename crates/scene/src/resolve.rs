@@ -153,8 +153,9 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
         samples,
     };
     features.shadows = settings.shadows && !lights.is_empty();
-    let atmosphere = crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere)?;
+    let atmosphere = crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere, &lights)?;
     features.fog = atmosphere.fog.is_some();
+    features.sky = atmosphere.sky.is_some();
 
     Ok(Scene {
         width,

@@ -106,3 +106,31 @@ fn include_brings_materials_and_objects_and_reports_problems() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_sky_takes_the_first_sun_and_checks_its_fields() {
+    let s = fray_scene::parse(
+        "(lights: [Point(position: (0, 5, 0)), Sun(direction: (0, 1, 1), irradiance: (9, 9, 9))],\n\
+         atmosphere: (sky: (haze: 4, ozone: false, steps: 8, ground_elevation: -20)))",
+        "s.ron",
+    )
+    .unwrap();
+    let sky = s.atmosphere.sky.as_ref().unwrap();
+    assert_eq!(sky.sun_light, Some(1));
+    assert_eq!(sky.steps, 8);
+    let model = sky.sky.model();
+    assert_eq!(model.ground_elevation, -20.0);
+    assert_eq!(model.ozone_absorption, glam::DVec3::ZERO);
+    let earth = fray_atmosphere::sky::SkyModel::earth();
+    assert_eq!(model.mie_scattering, 4.0 * earth.mie_scattering);
+    assert!((sky.sky.sun().direction.y - 0.5f64.sqrt()).abs() < 1e-15);
+    assert!(s.features.sky && s.features.names().contains(&"sky"));
+    assert!(
+        err("(atmosphere: (sky: (steps: 0)))")
+            .contains("atmosphere.sky.steps: must be a whole number")
+    );
+    assert!(err("(atmosphere: (sky: (haze: -1)))").contains("atmosphere.sky.haze: must be ≥ 0"));
+    // No sun: a dark sky, still valid.
+    let s = fray_scene::parse("(atmosphere: (sky: ()))", "s.ron").unwrap();
+    assert_eq!(s.atmosphere.sky.unwrap().sun_light, None);
+}

@@ -240,7 +240,9 @@ fn every_variant_parses_and_resolves() {
             terrain: false,
             shadows: true,
             sun: true,
-            point_lights: true
+            point_lights: true,
+            fog: false,
+            sky: false,
         }
     );
 }
@@ -661,7 +663,9 @@ fn the_documented_example_resolves() {
             terrain: false,
             shadows: true,
             sun: true,
-            point_lights: true
+            point_lights: true,
+            fog: false,
+            sky: false,
         }
     );
 }

@@ -87,7 +87,10 @@ impl<'a> Integrator<'a> {
         ray: &Ray,
         t_near: f64,
     ) -> DVec3 {
-        let background = self.scene.background.as_dvec3();
+        let background = match &self.media {
+            Some(media) => media.background(ray),
+            None => self.scene.background.as_dvec3(),
+        };
         self.camera_through_media(
             ctx,
             at,
@@ -183,7 +186,7 @@ impl<'a> Integrator<'a> {
             let mut light_in = irradiance;
             if let Some(media) = &self.media {
                 // Not a shadow: the medium dims the light whether or not shadows are on.
-                light_in *= media.light_transmittance(si.p, light, to_light, distance);
+                light_in *= media.light_transmittance(si.p, index, light, to_light, distance);
             }
             if self.shadows {
                 let lists = occluders.and_then(|l| l.get(index));

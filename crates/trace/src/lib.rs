@@ -52,7 +52,7 @@ pub use hit::{
 pub use integrator::Integrator;
 pub use interaction::SurfaceInteraction;
 pub use media::{Media, MediaTerms};
-pub use media_grid::{DEPTH_TOLERANCE, MediaGrid, TERMS_TOLERANCE};
+pub use media_grid::{DEPTH_TOLERANCE, MediaGrid, OPTICAL_TOLERANCE, TERMS_TOLERANCE};
 pub use primitive::{KindHit, PART_PENDING, Primitive, RayCounts, Surface, TraceContext};
 pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
 pub use settings::{TraceError, TraceSettings};

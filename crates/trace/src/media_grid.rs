@@ -3,9 +3,11 @@
 //! column, cast to their own nearest hit) and interpolated bilinearly in between — depth-aware:
 //! a ray whose four nodes are not all hits (or all misses, for a miss), or whose depth differs by
 //! more than [`DEPTH_TOLERANCE`] (relative) from the nodes' interpolated depth (interpolated as
-//! `1/depth`, which is linear across the screen on a plane), or whose nodes' terms spread by
-//! more than [`TERMS_TOLERANCE`] (the fog's top seen edge-on), is evaluated exactly instead, so
-//! fog does not bleed across silhouettes.
+//! `1/depth`, which is linear across the screen on a plane), or by more than
+//! [`OPTICAL_TOLERANCE`] of a node's optical depth from that node's depth (the air seen from
+//! 66 km: the last kilometre before the ground holds much of the haze), or whose nodes' terms
+//! spread by more than [`TERMS_TOLERANCE`] (the fog's top seen edge-on), is evaluated exactly
+//! instead, so media do not bleed across silhouettes.
 
 use crate::hit::nearest_pending;
 use crate::media::{Media, MediaTerms};
@@ -22,11 +24,19 @@ pub const DEPTH_TOLERANCE: f64 = 0.02;
 /// transmittances (absolute) and of their in-scattered radiance (relative to the largest).
 pub const TERMS_TOLERANCE: f64 = 0.05;
 
-/// One grid node: its centre ray's depth (`∞`: a miss) and the media's terms along it.
+/// The largest optical depth between a ray's depth and a node's (the media's extinction at the
+/// node's end times the depth difference), relative to the node's own optical depth, that still
+/// interpolates.
+pub const OPTICAL_TOLERANCE: f64 = 0.05;
+
+/// One grid node: its centre ray's depth (`∞`: a miss), the media's terms along it, its optical
+/// depth (the largest channel's) and the media's extinction at its end.
 #[derive(Clone, Copy, Debug)]
 struct Node {
     depth: f64,
     terms: MediaTerms,
+    optical_depth: f64,
+    end_extinction: f64,
 }
 
 /// The media's terms on a grid of pixels, for one frame.
@@ -80,15 +90,25 @@ impl MediaGrid {
                             return Node {
                                 depth: f64::INFINITY,
                                 terms: MediaTerms::CLEAR,
+                                optical_depth: 0.0,
+                                end_extinction: 0.0,
                             };
                         };
                         let range = Interval::new(c.t_near, f64::INFINITY);
                         let depth =
                             nearest_pending(scene, ctx, &c.ray, range, epsilon, None, footprint)
                                 .map_or(f64::INFINITY, |h| h.hit.t);
+                        let terms = media.terms(&c.ray, Interval::new(c.t_near, depth));
+                        let end_extinction = if depth.is_finite() {
+                            media.extinction_at(&c.ray, depth)
+                        } else {
+                            0.0
+                        };
                         Node {
                             depth,
-                            terms: media.terms(&c.ray, Interval::new(c.t_near, depth)),
+                            terms,
+                            optical_depth: -terms.transmittance.min_element().ln(),
+                            end_extinction,
                         }
                     })
                     .collect::<Vec<_>>()
@@ -147,6 +167,13 @@ impl MediaGrid {
         if !miss {
             let inverse: f64 = corners.iter().map(|(node, w)| w / node.depth).sum();
             if (inverse * depth - 1.0).abs() > DEPTH_TOLERANCE {
+                return None;
+            }
+            let optically_close = |node: &Node| {
+                (depth - node.depth).abs() * node.end_extinction
+                    <= OPTICAL_TOLERANCE * node.optical_depth
+            };
+            if !corners.iter().all(|(node, _)| optically_close(node)) {
                 return None;
             }
         }

@@ -306,9 +306,12 @@ pub fn render_into(
     }
     if !settings.shading {
         // Visibility only: no light was evaluated.
-        stats
-            .passes
-            .retain(|p| !matches!(p.as_str(), "shadows" | "sun" | "point-lights" | "fog"));
+        stats.passes.retain(|p| {
+            !matches!(
+                p.as_str(),
+                "shadows" | "sun" | "point-lights" | "fog" | "sky"
+            )
+        });
     }
     stats.elapsed = start.elapsed();
     frame.stats = stats;

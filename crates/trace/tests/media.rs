@@ -96,7 +96,7 @@ fn fog_frames_are_identical_with_and_without_culling_and_match_the_integrator() 
         s.settings.samples = fray_core::PixelSamples::new(samples).expect("valid count");
         let mut on = TraceSettings::for_scene(&s);
         on.threads = Some(2);
-        let mut off = on.clone();
+        let mut off = on;
         off.culling = false;
         let (a, b) = (
             render(&s, &on, None).unwrap(),
@@ -159,7 +159,7 @@ fn the_media_grid_is_exact_at_its_nodes_and_close_between_them() {
     let exact = render(&s, &exact_settings, None).unwrap();
     let mut worst = 0.0f32;
     for spacing in [2, 4, 8] {
-        let mut settings = exact_settings.clone();
+        let mut settings = exact_settings;
         settings.media_grid = Some(spacing);
         let grid = render(&s, &settings, None).unwrap();
         let (i, e) = (grid.stats.media_interpolated, grid.stats.media_exact);
@@ -183,4 +183,82 @@ fn the_media_grid_is_exact_at_its_nodes_and_close_between_them() {
     }
     println!("media grid: worst relative difference {worst:.2e}");
     assert!(worst < 5e-3, "{worst}");
+}
+
+const SKY: &str = r#"Scene(
+    image: (width: 48, height: 36),
+    camera: Pinhole(eye: (0, 30, -60), look_at: (0, 20, 0), fov_y: 60, near: 0.1),
+    ambient: (0.05, 0.05, 0.07),
+    lights: [Sun(direction: (-1, 0.08, 0.6), irradiance: (20, 20, 20)),
+             Sun(direction: (0.5, 0.5, -0.2), irradiance: (0.5, 0.5, 0.5))],
+    atmosphere: (sky: (haze: 2), fog: (base: -1, top: 15, extinction: 0.01)),
+    objects: [
+        (shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)),
+            bounds: (min: (-500, -1, -500), max: (500, 0, 500)))),
+        (shape: Sphere(center: (5, 22, 10), radius: 6)),
+    ],
+)"#;
+
+/// A sky replaces the background: a ray that hits nothing and never enters the fog is the sky
+/// view's radiance (table and sun disc) exactly; frames with sky and fog are identical with and
+/// without culling, 1 and 4 samples, and equal the integrator's radiance per ray; the first sun
+/// is the sky's and is dimmed by the air, the second is not.
+#[test]
+fn the_sky_is_the_background_and_culling_stays_lossless() {
+    let s = scene(SKY);
+    assert!(s.features.sky && s.features.fog);
+    let settings = TraceSettings::for_scene(&s);
+    let frame = render(&s, &settings, None).unwrap();
+    assert!(frame.stats.passes.iter().any(|p| p == "sky"));
+    let sky = s.atmosphere.sky.as_ref().unwrap();
+    assert_eq!(sky.sun_light, Some(0));
+    let view = sky.sky.view(DVec3::new(0.0, 30.0, -60.0));
+    let c = s.camera.pixel_ray(24, 0, s.width, s.height).unwrap();
+    assert!(frame.depth.get(24, 0).is_infinite() && c.ray.dir.y > 0.0);
+    assert_eq!(
+        *frame.colour.get(24, 0),
+        view.background(c.ray.dir).as_vec3()
+    );
+    for samples in [1, 4] {
+        let mut s = s.clone();
+        s.settings.samples = fray_core::PixelSamples::new(samples).expect("valid count");
+        let mut on = TraceSettings::for_scene(&s);
+        on.threads = Some(2);
+        let mut off = on;
+        off.culling = false;
+        let (a, b) = (
+            render(&s, &on, None).unwrap(),
+            render(&s, &off, None).unwrap(),
+        );
+        assert_eq!(a.colour.pixels(), b.colour.pixels());
+        if samples == 1 {
+            let integrator = fray_trace::Integrator::new(&s, &on);
+            let mut ctx = TraceContext::default();
+            for y in 0..s.height {
+                for x in 0..s.width {
+                    let c = s.camera.pixel_ray(x, y, s.width, s.height).unwrap();
+                    let range = Interval::new(c.t_near, f64::INFINITY);
+                    let r = integrator.radiance(&mut ctx, &c.ray, range).as_vec3();
+                    assert_eq!(r, *a.colour.get(x, y), "({x}, {y})");
+                }
+            }
+        }
+    }
+    // The air dims the sky's sun (low, through much air) at a surface; not the second sun.
+    let media = fray_trace::Media::of(&s).unwrap();
+    let p = DVec3::new(0.0, 0.0, 0.0);
+    let low = media.light_transmittance(p, 0, &s.lights[0], DVec3::X, f64::INFINITY);
+    let other = media.light_transmittance(p, 1, &s.lights[1], DVec3::X, f64::INFINITY);
+    // The fog's share: the path from y = 0 to the top (15) toward each sun.
+    let fog_only = |d: DVec3| (-0.01 * 15.0 / d.normalize().y).exp();
+    let second = fog_only(DVec3::new(0.5, 0.5, -0.2));
+    assert!(
+        (other - DVec3::splat(second)).abs().max_element() < 1e-12,
+        "{other}"
+    );
+    let first = fog_only(DVec3::new(-1.0, 0.08, 0.6));
+    assert!(
+        low.max_element() < 0.9 * first && low.x > low.z,
+        "{low} vs fog {first}"
+    );
 }
