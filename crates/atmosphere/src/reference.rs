@@ -29,7 +29,7 @@ pub fn single_scattering(
         pieces
             .iter()
             .filter(|p| p.0 < s)
-            .map(|&(a, b)| integrate(|u| fog.density(ray.at(u).y), a, b.min(s), tol).value)
+            .map(|&(a, b)| integrate(|u| fog.density(ray.at(u).y), a, b.min(s), tol))
             .sum()
     };
     let total_depth = depth_to(f64::INFINITY);
@@ -44,7 +44,6 @@ pub fn single_scattering(
                 b,
                 tol,
             )
-            .value
         })
         .sum();
     in_scatter += fog.albedo * light.ambient * ambient;
@@ -64,7 +63,6 @@ pub fn single_scattering(
                     b,
                     tol,
                 )
-                .value
             })
             .sum();
         let phase = fog.phase.eval(sun.direction.dot(ray.dir));
@@ -92,7 +90,6 @@ fn sun_depth(fog: &FogLayer, y: f64, sin_b: f64) -> f64 {
         length,
         REFERENCE_TOLERANCE,
     )
-    .value
 }
 
 /// The parts of `range` inside the layer as finite `(a, b)` pieces: the range split where the

@@ -42,7 +42,6 @@ mod geometry;
 mod march;
 mod model;
 pub mod phase;
-mod quadrature;
 pub mod reference;
 mod sky_view_table;
 mod sun;

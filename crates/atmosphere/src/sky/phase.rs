@@ -32,7 +32,7 @@ pub fn henyey_greenstein(mu: f64, g: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sky::quadrature::integrate;
+    use crate::quadrature::integrate_rgb as integrate;
     use glam::DVec3;
 
     /// `∫ p dΩ = 2π ∫₋₁¹ p(μ) dμ` by adaptive Gauss–Kronrod.

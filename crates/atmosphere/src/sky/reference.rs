@@ -19,8 +19,8 @@
 //! about 0.3–5 ms.
 
 use super::geometry::{Planet, Segment};
-use super::quadrature::integrate;
 use super::{ScatterTerms, SkyModel, SkySun, phase};
+use crate::quadrature::integrate_rgb as integrate;
 use glam::DVec3;
 
 /// How finely the reference integrates.
