@@ -40,8 +40,9 @@ fn relative(a: &FogTerms, b: &FogTerms) -> f64 {
 }
 
 /// The grid: view angles 1°–90° (down onto the layer's bottom from inside, at the top
-/// and above; up and out from inside), sun elevations 2°–90°, three layer heights, four
-/// extinctions, the sun ahead, across and behind.
+/// and above; up and out from inside, from the base, and from below it across the whole layer),
+/// sun elevations 2°–90°, three layer heights, four extinctions, the sun ahead, across and
+/// behind.
 #[test]
 fn closed_form_matches_the_reference_to_1e_6_over_the_grid() {
     let mut worst = (0.0f64, String::new());
@@ -63,6 +64,7 @@ fn closed_form_matches_the_reference_to_1e_6_over_the_grid() {
                             (1.5, true),
                             (0.5, false),
                             (0.0, false),
+                            (-0.5, false),
                         ] {
                             let eye = DVec3::new(0.0, observer * height, 0.0);
                             let elevation = if down { -view } else { view };
@@ -148,7 +150,7 @@ fn edge_cases_are_finite_and_right() {
     for model in [FogModel::Exact, FogModel::Method] {
         for sun in [0.0, -5.0, 1e-9, 2.0, 90.0] {
             let light = lighting(sun);
-            for eye_y in [0.0, 50.0, 100.0, 100.0 + 1e-9, 150.0] {
+            for eye_y in [-20.0, 0.0, 50.0, 100.0 - 1e-9, 100.0, 100.0 + 1e-9, 150.0] {
                 for elevation in [-90.0, -1e-7, 0.0, 1e-7, 45.0, 90.0] {
                     let ray =
                         Ray::new(DVec3::new(0.0, eye_y, 0.0), direction(elevation, 0.0)).unwrap();
