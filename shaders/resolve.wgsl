@@ -2,11 +2,20 @@
 // the samples (the background where one hits nothing; without anti-aliasing the centre ray's),
 // depth and normal from the centre ray — into the frame's storage textures: linear colour and
 // depth, normal and hit flag, and the tone-mapped sRGB display image (fray_core's ToneMap and
-// linear_to_srgb, in f32). Counts the pixels whose centre ray hit.
+// linear_to_srgb, in f32). Counts the pixels whose centre ray hit. With media (HAS_MEDIA: the
+// media pass ran) every ray's radiance is its own, a miss's too — the background through the
+// fog; without, a miss is the background, as before media existed.
 //
 // #bindings frame, targets
 // #include "ray.wgsl"
 // #include "counters.wgsl"
+
+override HAS_MEDIA: bool = false;
+
+// Whether a ray's radiance is its colour: it hit, or it missed and the media pass lit it.
+fn has_radiance(path: GpuPath) -> bool {
+    return path.origin.w >= 0.0 && (HAS_MEDIA || path.hit.x >= 0.0);
+}
 
 fn tone_map(value: f32) -> f32 {
     let x = max(value * frame.exposure, 0.0);
@@ -45,7 +54,7 @@ fn main(
         let background = frame.background.xyz;
         var colour = background;
         if per_pixel == 1u {
-            if centre.origin.w >= 0.0 && centre.hit.x >= 0.0 {
+            if has_radiance(centre) {
                 colour = centre.radiance.xyz;
             }
         } else {
@@ -53,7 +62,7 @@ fn main(
             for (var r = first + 1u; r < first + per_pixel; r++) {
                 let path = paths[r];
                 var c = background;
-                if path.origin.w >= 0.0 && path.hit.x >= 0.0 {
+                if has_radiance(path) {
                     c = path.radiance.xyz;
                 }
                 colour += path.dir.w * c;

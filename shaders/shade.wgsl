@@ -2,14 +2,17 @@
 // the surface interaction (a free form's normal and leaf from its CSG program, freeform.wgsl; a
 // terrain's normal from its hit), the cut face where the ray starts inside, then ambient +
 // Lambert (albedo/π) + normalised Phong with each light seen through the RGB transmittance of a
-// shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32). Writes the radiance and the
+// shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32), and
+// through the fog where the scene has one (fog_shading.wgsl). Writes the radiance and the
 // outward shading normal into the path.
 //
-// #bindings frame, free_forms, shading, terrains if terrain
+// #bindings frame, free_forms, shading unless fog, shading_fog if fog, terrains if terrain
 // #include "freeform.wgsl"
 // #include "terrain.wgsl" if terrain
 // #include "terrain_shadows.wgsl" if terrain
 // #include "no_terrain.wgsl" unless terrain
+// #include "fog_shading.wgsl" if fog
+// #include "no_fog.wgsl" unless fog
 // #include "counters.wgsl"
 
 override HAS_FREE_FORMS: bool = true;
@@ -68,7 +71,8 @@ fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, ep
         if cos_l <= 0.0 {
             continue;
         }
-        var light_in = irradiance;
+        // Not a shadow: the fog dims the light whether or not shadows are on.
+        var light_in = irradiance * fog_light_transmittance(p, light.kind, to_light, distance);
         if SHADOWS {
             shadow_rays++;
             let through = transmittance(p + n * frame.shadow_offset, to_light, distance, eps);

@@ -11,6 +11,7 @@
 
 mod error;
 mod fog;
+pub mod gpu_layout;
 mod method;
 mod phase;
 pub mod quadrature;

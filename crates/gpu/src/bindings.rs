@@ -85,13 +85,26 @@ pub const WORK: Group = Group {
     ],
 };
 
-/// Lights (camera-relative) and materials, for the shade pass.
+/// What lights a scene: its lights (camera-relative) and materials, and — in
+/// [`SHADING_FOG`] only — its fog layer (camera-relative heights, written per frame).
+const SHADING_BINDINGS: [Binding; 3] = [
+    binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform),
+    binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform),
+    binding(2, "fog", "GpuFog", Uniform),
+];
+
+/// Lights and materials, for the shade pass of a scene without fog.
 pub const SHADING: Group = Group {
     name: "shading",
-    bindings: &[
-        binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform),
-        binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform),
-    ],
+    bindings: SHADING_BINDINGS.split_at(2).0,
+};
+
+/// [`SHADING`] and the fog layer, for the shade and media passes of a scene with fog. The fog
+/// travels with the lights rather than in a group of its own: the shade pass of a scene with
+/// free forms and terrains already binds four groups, wgpu's default limit.
+pub const SHADING_FOG: Group = Group {
+    name: "shading_fog",
+    bindings: &SHADING_BINDINGS,
 };
 
 /// The terrains (camera-relative parameters, this view's level-of-detail parameters) and their
@@ -157,16 +170,28 @@ pub const TERRAIN_BATCH: Group = Group {
     ],
 };
 
+/// The batch fog pass (`FogPass`): the layer, rays in, terms out.
+pub const FOG_BATCH: Group = Group {
+    name: "fog_batch",
+    bindings: &[
+        binding(0, "fog", "GpuFog", Uniform),
+        binding(1, "fog_rays", "array<vec4<f32>>", StorageRead),
+        binding(2, "fog_results", "array<vec4<f32>>", StorageReadWrite),
+    ],
+};
+
 /// Every group, for the include step.
-pub const GROUPS: [Group; 8] = [
+pub const GROUPS: [Group; 10] = [
     FRAME,
     FREE_FORMS,
     WORK,
     SHADING,
+    SHADING_FOG,
     TERRAINS,
     TARGETS,
     REBASE,
     TERRAIN_BATCH,
+    FOG_BATCH,
 ];
 
 impl Group {
@@ -359,9 +384,12 @@ mod tests {
             &[FRAME, FREE_FORMS, WORK][..],
             &[FRAME, WORK, TERRAINS],
             &[FRAME, FREE_FORMS, SHADING, TERRAINS],
+            &[FRAME, FREE_FORMS, SHADING_FOG, TERRAINS],
+            &[FRAME, SHADING_FOG],
             &[FRAME, TARGETS],
             &[REBASE],
             &[TERRAIN_BATCH, TERRAINS],
+            &[FOG_BATCH],
         ] {
             let storage: u32 = set.iter().map(Group::storage_buffers).sum();
             assert!(

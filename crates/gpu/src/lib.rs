@@ -6,7 +6,9 @@
 //! monotone segments finished by Illinois, CSG by one evaluator over the postfix program),
 //! terrains by the max-pyramid search of `fray-terrain` — narrowing each ray's nearest hit, then
 //! surfaces and shading like `fray-trace` (ambient + Lambert albedo/π + normalised Phong, shadow
-//! rays any-hit per kind), then resolve into storage textures (tone mapped on the GPU), read
+//! rays any-hit per kind, light through the fog), then the media (Klassen's fog layer of
+//! `fray-atmosphere`, a media pass: `T · L + L_in`, misses included), then resolve into storage
+//! textures (tone mapped on the GPU), read
 //! back only to make a [`fray_core::Frame`]. f32, every position camera-relative; pipelines
 //! specialised to the scene (absent features compile to nothing) and cached. ε on the GPU is
 //! `max(scene ε, 2⁻²⁰ · camera distance)` ([`gpu_epsilon`]).
@@ -32,6 +34,7 @@ pub mod bindings;
 mod context;
 pub mod counters;
 mod error;
+pub mod fog_pass;
 pub mod params;
 pub mod passes;
 mod readback;
@@ -44,6 +47,7 @@ pub mod work;
 
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use error::GpuError;
+pub use fog_pass::FogPass;
 pub use params::View;
 pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,

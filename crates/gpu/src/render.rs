@@ -1,12 +1,14 @@
 //! The GPU frame: settings, the f32 ε, the renderer (a device and its pipeline cache) and the
 //! resident scene a frame is rendered from ([`GpuScene`]) — per frame the rebase, the quadtree
 //! work list, then per band of rows the passes (ray generation → free forms → terrains →
-//! shading → resolve into storage textures), and the textures read back into a [`Frame`].
+//! shading → media (fog) → resolve into storage textures), and the textures read back into a
+//! [`Frame`].
 
-use crate::bindings::{self, FRAME, FREE_FORMS, SHADING, TARGETS, TERRAINS, WORK};
+use crate::bindings::{self, FRAME, FREE_FORMS, SHADING, SHADING_FOG, TARGETS, TERRAINS, WORK};
 use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams, GpuPath, View};
 use crate::passes::freeform::FreeFormPass;
+use crate::passes::media::MediaPass;
 use crate::passes::raygen::RayGenPass;
 use crate::passes::rebase::RebasePass;
 use crate::passes::resolve::ResolvePass;
@@ -19,6 +21,7 @@ use crate::shader::{self, ModuleOptions, Specialisation};
 use crate::timestamps::Timestamps;
 use crate::work::{GpuWork, TILE, quadtree_config};
 use crate::{GpuContext, GpuError};
+use fray_atmosphere::gpu_layout::GpuFog;
 use fray_core::{Frame, Image, MemoryBudget, PixelSamples, RenderStats};
 use fray_scene::Scene;
 use glam::{DVec3, Vec3};
@@ -149,6 +152,8 @@ struct Passes {
     free_forms: Option<FreeFormPass>,
     terrains: Option<TerrainIntersectPass>,
     shade: ShadePass,
+    /// Only with fog.
+    media: Option<MediaPass>,
     resolve: ResolvePass,
 }
 
@@ -207,8 +212,8 @@ impl<'a> GpuScene<'a> {
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
         }
-        if scene.features.fog {
-            return Err(GpuError::Unsupported { feature: "fog" });
+        if scene.features.sky {
+            return Err(GpuError::Unsupported { feature: "the sky" });
         }
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;
@@ -226,6 +231,7 @@ impl<'a> GpuScene<'a> {
         let options = ModuleOptions {
             sizes,
             terrain: !scene.terrains.is_empty(),
+            fog: scene.atmosphere.fog.is_some(),
         };
         let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
@@ -246,6 +252,7 @@ impl<'a> GpuScene<'a> {
                 .then(|| TerrainIntersectPass::new(&setup))
                 .transpose()?,
             shade: ShadePass::new(&setup)?,
+            media: options.fog.then(|| MediaPass::new(&setup)).transpose()?,
             resolve: ResolvePass::new(&setup)?,
         };
         let pending_pipelines = cache.take_built();
@@ -367,6 +374,14 @@ impl<'a> GpuScene<'a> {
             self.resident.copy_tables(&mut encoder);
             self.rebased_for = Some(offset);
         }
+        if let (Some(buffer), Some(fog)) = (&self.resident.fog, &scene.atmosphere.fog) {
+            // The layer's heights relative to this view's eye, in f64 before rounding.
+            let eye = params::reference_point(&view.camera);
+            let gpu_fog = GpuFog::new(&fog.layer, fog.model, eye.y);
+            ctx.queue
+                .write_buffer(buffer, 0, bytemuck::bytes_of(&gpu_fog));
+            uploaded += std::mem::size_of::<GpuFog>() as u64;
+        }
         if let Some(t) = &self.resident.terrains {
             let footprint = view.camera.pixel_footprint(width, height);
             let lods = terrain_lods(scene, footprint);
@@ -423,6 +438,9 @@ impl<'a> GpuScene<'a> {
                     groups.terrains.as_ref(),
                     rays,
                 );
+                if let Some(media) = &self.passes.media {
+                    media.encode(&mut pass, ctx, [&groups.frame, &groups.shading], rays);
+                }
                 self.passes.resolve.encode(
                     &mut pass,
                     [&groups.frame, &groups.targets],
@@ -457,7 +475,8 @@ impl<'a> GpuScene<'a> {
             (counters::WORDS * 4) as u64,
             "counters",
         )?;
-        let (colour, depth, normals) = self.read_frame(scene.background)?;
+        let (colour, depth, normals) =
+            self.read_frame(scene.background, self.passes.media.is_some())?;
         // An error no scope caught (or a lost device) would otherwise go unnoticed: fail with it.
         if let Some(reason) = ctx.take_uncaptured_error() {
             return Err(if reason.starts_with("device lost") {
@@ -687,14 +706,25 @@ impl<'a> GpuScene<'a> {
                 b.indices.as_entire_binding(),
             ],
         );
-        let shading = SHADING.bind(
-            device,
-            &cache.layout(ctx, &SHADING),
-            &[
-                r.lights_table.as_entire_binding(),
-                r.materials.as_entire_binding(),
-            ],
-        );
+        let shading = match &r.fog {
+            Some(fog) => SHADING_FOG.bind(
+                device,
+                &cache.layout(ctx, &SHADING_FOG),
+                &[
+                    r.lights_table.as_entire_binding(),
+                    r.materials.as_entire_binding(),
+                    fog.as_entire_binding(),
+                ],
+            ),
+            None => SHADING.bind(
+                device,
+                &cache.layout(ctx, &SHADING),
+                &[
+                    r.lights_table.as_entire_binding(),
+                    r.materials.as_entire_binding(),
+                ],
+            ),
+        };
         let terrains = r.terrains.as_ref().map(|t| {
             TERRAINS.bind(
                 device,
@@ -737,9 +767,10 @@ impl<'a> GpuScene<'a> {
         })
     }
 
-    /// Reads the frame's colour + depth and normal textures back into images (misses: the
-    /// background, depth `+∞`, normal 0).
-    fn read_frame(&self, background: fray_core::Rgb) -> Result<FrameImages, GpuError> {
+    /// Reads the frame's colour + depth and normal textures back into images (misses: depth
+    /// `+∞`, normal 0, and the background — or, where the media pass ran (`media`), the
+    /// texture's colour: the background through the media).
+    fn read_frame(&self, background: fray_core::Rgb, media: bool) -> Result<FrameImages, GpuError> {
         let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
         let (w, h) = (t.width, t.height);
         let n = w as usize * h as usize;
@@ -751,13 +782,13 @@ impl<'a> GpuScene<'a> {
             self.read_texture(texture, w, h, 16, &t.readback, |row: &[[f32; 4]]| {
                 if into_colour {
                     for &[r, g, b, d] in row {
-                        if d >= 0.0 {
-                            colour.push(Vec3::new(r, g, b));
-                            depth.push(f64::from(d));
+                        let hit = d >= 0.0;
+                        colour.push(if hit || media {
+                            Vec3::new(r, g, b)
                         } else {
-                            colour.push(background);
-                            depth.push(f64::INFINITY);
-                        }
+                            background
+                        });
+                        depth.push(if hit { f64::from(d) } else { f64::INFINITY });
                     }
                 } else {
                     normal_rows.extend_from_slice(row);

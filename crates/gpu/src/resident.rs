@@ -1,9 +1,10 @@
 //! What stays on the GPU: a scene uploaded once, relative to a fixed anchor (the first view's
 //! eye), with the camera-relative copies the rebase pass refreshes from it — so a frame from a
 //! moved camera uploads only the camera and its work list. Free forms (solids, leaves,
-//! perturbations and their CSG programs, at the head of `indices`), lights, materials and the
-//! terrains (parameters, concatenated pyramids and samples); every buffer checked against the
-//! device's limits before it is made.
+//! perturbations and their CSG programs, at the head of `indices`), lights, materials, the
+//! terrains (parameters, concatenated pyramids and samples) and the fog layer's parameters
+//! (camera-relative heights, written per frame); every buffer checked against the device's
+//! limits before it is made.
 
 use crate::bindings::{self};
 use crate::params::{self, GpuLight, GpuMaterial};
@@ -11,6 +12,7 @@ use crate::passes::PipelineCache;
 use crate::passes::rebase::{RebaseLayout, Rebased};
 use crate::terrain_pass::{TerrainUpload, terrain_arrays};
 use crate::{GpuContext, GpuError};
+use fray_atmosphere::gpu_layout::GpuFog;
 use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuQuadric, GpuSolid, GpuSolids};
 use fray_scene::Scene;
 use fray_terrain::gpu_layout::GpuTerrainParams;
@@ -82,6 +84,9 @@ pub struct ResidentScene {
     pub lights_table: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     pub terrains: Option<ResidentTerrains>,
+    /// The fog layer's parameters (`GpuFog`, a uniform written per frame: its heights are
+    /// relative to the camera's); `None` without fog.
+    pub fog: Option<wgpu::Buffer>,
     /// Bytes uploaded.
     pub bytes: u64,
 }
@@ -145,6 +150,15 @@ impl ResidentScene {
             bytes += b;
             Some(t)
         };
+        let fog = match scene.atmosphere.fog {
+            Some(_) => Some(bindings::empty(
+                ctx,
+                "fog",
+                size_of::<GpuFog>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            )?),
+            None => None,
+        };
         Ok(Self {
             anchor,
             flat,
@@ -156,6 +170,7 @@ impl ResidentScene {
             lights_table,
             materials: materials_buffer,
             terrains,
+            fog,
             bytes,
         })
     }

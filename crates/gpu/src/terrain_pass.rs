@@ -32,6 +32,7 @@ const OPTIONS: ModuleOptions = ModuleOptions {
         max_terrains: 1,
     },
     terrain: true,
+    fog: false,
 };
 
 /// The complete terrain batch module: the generated prelude (which holds the terrain's parameter

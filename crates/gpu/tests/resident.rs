@@ -336,6 +336,71 @@ fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
     }
 }
 
+/// The fog's heights are camera-relative and sent every frame: a resident fog scene seen from a
+/// camera moved up out of the layer (and one moved back in) looks as a fresh upload at that
+/// camera does — within the rebase's f32 rounding; a stale layer 25 m off would change almost
+/// every pixel — builds no pipeline and uploads no scene.
+fn a_moved_camera_sees_the_fog_from_where_it_is() {
+    let gpu = common::gpu("a_moved_camera_sees_the_fog_from_where_it_is");
+    let scene = fray_scene::parse(
+        r#"Scene(
+            image: (width: 64, height: 48),
+            camera: Pinhole(eye: (0, 4, -60), look_at: (0, 3.5, 0), fov_y: 40, near: 0.1),
+            background: (0.4, 0.5, 0.7),
+            ambient: (0.1, 0.1, 0.12),
+            lights: [Sun(direction: (0.3, 2.0, -0.6), irradiance: (3, 2.9, 2.7))],
+            atmosphere: (fog: (base: -1, top: 20, extinction: 0.02, falloff: 12)),
+            objects: [
+                (shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)),
+                    bounds: (min: (-300, -1, -300), max: (300, 0, 300)))),
+                (shape: Sphere(center: (5, 6, 10), radius: 5)),
+            ],
+        )"#,
+        "fog.ron",
+    )
+    .unwrap();
+    let settings = GpuSettings::for_scene(&scene);
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let view = View::of_scene(&scene, settings.samples);
+    let first = resident.render(&view).unwrap();
+    for offset in [
+        glam::DVec3::new(0.0, 25.0, -10.0),
+        glam::DVec3::new(3.0, 2.0, 5.0),
+    ] {
+        let moved_view = View {
+            camera: moved(&scene, offset),
+            ..view
+        };
+        let frame = resident.render(&moved_view).unwrap();
+        assert_eq!(
+            (
+                frame.stats.pipelines_built,
+                frame.stats.scene_uploaded_bytes
+            ),
+            (0, 0)
+        );
+        let mut at_moved = scene.clone();
+        at_moved.camera = moved_view.camera;
+        let fresh = gpu.render(&at_moved, &settings).unwrap();
+        let (mut off, mut changed) = (0usize, 0usize);
+        for ((a, b), c) in frame
+            .colour
+            .pixels()
+            .iter()
+            .zip(fresh.colour.pixels())
+            .zip(first.colour.pixels())
+        {
+            off += usize::from((*a - *b).abs().max_element() > 1e-4);
+            changed += usize::from((*a - *c).abs().max_element() > 1e-3);
+        }
+        let pixels = frame.colour.pixels().len();
+        eprintln!("{offset}: {off} of {pixels} pixels off a fresh upload, {changed} changed");
+        // Silhouette pixels may flip under the rebase's rounding.
+        assert!(off * 50 <= pixels, "{offset}: {off} of {pixels} pixels");
+        assert!(changed * 2 > pixels, "{offset}: the view barely changed");
+    }
+}
+
 fn main() {
     common::run(
         &[
@@ -362,6 +427,10 @@ fn main() {
             (
                 "anti_aliased_frames_match_the_cpu",
                 anti_aliased_frames_match_the_cpu,
+            ),
+            (
+                "a_moved_camera_sees_the_fog_from_where_it_is",
+                a_moved_camera_sees_the_fog_from_where_it_is,
             ),
         ],
         &[],

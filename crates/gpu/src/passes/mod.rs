@@ -1,11 +1,13 @@
 //! The GPU frame in passes, one struct each, each owning its pipeline (and its own buffers):
 //! rebase (the resident scene moved to the camera) → ray generation → intersection per
 //! primitive kind (free forms, terrains), each narrowing the rays' nearest hits → surfaces and
-//! shading (shadow rays any-hit per kind) → resolve into the frame's storage textures. The
+//! shading (shadow rays any-hit per kind) → media (fog, only with one) → resolve into the
+//! frame's storage textures. The
 //! frame's shared buffers (paths, counters, parameters) and bind groups belong to
 //! `crate::render::GpuScene`; pipelines come from the renderer's cache.
 
 pub mod freeform;
+pub mod media;
 pub mod raygen;
 pub mod rebase;
 pub mod resolve;
@@ -222,23 +224,20 @@ pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, ctx: &GpuContext, group
 
 #[cfg(test)]
 mod tests {
-    use crate::bindings::{Group, TERRAIN_BATCH, TERRAINS};
+    use crate::bindings::{FOG_BATCH, TERRAIN_BATCH, TERRAINS};
     use crate::shader::{self, ModuleOptions};
 
     /// Every pass binds its groups in the order its module numbers them (so a pipeline layout
     /// has no gaps and a bind group lands at the index the WGSL declares).
     #[test]
     fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for terrain in [false, true] {
+        for (terrain, fog) in [(false, false), (true, false), (false, true), (true, true)] {
             let options = ModuleOptions {
                 terrain,
+                fog,
                 ..ModuleOptions::default()
             };
-            let shade: &[Group] = if terrain {
-                &super::shade::ShadePass::GROUPS
-            } else {
-                &super::shade::ShadePass::GROUPS[..3]
-            };
+            let shade = super::shade::ShadePass::groups(&options);
             for (entry, groups) in [
                 ("raygen.wgsl", &super::raygen::RayGenPass::GROUPS[..]),
                 (
@@ -249,13 +248,15 @@ mod tests {
                     "intersect_terrain.wgsl",
                     &super::terrain::TerrainIntersectPass::GROUPS[..],
                 ),
-                ("shade.wgsl", shade),
+                ("shade.wgsl", &shade[..]),
+                ("media.wgsl", &super::media::MediaPass::GROUPS[..]),
                 ("resolve.wgsl", &super::resolve::ResolvePass::GROUPS[..]),
                 ("rebase.wgsl", &[crate::bindings::REBASE][..]),
                 ("terrain_batch.wgsl", &[TERRAIN_BATCH, TERRAINS][..]),
+                ("fog_batch.wgsl", &[FOG_BATCH][..]),
             ] {
                 let declared = shader::module_groups(entry, &options).unwrap();
-                assert_eq!(declared, groups, "{entry} (terrain {terrain})");
+                assert_eq!(declared, groups, "{entry} (terrain {terrain}, fog {fog})");
             }
         }
     }

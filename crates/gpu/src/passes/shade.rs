@@ -1,10 +1,12 @@
 //! Surfaces and shading: one invocation per ray of the band that hit — the surface (a free
 //! form's normal and leaf, a terrain's normal), the cut face, ambient + Lambert + normalised
 //! Phong with each light through the RGB transmittance of a shadow ray that every kind answers
-//! any-hit (`shaders/shade.wgsl`, fray-trace's `Integrator` in f32).
+//! any-hit and, with fog, through the fog's transmittance (`shaders/shade.wgsl`, fray-trace's
+//! `Integrator` in f32).
 
 use super::{Kernel, PassSetup};
-use crate::bindings::{FRAME, FREE_FORMS, Group, SHADING, TERRAINS};
+use crate::bindings::{FRAME, FREE_FORMS, Group, SHADING, SHADING_FOG, TERRAINS};
+use crate::shader::ModuleOptions;
 use crate::{GpuContext, GpuError};
 
 /// The shade pass.
@@ -15,23 +17,28 @@ pub struct ShadePass {
 }
 
 impl ShadePass {
-    /// The groups it binds (the terrains' only with terrains).
-    pub const GROUPS: [Group; 4] = [FRAME, FREE_FORMS, SHADING, TERRAINS];
+    /// The groups it binds for a scene composed with `options`: the frame, the free forms, the
+    /// lights and materials (with the fog layer when there is one), the terrains' only with
+    /// terrains.
+    pub fn groups(options: &ModuleOptions) -> Vec<Group> {
+        let shading = if options.fog { SHADING_FOG } else { SHADING };
+        let mut groups = vec![FRAME, FREE_FORMS, shading];
+        if options.terrain {
+            groups.push(TERRAINS);
+        }
+        groups
+    }
 
     pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let groups = if setup.options.terrain {
-            &Self::GROUPS[..]
-        } else {
-            &Self::GROUPS[..3]
-        };
-        let kernel = Kernel::new(setup, "shade.wgsl", groups)?;
+        let kernel = Kernel::new(setup, "shade.wgsl", &Self::groups(setup.options))?;
         Ok(Self {
             kernel,
             terrain: setup.options.terrain,
         })
     }
 
-    /// Shades `rays` rays (the band's); `terrains` is bound only with terrains.
+    /// Shades `rays` rays (the band's); `shading` is the group [`ShadePass::groups`] names (with
+    /// the fog or without), `terrains` is bound only with terrains.
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,

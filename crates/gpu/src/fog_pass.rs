@@ -1,0 +1,189 @@
+//! The batch fog pass (one struct, its pipeline and buffers): `shaders/fog.wgsl` over a batch
+//! of camera-relative rays through one fog layer, reading back per ray what the fog does to it —
+//! transmittance, the ambient and sun factors of its in-scatter, its optical depth, and the
+//! transmittance toward the sun from its origin. It is the f32 twin of
+//! `fray_atmosphere::FogLayer::{terms, optical_depth, sun_transmittance}`; a parity test bounds
+//! the difference. The GPU frame runs the same functions in its media and shade passes.
+
+use crate::bindings::FOG_BATCH;
+use crate::passes::PipelineCache;
+use crate::readback::{read_back, readback_buffer};
+use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
+use crate::{GpuContext, GpuError};
+use fray_atmosphere::gpu_layout::GpuFog;
+use wgpu::util::DeviceExt;
+
+const PASS: &str = "fog";
+const WORKGROUP: u32 = 64;
+
+/// What the batch module is composed with (it binds nothing of the scene).
+const OPTIONS: ModuleOptions = ModuleOptions {
+    sizes: ArraySizes {
+        max_leaves: 1,
+        max_perturbations: 1,
+        max_stack: 1,
+        max_lights: 1,
+        max_materials: 1,
+        max_terrains: 1,
+    },
+    terrain: false,
+    fog: true,
+};
+
+/// One ray of a batch, relative to the fog's reference point: `(origin, t_lo)`,
+/// `(unit direction, t_hi)` (`t_hi ≥ 1e30`: unbounded), `(unit direction toward a sun, 0)`.
+pub type GpuFogRay = [[f32; 4]; 3];
+
+/// What the fog did to a batch ray, as the GPU found it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuFogTerms {
+    /// `e^{−τ}` over the ray's range.
+    pub transmittance: f32,
+    /// `1 − e^{−τ}`: `albedo · ambient` times this is the ambient light's in-scatter.
+    pub ambient: f32,
+    /// `albedo · irradiance` times this is the sun's in-scatter (phase included), by the
+    /// layer's model.
+    pub sun: f32,
+    /// The optical depth `τ` (`≥ 1e30`: unbounded).
+    pub depth: f32,
+    /// The transmittance toward the sun from the ray's origin (`FogLayer::sun_transmittance`).
+    pub sun_transmittance: f32,
+    /// `e^{−τ}` again, by `fog_optical_depth` (the shade pass's point-light path).
+    pub segment_transmittance: f32,
+}
+
+/// The batch fog pass of one layer.
+#[derive(Debug)]
+pub struct FogPass {
+    cache: PipelineCache,
+    pipeline: std::sync::Arc<wgpu::ComputePipeline>,
+    fog: wgpu::Buffer,
+}
+
+impl FogPass {
+    /// Builds the pipeline and uploads `fog` (its heights already relative to the rays'
+    /// reference point).
+    pub fn new(ctx: &GpuContext, fog: &GpuFog) -> Result<Self, GpuError> {
+        let cache = PipelineCache::default();
+        let pipeline = cache.pipeline(
+            ctx,
+            "fog_batch.wgsl",
+            &[FOG_BATCH],
+            &OPTIONS,
+            &Specialisation::default(),
+        )?;
+        let fog = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("fog batch layer"),
+                contents: bytemuck::bytes_of(fog),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        Ok(Self {
+            cache,
+            pipeline,
+            fog,
+        })
+    }
+
+    /// What the fog does to each of `rays`.
+    pub fn terms(
+        &self,
+        ctx: &GpuContext,
+        rays: &[GpuFogRay],
+    ) -> Result<Vec<GpuFogTerms>, GpuError> {
+        if rays.is_empty() {
+            return Ok(Vec::new());
+        }
+        let device = &ctx.device;
+        let ray_bytes = std::mem::size_of_val(rays) as u64;
+        let bytes = (rays.len() * 32) as u64;
+        for (what, size) in [("fog batch rays", ray_bytes), ("fog batch results", bytes)] {
+            crate::bindings::check_buffer(ctx, what, size, wgpu::BufferUsages::STORAGE)?;
+        }
+        let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("fog rays"),
+            contents: bytemuck::cast_slice(rays),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("fog results"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = readback_buffer(device, "fog readback", bytes);
+        let bind_group = FOG_BATCH.bind(
+            device,
+            &self.cache.layout(ctx, &FOG_BATCH),
+            &[
+                self.fog.as_entire_binding(),
+                ray_buffer.as_entire_binding(),
+                output.as_entire_binding(),
+            ],
+        );
+        let groups = (rays.len() as u32).div_ceil(WORKGROUP);
+        let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(PASS),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
+        ctx.queue.submit([encoder.finish()]);
+        let raw: Vec<[[f32; 4]; 2]> = read_back(device, &readback, bytes, PASS)?;
+        Ok(raw
+            .iter()
+            .map(|[a, b]| GpuFogTerms {
+                transmittance: a[0],
+                ambient: a[1],
+                sun: a[2],
+                depth: a[3],
+                sun_transmittance: b[0],
+                segment_transmittance: b[1],
+            })
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The batch module (generated struct + fog.wgsl) validates with naga, and its `GpuFog` is
+    /// laid out as Rust's (every field in order, at Rust's offset).
+    #[test]
+    fn fog_wgsl_validates_and_its_struct_layout_matches_rust() {
+        let source = crate::shader::compose("fog_batch.wgsl", &OPTIONS).unwrap();
+        let module = naga::front::wgsl::parse_str(&source).expect("fog_batch.wgsl parses");
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module);
+        assert!(info.is_ok(), "{info:?}");
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("GpuFog"))
+            .expect("GpuFog declared");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("GpuFog is not a struct");
+        };
+        assert_eq!(*span as usize, std::mem::size_of::<GpuFog>());
+        use fray_atmosphere::gpu_layout::GpuStruct;
+        let fields = GpuFog::fields();
+        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
+        let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
+        assert_eq!(names, rust);
+        for (m, f) in members.iter().zip(&fields) {
+            assert_eq!(m.offset as usize, f.rust_offset, "{}", f.name);
+        }
+    }
+}
