@@ -61,10 +61,11 @@ struct RenderArgs {
     /// scene's `settings.samples`, else 1]. Depth and normals come from the pixel centre.
     #[arg(long, value_name = "N", value_parser = parse_samples)]
     samples: Option<fray_core::PixelSamples>,
-    /// CPU: evaluate fog on a grid of pixels N apart (2..=64), interpolated where depths agree
-    /// (the method's per-vertex mode); 0 evaluates every pixel exactly [default: the scene's
-    /// `atmosphere.grid`, else every pixel]
-    #[arg(long, value_name = "N", value_parser = parse_media_grid)]
+    /// CPU: evaluate fog and air on a grid of pixels N apart (2..=64; 8 if N is left out),
+    /// interpolated where depths agree (the method's per-vertex mode); 0 evaluates every pixel
+    /// exactly [default: the scene's `atmosphere.grid`, else every pixel]
+    #[arg(long, value_name = "N", value_parser = parse_media_grid, num_args = 0..=1,
+          default_missing_value = fray_scene::DEFAULT_GRID_SPACING_TEXT)]
     media_grid: Option<u32>,
     /// Turn shadow rays off.
     #[arg(long)]

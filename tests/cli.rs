@@ -376,3 +376,46 @@ fn a_frame_over_the_memory_budget_is_a_clear_error() {
             .exists()
     );
 }
+
+/// The atmosphere from the command line: `--media-grid` alone takes the default spacing and the
+/// summary says so; a spacing outside 0, 2..=64 is a clear error; a fog scene says it ran fog.
+#[test]
+fn media_grid_option_and_fog_in_the_summary() {
+    let dir = temp_dir("media");
+    let out = dir.join("fog.png");
+    let scene = "data/scenes/fog_aircraft_low_sun.ron";
+    let o = fray(&[
+        "render",
+        scene,
+        "--backend",
+        "cpu",
+        "--width",
+        "96",
+        "--media-grid",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        summary.contains("fog") && summary.contains("media grid every 8 px"),
+        "{summary}"
+    );
+    let o = fray(&[
+        "render",
+        scene,
+        "--media-grid",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("0 (every pixel) or a spacing in 2..=64"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fray(&["check", scene]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("fog"));
+}

@@ -15,6 +15,12 @@ use std::sync::Arc;
 /// The grid spacings accepted for the "per vertex" evaluation, in pixels.
 pub const GRID_SPACINGS: std::ops::RangeInclusive<u32> = 2..=64;
 
+/// The grid spacing the per-vertex mode takes when asked for without one (`--media-grid`), and
+/// the one its figures are measured at (`cargo xtask bench atmosphere`).
+pub const DEFAULT_GRID_SPACING: u32 = 8;
+/// [`DEFAULT_GRID_SPACING`] as text, for command-line parsers.
+pub const DEFAULT_GRID_SPACING_TEXT: &str = "8";
+
 /// The media between the camera and what it sees. `Default`: none.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Atmosphere {
@@ -212,4 +218,16 @@ fn fog(path: &FieldPath, f: &description::Fog) -> Result<Fog> {
         description::FogModel::Method => FogModel::Method,
     };
     Ok(Fog { layer, model })
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_default_grid_spacing_and_its_text_agree() {
+        assert_eq!(
+            super::DEFAULT_GRID_SPACING_TEXT.parse::<u32>(),
+            Ok(super::DEFAULT_GRID_SPACING)
+        );
+        assert!(super::GRID_SPACINGS.contains(&super::DEFAULT_GRID_SPACING));
+    }
 }

@@ -43,7 +43,10 @@ mod scene;
 mod terrain;
 mod work;
 
-pub use atmosphere::{Atmosphere, Fog, GRID_SPACINGS, MAX_SKY_STEPS, Sky};
+pub use atmosphere::{
+    Atmosphere, DEFAULT_GRID_SPACING, DEFAULT_GRID_SPACING_TEXT, Fog, GRID_SPACINGS, MAX_SKY_STEPS,
+    Sky,
+};
 pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;
