@@ -278,13 +278,24 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         } else {
             String::new()
         };
+        // The media grid's share of interpolated evaluations (the per-vertex mode).
+        let media = s.media_interpolated + s.media_exact;
+        let grid = if media > 0 {
+            format!(
+                ", media grid: {:.1}% of {} evaluations interpolated",
+                100.0 * s.media_interpolated as f64 / media as f64,
+                media
+            )
+        } else {
+            String::new()
+        };
         // The GPU's kernel time, where the device measured it (timestamp queries).
         let kernel = s
             .kernel_time
             .map(|k| format!(", GPU kernels {:.1} ms", k.as_secs_f64() * 1e3))
             .unwrap_or_default();
         println!(
-            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}, ε = {:.3e}; ran: {}",
+            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}{grid}, ε = {:.3e}; ran: {}",
             output.display(),
             frame.colour.width(),
             frame.colour.height(),

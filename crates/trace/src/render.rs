@@ -198,10 +198,10 @@ pub fn render_into(
                 |scratch, (k, (((colour, depth), normals), band))| {
                     // Background where no tile (or no surface) is.
                     let y0 = k as u32 * ts;
-                    if integrator.media().is_some() {
-                        // Seen through the media: every pixel's own, computed as a tile's
-                        // miss would be, so culling stays lossless.
-                        fill_misses(scene, settings, &integrator, &mut scratch.ctx, y0, colour);
+                    let media = integrator.media().is_some();
+                    if media {
+                        // Marked unwritten: what no tile writes gets its miss after the tiles.
+                        colour.fill(Rgb::NAN);
                     } else {
                         colour.fill(scene.background);
                     }
@@ -238,6 +238,18 @@ pub fn render_into(
                             let n = u64::from(rect.2 - rect.0) * u64::from(rect.3 - rect.1);
                             report(done.fetch_add(n, Ordering::Relaxed) + n, total);
                         }
+                    }
+                    if media {
+                        // Seen through the media: every pixel's own, computed as a tile's miss
+                        // would be, so culling stays lossless.
+                        fill_misses(
+                            scene,
+                            settings,
+                            &integrator,
+                            &mut scratch.ctx,
+                            y0,
+                            out.colour,
+                        );
                     }
                     // The band's counters; the scratch space goes on to the thread's next band.
                     (
@@ -494,9 +506,10 @@ fn render_tile(
     }
 }
 
-/// The colour of every pixel of the band from row `y0` as if its rays hit nothing: the
-/// background through the media — the centre ray's, or the samples' box-filtered, in the same
-/// order and arithmetic as a tile's misses.
+/// The colour of every pixel of the band from row `y0` that no tile wrote (still NaN: culled, or
+/// a centre ray that missed), as its rays hitting nothing give it: the background through the
+/// media — the centre ray's, or the samples' box-filtered, in the same order and arithmetic as a
+/// tile's misses.
 #[cold]
 fn fill_misses(
     scene: &Scene,
@@ -516,6 +529,9 @@ fn fill_misses(
         let (px, py) = ((k as u32) % width, y0 + (k as u32) / width);
         if py >= height {
             break;
+        }
+        if !c.x.is_nan() {
+            continue;
         }
         let samples = settings.samples;
         *c = if samples.count() == 1 {
