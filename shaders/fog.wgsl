@@ -14,32 +14,12 @@
 // select may overflow, the value it selects is always finite.
 //
 // #include "ray.wgsl"
-
-// (1 − e^{−x}) / x for x ≥ 0, the mean of e^{−s} over [0, x] (the Rust's `mean_decay`, written
-// there with expm1). WGSL has no expm1, and 1 − exp(−x) in f32 cancels: at x = 1e−4 it keeps
-// about three digits. Below 1 the Taylor series Σ (−x)ⁿ/(n + 1)! to n = 10 instead — its
-// remainder is under x¹¹/12! ≈ 2e−9, far below f32's 6e−8, and no term cancels another by more
-// than the sum's size; from 1 on, e^{−x} ≤ 0.37 and the subtraction loses under 2 bits.
-fn fog_mean_decay(x: f32) -> f32 {
-    var s = -1.0 / 39916800.0;
-    s = 1.0 / 3628800.0 + x * s;
-    s = -1.0 / 362880.0 + x * s;
-    s = 1.0 / 40320.0 + x * s;
-    s = -1.0 / 5040.0 + x * s;
-    s = 1.0 / 720.0 + x * s;
-    s = -1.0 / 120.0 + x * s;
-    s = 1.0 / 24.0 + x * s;
-    s = -1.0 / 6.0 + x * s;
-    s = 0.5 + x * s;
-    let series = 1.0 - x * s;
-    let direct = (1.0 - exp(-x)) / max(x, TINY);
-    return select(direct, series, x < 1.0);
-}
+// #include "decay.wgsl"
 
 // 1 − e^{−τ} for τ ≥ 0, exact for small τ (the Rust's `-(-τ).exp_m1()`): τ · mean_decay(τ),
-// stable for the same reason; 1 for an unbounded depth.
+// stable for the same reason (decay.wgsl); 1 for an unbounded depth.
 fn fog_one_minus_exp(tau: f32) -> f32 {
-    return select(tau * fog_mean_decay(tau), 1.0, tau >= BIG);
+    return select(tau * mean_decay(tau), 1.0, tau >= BIG);
 }
 
 // The smallest divisor: keeps the cases a lane does not select finite.
@@ -93,7 +73,7 @@ fn fog_span_depth(y: f32, dy: f32, span: vec2<f32>) -> f32 {
     // |dy| · length, the difference of the two ends' heights without their cancellation.
     let low = clamp(min(y + dy * span.x, y + dy * span.y), fog.base, fog.top);
     let rise = abs(dy) * length / h;
-    let falling = min(fog.extinction * exp(-(low - fog.base) / h) * length * fog_mean_decay(rise), BIG);
+    let falling = min(fog.extinction * exp(-(low - fog.base) / h) * length * mean_decay(rise), BIG);
     // Only a horizontal ray stays in a falling-off layer for ever.
     let forever = select(0.0, BIG, fog_density(y) > 0.0);
     return select(select(falling, forever, unbounded), homogeneous, fog.scale_height <= 0.0);
@@ -113,7 +93,7 @@ fn fog_rise_depth(rise: f32, y: f32, sin_b: f32) -> f32 {
     let path = rise / max(sin_b, TINY);
     let h = fog_scale();
     let homogeneous = min(fog.extinction * path, BIG);
-    let falling = min(fog.extinction * exp(-(y - fog.base) / h) * path * fog_mean_decay(rise / h), BIG);
+    let falling = min(fog.extinction * exp(-(y - fog.base) / h) * path * mean_decay(rise / h), BIG);
     let lit = select(falling, homogeneous, fog.scale_height <= 0.0);
     let depth = select(lit, BIG, !(sin_b > 0.0));
     return select(depth, 0.0, rise <= 0.0 || fog.extinction == 0.0);
@@ -186,7 +166,7 @@ fn fog_sun_integral(o: vec3<f32>, d: vec3<f32>, s: FogSegment, sin_b: f32) -> f3
     let smallest = select(far, near, slope >= 0.0);
     // A horizontal ray in the layer for ever: slope 1, ∫₀^∞ e^{−τ} dτ.
     let unbounded = 1.0 / max(abs(slope), TINY);
-    let spread = select(s.depth * fog_mean_decay(abs(slope) * s.depth), unbounded, s.depth >= BIG);
+    let spread = select(s.depth * mean_decay(abs(slope) * s.depth), unbounded, s.depth >= BIG);
     // A sun at or below the horizon lights no point under the top through the slab.
     return select(0.0, fog_exp(smallest) * spread, sin_b > 0.0);
 }

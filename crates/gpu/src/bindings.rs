@@ -4,7 +4,13 @@
 //! sides cannot disagree. A module's groups are numbered in the order its `#bindings` line names
 //! them, which is the order its pass binds them in (a test checks every pass): pipeline layouts
 //! have no gaps. Every pipeline stays within wgpu's default limits: at most 4 groups and 8 storage
-//! buffers per stage (uniform arrays hold the small per-scene tables).
+//! buffers per stage (uniform arrays hold the small per-scene tables; the sky's tables, too
+//! large for a uniform, are sampled textures, which have a limit of their own).
+//!
+//! The lights and materials travel with the scene's media in one group — [`SHADING`],
+//! [`SHADING_FOG`], [`SHADING_SKY`] or [`SHADING_FOG_SKY`], picked by [`shading`] — since the
+//! shade pass of a scene with free forms and terrains already binds four groups. A module names
+//! that group `shading` in its `#bindings` line and `shader::compose` substitutes the scene's.
 
 use crate::GpuContext;
 use bytemuck::Pod;
@@ -18,6 +24,8 @@ pub enum Access {
     StorageReadWrite,
     /// A write-only 2D storage texture of this format.
     Texture(wgpu::TextureFormat),
+    /// A 2D texture of unfilterable floats (`texture_2d<f32>`), read with `textureLoad`.
+    Sampled,
 }
 
 /// One binding of a group.
@@ -85,27 +93,56 @@ pub const WORK: Group = Group {
     ],
 };
 
-/// What lights a scene: its lights (camera-relative) and materials, and — in
-/// [`SHADING_FOG`] only — its fog layer (camera-relative heights, written per frame).
-const SHADING_BINDINGS: [Binding; 3] = [
-    binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform),
-    binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform),
-    binding(2, "fog", "GpuFog", Uniform),
-];
+/// What lights a scene: its lights (camera-relative) and materials.
+const LIGHTS: Binding = binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform);
+const MATERIALS: Binding = binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform);
+/// The fog layer (camera-relative heights, written per frame).
+const FOG: Binding = binding(2, "fog", "GpuFog", Uniform);
+/// The sky: its parameters (written per frame), its transmittance table (resident) and its
+/// sky-view table (written when the eye's height changes).
+const SKY: Binding = binding(3, "sky", "GpuSky", Uniform);
+const SKY_TRANSMITTANCE: Binding = binding(
+    4,
+    "sky_transmittance_table",
+    "texture_2d<f32>",
+    Access::Sampled,
+);
+const SKY_VIEW: Binding = binding(5, "sky_view_table", "texture_2d<f32>", Access::Sampled);
 
-/// Lights and materials, for the shade pass of a scene without fog.
+/// Lights and materials, for a scene without media.
 pub const SHADING: Group = Group {
     name: "shading",
-    bindings: SHADING_BINDINGS.split_at(2).0,
+    bindings: &[LIGHTS, MATERIALS],
 };
 
-/// [`SHADING`] and the fog layer, for the shade and media passes of a scene with fog. The fog
-/// travels with the lights rather than in a group of its own: the shade pass of a scene with
-/// free forms and terrains already binds four groups, wgpu's default limit.
+/// [`SHADING`] and the fog layer, for the shade and media passes of a scene with fog.
 pub const SHADING_FOG: Group = Group {
     name: "shading_fog",
-    bindings: &SHADING_BINDINGS,
+    bindings: &[LIGHTS, MATERIALS, FOG],
 };
+
+/// [`SHADING`] and the sky, for the shade and media passes of a scene with a sky.
+pub const SHADING_SKY: Group = Group {
+    name: "shading_sky",
+    bindings: &[LIGHTS, MATERIALS, SKY, SKY_TRANSMITTANCE, SKY_VIEW],
+};
+
+/// [`SHADING`], the fog layer and the sky.
+pub const SHADING_FOG_SKY: Group = Group {
+    name: "shading_fog_sky",
+    bindings: &[LIGHTS, MATERIALS, FOG, SKY, SKY_TRANSMITTANCE, SKY_VIEW],
+};
+
+/// The lights-and-materials group of a scene with (or without) fog and a sky: what a module's
+/// `shading` stands for. A scene without a medium binds none of its buffers.
+pub const fn shading(fog: bool, sky: bool) -> Group {
+    match (fog, sky) {
+        (false, false) => SHADING,
+        (true, false) => SHADING_FOG,
+        (false, true) => SHADING_SKY,
+        (true, true) => SHADING_FOG_SKY,
+    }
+}
 
 /// The terrains (camera-relative parameters, this view's level-of-detail parameters) and their
 /// pyramids and samples, concatenated.
@@ -180,18 +217,38 @@ pub const FOG_BATCH: Group = Group {
     ],
 };
 
+/// The batch sky pass (`SkyPass`): the sky's parameters and tables, queries in, answers out.
+pub const SKY_BATCH: Group = Group {
+    name: "sky_batch",
+    bindings: &[
+        binding(0, "sky", "GpuSky", Uniform),
+        binding(
+            1,
+            "sky_transmittance_table",
+            "texture_2d<f32>",
+            Access::Sampled,
+        ),
+        binding(2, "sky_view_table", "texture_2d<f32>", Access::Sampled),
+        binding(3, "sky_queries", "array<vec4<f32>>", StorageRead),
+        binding(4, "sky_results", "array<vec4<f32>>", StorageReadWrite),
+    ],
+};
+
 /// Every group, for the include step.
-pub const GROUPS: [Group; 10] = [
+pub const GROUPS: [Group; 13] = [
     FRAME,
     FREE_FORMS,
     WORK,
     SHADING,
     SHADING_FOG,
+    SHADING_SKY,
+    SHADING_FOG_SKY,
     TERRAINS,
     TARGETS,
     REBASE,
     TERRAIN_BATCH,
     FOG_BATCH,
+    SKY_BATCH,
 ];
 
 impl Group {
@@ -213,6 +270,7 @@ impl Group {
                     "{at} var {}: texture_storage_2d<{}, write>;\n",
                     b.name, b.wgsl
                 ),
+                Access::Sampled => format!("{at} var {}: {};\n", b.name, b.wgsl),
             };
             s.push_str(&line);
         }
@@ -237,6 +295,11 @@ impl Group {
                         format,
                         view_dimension: wgpu::TextureViewDimension::D2,
                     },
+                    Access::Sampled => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
                 },
                 count: None,
             })
@@ -248,6 +311,14 @@ impl Group {
         self.bindings
             .iter()
             .filter(|b| matches!(b.access, StorageRead | StorageReadWrite))
+            .count() as u32
+    }
+
+    /// Sampled textures the group binds.
+    pub fn sampled_textures(&self) -> u32 {
+        self.bindings
+            .iter()
+            .filter(|b| b.access == Access::Sampled)
             .count() as u32
     }
 
@@ -380,23 +451,43 @@ mod tests {
             assert!(g.declarations(2).contains("@group(2)"));
         }
         // The passes' group sets (see `passes`): storage buffers per stage within the default.
-        for set in [
-            &[FRAME, FREE_FORMS, WORK][..],
-            &[FRAME, WORK, TERRAINS],
-            &[FRAME, FREE_FORMS, SHADING, TERRAINS],
-            &[FRAME, FREE_FORMS, SHADING_FOG, TERRAINS],
-            &[FRAME, SHADING_FOG],
-            &[FRAME, TARGETS],
-            &[REBASE],
-            &[TERRAIN_BATCH, TERRAINS],
-            &[FOG_BATCH],
-        ] {
+        let mut sets = vec![
+            vec![FRAME, FREE_FORMS, WORK],
+            vec![FRAME, WORK, TERRAINS],
+            vec![FRAME, TARGETS],
+            vec![REBASE],
+            vec![TERRAIN_BATCH, TERRAINS],
+            vec![FOG_BATCH],
+            vec![SKY_BATCH],
+        ];
+        for (fog, sky) in [(false, false), (true, false), (false, true), (true, true)] {
+            sets.push(vec![FRAME, FREE_FORMS, shading(fog, sky), TERRAINS]);
+            sets.push(vec![FRAME, shading(fog, sky)]);
+        }
+        for set in sets {
             let storage: u32 = set.iter().map(Group::storage_buffers).sum();
             assert!(
                 storage <= defaults.max_storage_buffers_per_shader_stage,
                 "{storage}"
             );
+            let textures: u32 = set.iter().map(Group::sampled_textures).sum();
+            assert!(textures <= defaults.max_sampled_textures_per_shader_stage);
             assert!(set.len() as u32 <= defaults.max_bind_groups);
         }
+        // A scene without a medium binds none of its parameters or tables.
+        assert_eq!(shading(false, false), SHADING);
+        assert!(
+            SHADING
+                .bindings
+                .iter()
+                .all(|b| b.name != "fog" && !b.name.starts_with("sky"))
+        );
+        assert!(
+            !SHADING_FOG
+                .bindings
+                .iter()
+                .any(|b| b.name.starts_with("sky"))
+        );
+        assert!(!SHADING_SKY.bindings.iter().any(|b| b.name == "fog"));
     }
 }

@@ -28,6 +28,7 @@ const OPTIONS: ModuleOptions = ModuleOptions {
     },
     terrain: false,
     fog: true,
+    sky: false,
 };
 
 /// One ray of a batch, relative to the fog's reference point: `(origin, t_lo)`,

@@ -6,10 +6,11 @@
 //! monotone segments finished by Illinois, CSG by one evaluator over the postfix program),
 //! terrains by the max-pyramid search of `fray-terrain` — narrowing each ray's nearest hit, then
 //! surfaces and shading like `fray-trace` (ambient + Lambert albedo/π + normalised Phong, shadow
-//! rays any-hit per kind, light through the fog), then the media (Klassen's fog layer of
-//! `fray-atmosphere`, a media pass: `T · L + L_in`, misses included), then resolve into storage
-//! textures (tone mapped on the GPU), read
-//! back only to make a [`fray_core::Frame`]. f32, every position camera-relative; pipelines
+//! rays any-hit per kind, light through the fog and the air), then the media (Klassen's fog layer
+//! and the physically based sky of `fray-atmosphere`, a media pass: `T · L + L_in`, misses
+//! included, the sky's tables and the sun's disc as their background, the air's aerial
+//! perspective marched per ray), then resolve into storage textures (tone mapped on the GPU),
+//! read back only to make a [`fray_core::Frame`]. f32, every position camera-relative; pipelines
 //! specialised to the scene (absent features compile to nothing) and cached. ε on the GPU is
 //! `max(scene ε, 2⁻²⁰ · camera distance)` ([`gpu_epsilon`]).
 //!
@@ -41,6 +42,8 @@ mod readback;
 mod render;
 pub mod resident;
 pub mod shader;
+pub mod sky_pass;
+mod sky_tables;
 pub mod terrain_pass;
 mod timestamps;
 pub mod work;
@@ -53,5 +56,6 @@ pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
     SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon, gpu_epsilon_for, render,
 };
+pub use sky_pass::{SkyBatch, SkyPass};
 pub use terrain_pass::TerrainPass;
 pub use work::GpuWork;

@@ -1,10 +1,10 @@
 //! The GPU frame: settings, the f32 ε, the renderer (a device and its pipeline cache) and the
 //! resident scene a frame is rendered from ([`GpuScene`]) — per frame the rebase, the quadtree
 //! work list, then per band of rows the passes (ray generation → free forms → terrains →
-//! shading → media (fog) → resolve into storage textures), and the textures read back into a
-//! [`Frame`].
+//! shading → media (fog, sky) → resolve into storage textures), and the textures read back into
+//! a [`Frame`].
 
-use crate::bindings::{self, FRAME, FREE_FORMS, SHADING, SHADING_FOG, TARGETS, TERRAINS, WORK};
+use crate::bindings::{self, FRAME, FREE_FORMS, TARGETS, TERRAINS, WORK};
 use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams, GpuPath, View};
 use crate::passes::freeform::FreeFormPass;
@@ -21,7 +21,7 @@ use crate::shader::{self, ModuleOptions, Specialisation};
 use crate::timestamps::Timestamps;
 use crate::work::{GpuWork, TILE, quadtree_config};
 use crate::{GpuContext, GpuError};
-use fray_atmosphere::gpu_layout::GpuFog;
+use fray_atmosphere::gpu_layout::{GpuFog, GpuSky, GpuSkyOptions};
 use fray_core::{Frame, Image, MemoryBudget, PixelSamples, RenderStats};
 use fray_scene::Scene;
 use glam::{DVec3, Vec3};
@@ -152,7 +152,7 @@ struct Passes {
     free_forms: Option<FreeFormPass>,
     terrains: Option<TerrainIntersectPass>,
     shade: ShadePass,
-    /// Only with fog.
+    /// Only with fog or a sky.
     media: Option<MediaPass>,
     resolve: ResolvePass,
 }
@@ -183,7 +183,8 @@ struct Targets {
 }
 
 /// A scene resident on the GPU: render it from any view; a frame from a moved camera re-runs the
-/// quadtree and uploads only the camera and the work list ([`RenderStats::uploaded_bytes`],
+/// quadtree and uploads only the camera, the media's parameters and the work list — and, with a
+/// sky, its sky-view table when the eye's height changed ([`RenderStats::uploaded_bytes`],
 /// [`RenderStats::scene_uploaded_bytes`], [`RenderStats::pipelines_built`] say so).
 #[derive(Debug)]
 pub struct GpuScene<'a> {
@@ -198,6 +199,9 @@ pub struct GpuScene<'a> {
     timestamps: Option<Timestamps>,
     /// The camera offset the camera-relative copies hold (`None`: not yet rebased).
     rebased_for: Option<([f32; 4], [f32; 4])>,
+    /// The observer radius (f64 bits) the sky-view texture holds the table of (`None`: not yet
+    /// written); the table depends on nothing else that moves.
+    sky_view_for: Option<u64>,
     /// Scene bytes and pipeline builds not yet reported by a frame (the upload's).
     pending_scene_bytes: u64,
     pending_pipelines: (u32, Duration),
@@ -211,9 +215,6 @@ impl<'a> GpuScene<'a> {
     ) -> Result<Self, GpuError> {
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
-        }
-        if scene.features.sky {
-            return Err(GpuError::Unsupported { feature: "the sky" });
         }
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;
@@ -232,6 +233,7 @@ impl<'a> GpuScene<'a> {
             sizes,
             terrain: !scene.terrains.is_empty(),
             fog: scene.atmosphere.fog.is_some(),
+            sky: scene.atmosphere.sky.is_some(),
         };
         let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
@@ -252,7 +254,10 @@ impl<'a> GpuScene<'a> {
                 .then(|| TerrainIntersectPass::new(&setup))
                 .transpose()?,
             shade: ShadePass::new(&setup)?,
-            media: options.fog.then(|| MediaPass::new(&setup)).transpose()?,
+            media: specialisation
+                .media()
+                .then(|| MediaPass::new(&setup))
+                .transpose()?,
             resolve: ResolvePass::new(&setup)?,
         };
         let pending_pipelines = cache.take_built();
@@ -291,6 +296,7 @@ impl<'a> GpuScene<'a> {
             targets: None,
             timestamps: Timestamps::new(ctx),
             rebased_for: None,
+            sky_view_for: None,
             pending_pipelines,
         })
     }
@@ -374,14 +380,7 @@ impl<'a> GpuScene<'a> {
             self.resident.copy_tables(&mut encoder);
             self.rebased_for = Some(offset);
         }
-        if let (Some(buffer), Some(fog)) = (&self.resident.fog, &scene.atmosphere.fog) {
-            // The layer's heights relative to this view's eye, in f64 before rounding.
-            let eye = params::reference_point(&view.camera);
-            let gpu_fog = GpuFog::new(&fog.layer, fog.model, eye.y);
-            ctx.queue
-                .write_buffer(buffer, 0, bytemuck::bytes_of(&gpu_fog));
-            uploaded += std::mem::size_of::<GpuFog>() as u64;
-        }
+        uploaded += self.write_media(view);
         if let Some(t) = &self.resident.terrains {
             let footprint = view.camera.pixel_footprint(width, height);
             let lods = terrain_lods(scene, footprint);
@@ -439,6 +438,7 @@ impl<'a> GpuScene<'a> {
                     rays,
                 );
                 if let Some(media) = &self.passes.media {
+                    // The shading group holds the media's parameters and tables.
                     media.encode(&mut pass, ctx, [&groups.frame, &groups.shading], rays);
                 }
                 self.passes.resolve.encode(
@@ -544,6 +544,59 @@ impl<'a> GpuScene<'a> {
             normals,
             stats,
         })
+    }
+
+    /// This view's media parameters, from f64: the fog's heights relative to the eye (and the
+    /// sky's sun's irradiance at its top, through the air above it, as the CPU's `Media::of`
+    /// takes it); the sky's block for the eye; and the sky-view table of the eye's height when
+    /// that height changed since the last frame (a camera moving level uploads none). Returns
+    /// the bytes written.
+    fn write_media(&mut self, view: &View) -> u64 {
+        let ctx = &self.renderer.ctx;
+        let scene = self.scene;
+        let eye = params::reference_point(&view.camera);
+        let mut uploaded = 0;
+        let sky = scene.atmosphere.sky.as_ref();
+        if let (Some(buffer), Some(fog)) = (&self.resident.fog, &scene.atmosphere.fog) {
+            // The layer's heights relative to this view's eye, in f64 before rounding.
+            let mut gpu_fog = GpuFog::new(&fog.layer, fog.model, eye.y);
+            if let Some((s, index)) = sky.and_then(|s| s.sun_light.map(|i| (s, i))) {
+                let top = DVec3::new(eye.x, fog.layer.top, eye.z);
+                gpu_fog = gpu_fog.with_sky_sun(index, s.sky.transmittance_to_sun(top, eye));
+            }
+            ctx.queue
+                .write_buffer(buffer, 0, bytemuck::bytes_of(&gpu_fog));
+            uploaded += std::mem::size_of::<GpuFog>() as u64;
+        }
+        if let (Some(resident), Some(s)) = (&self.resident.sky, sky) {
+            let radius = s.sky.model().observer_radius(eye.y).to_bits();
+            if self.sky_view_for != Some(radius) {
+                // The CPU builds the table in f64 (as fray-trace's Media::of does per frame).
+                let sky_view = s.sky.view(eye);
+                let table = sky_view.table();
+                uploaded += crate::sky_tables::write_table(
+                    ctx,
+                    &resident.view,
+                    table.width(),
+                    table.texels(),
+                );
+                self.sky_view_for = Some(radius);
+            }
+            let block = GpuSky::new(
+                &s.sky,
+                eye.y,
+                GpuSkyOptions {
+                    sun_disc: s.sun_disc,
+                    aerial_perspective: s.aerial_perspective,
+                    steps: s.steps,
+                    sun_light: s.sun_light,
+                },
+            );
+            ctx.queue
+                .write_buffer(&resident.params, 0, bytemuck::bytes_of(&block));
+            uploaded += std::mem::size_of::<GpuSky>() as u64;
+        }
+        uploaded
     }
 
     /// Rows per band for `view`: a multiple of the tile side (every item lies in one band) whose
@@ -706,25 +759,29 @@ impl<'a> GpuScene<'a> {
                 b.indices.as_entire_binding(),
             ],
         );
-        let shading = match &r.fog {
-            Some(fog) => SHADING_FOG.bind(
-                device,
-                &cache.layout(ctx, &SHADING_FOG),
-                &[
-                    r.lights_table.as_entire_binding(),
-                    r.materials.as_entire_binding(),
-                    fog.as_entire_binding(),
-                ],
-            ),
-            None => SHADING.bind(
-                device,
-                &cache.layout(ctx, &SHADING),
-                &[
-                    r.lights_table.as_entire_binding(),
-                    r.materials.as_entire_binding(),
-                ],
-            ),
-        };
+        // The lights and materials with the scene's media (`bindings::shading`), in its order.
+        let shading_group = bindings::shading(r.fog.is_some(), r.sky.is_some());
+        let sky_views = r.sky.as_ref().map(|s| {
+            (
+                crate::sky_tables::view(&s.transmittance),
+                crate::sky_tables::view(&s.view),
+            )
+        });
+        let mut resources = vec![
+            r.lights_table.as_entire_binding(),
+            r.materials.as_entire_binding(),
+        ];
+        if let Some(fog) = &r.fog {
+            resources.push(fog.as_entire_binding());
+        }
+        if let (Some(sky), Some((transmittance, sky_view))) = (&r.sky, &sky_views) {
+            resources.extend([
+                sky.params.as_entire_binding(),
+                wgpu::BindingResource::TextureView(transmittance),
+                wgpu::BindingResource::TextureView(sky_view),
+            ]);
+        }
+        let shading = shading_group.bind(device, &cache.layout(ctx, &shading_group), &resources);
         let terrains = r.terrains.as_ref().map(|t| {
             TERRAINS.bind(
                 device,

@@ -2,9 +2,10 @@
 //! eye), with the camera-relative copies the rebase pass refreshes from it — so a frame from a
 //! moved camera uploads only the camera and its work list. Free forms (solids, leaves,
 //! perturbations and their CSG programs, at the head of `indices`), lights, materials, the
-//! terrains (parameters, concatenated pyramids and samples) and the fog layer's parameters
-//! (camera-relative heights, written per frame); every buffer checked against the device's
-//! limits before it is made.
+//! terrains (parameters, concatenated pyramids and samples), the fog layer's parameters
+//! (camera-relative heights, written per frame) and the sky (its transmittance table, uploaded
+//! here once; its sky-view table, written when the eye's height changes; its parameters, written
+//! per frame); every buffer and texture checked against the device's limits before it is made.
 
 use crate::bindings::{self};
 use crate::params::{self, GpuLight, GpuMaterial};
@@ -12,7 +13,7 @@ use crate::passes::PipelineCache;
 use crate::passes::rebase::{RebaseLayout, Rebased};
 use crate::terrain_pass::{TerrainUpload, terrain_arrays};
 use crate::{GpuContext, GpuError};
-use fray_atmosphere::gpu_layout::GpuFog;
+use fray_atmosphere::gpu_layout::{GpuFog, GpuSky};
 use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuQuadric, GpuSolid, GpuSolids};
 use fray_scene::Scene;
 use fray_terrain::gpu_layout::GpuTerrainParams;
@@ -67,6 +68,18 @@ pub struct ResidentTerrains {
     pub samples: wgpu::Buffer,
 }
 
+/// The sky on the GPU.
+#[derive(Debug)]
+pub struct ResidentSky {
+    /// Its parameters (`GpuSky`, a uniform written per frame from f64).
+    pub params: wgpu::Buffer,
+    /// The transmittance table (optical depth), uploaded once: it depends on the model only.
+    pub transmittance: wgpu::Texture,
+    /// The sky-view table of the eye's height (`Sky::view`), written when that height changes:
+    /// it depends neither on the eye's horizontal position nor on where the camera looks.
+    pub view: wgpu::Texture,
+}
+
 /// A scene on the GPU.
 #[derive(Debug)]
 pub struct ResidentScene {
@@ -87,6 +100,8 @@ pub struct ResidentScene {
     /// The fog layer's parameters (`GpuFog`, a uniform written per frame: its heights are
     /// relative to the camera's); `None` without fog.
     pub fog: Option<wgpu::Buffer>,
+    /// The sky's parameters and tables; `None` without a sky (nothing of it is allocated).
+    pub sky: Option<ResidentSky>,
     /// Bytes uploaded.
     pub bytes: u64,
 }
@@ -159,6 +174,14 @@ impl ResidentScene {
             )?),
             None => None,
         };
+        let sky = match &scene.atmosphere.sky {
+            Some(s) => {
+                let (sky, b) = upload_sky(ctx, &s.sky)?;
+                bytes += b;
+                Some(sky)
+            }
+            None => None,
+        };
         Ok(Self {
             anchor,
             flat,
@@ -171,6 +194,7 @@ impl ResidentScene {
             materials: materials_buffer,
             terrains,
             fog,
+            sky,
             bytes,
         })
     }
@@ -243,6 +267,43 @@ fn upload_terrains(
             lods,
             pyramid,
             samples,
+        },
+        bytes,
+    ))
+}
+
+/// The sky's parameter block (empty: written per frame), its transmittance table (uploaded) and
+/// its sky-view table (empty: written per eye height); returns them and the bytes uploaded.
+fn upload_sky(
+    ctx: &GpuContext,
+    sky: &fray_atmosphere::sky::Sky,
+) -> Result<(ResidentSky, u64), GpuError> {
+    let table = sky.transmittance_table();
+    let transmittance = crate::sky_tables::table_texture(
+        ctx,
+        "the sky's transmittance table (texels per side)",
+        table.width(),
+        table.height(),
+    )?;
+    let bytes = crate::sky_tables::write_table(ctx, &transmittance, table.width(), table.texels());
+    let sizes = sky.tables();
+    let view = crate::sky_tables::table_texture(
+        ctx,
+        "the sky-view table (texels per side)",
+        sizes.sky_view_width,
+        sizes.sky_view_height,
+    )?;
+    let params = bindings::empty(
+        ctx,
+        "sky",
+        size_of::<GpuSky>() as u64,
+        U::UNIFORM | U::COPY_DST,
+    )?;
+    Ok((
+        ResidentSky {
+            params,
+            transmittance,
+            view,
         },
         bytes,
     ))

@@ -6,11 +6,14 @@
 //! - `// #include "file.wgsl"` — the file's text, once per module (WGSL declarations may come
 //!   in any order, so included text is simply appended);
 //! - `// #include "file.wgsl" if terrain` / `… unless terrain` — only with / without a terrain
-//!   (likewise `if fog` / `unless fog`: with / without a fog layer);
+//!   (likewise `if fog` / `unless fog`: with / without a fog layer; `if sky` / `unless sky`:
+//!   with / without a physically based sky);
 //! - `// #instantiate "file.wgsl" { KEY: value; … }` — the file as a template, each `{{KEY}}`
 //!   replaced (the CSG evaluator, once per algebra);
 //! - `// #bindings frame, work, terrains if terrain` — the generated declarations of those bind
-//!   groups (`bindings::GROUPS`), under the same conditions.
+//!   groups (`bindings::GROUPS`), under the same conditions; `shading` stands for the scene's
+//!   lights-and-media group (`bindings::shading`: with the fog's and the sky's bindings only
+//!   where the scene has them).
 
 use crate::{bindings, counters, params};
 use fray_core::gpu_struct::GpuStruct;
@@ -18,17 +21,22 @@ use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/`.
-pub const SHADER_FILES: [(&str, &str); 23] = [
+pub const SHADER_FILES: [(&str, &str); 32] = [
     ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
     (
         "counters.wgsl",
         include_str!("../../../shaders/counters.wgsl"),
     ),
     ("csg.wgsl", include_str!("../../../shaders/csg.wgsl")),
+    ("decay.wgsl", include_str!("../../../shaders/decay.wgsl")),
     ("fog.wgsl", include_str!("../../../shaders/fog.wgsl")),
     (
         "fog_batch.wgsl",
         include_str!("../../../shaders/fog_batch.wgsl"),
+    ),
+    (
+        "fog_media.wgsl",
+        include_str!("../../../shaders/fog_media.wgsl"),
     ),
     (
         "fog_shading.wgsl",
@@ -49,6 +57,15 @@ pub const SHADER_FILES: [(&str, &str); 23] = [
     ("media.wgsl", include_str!("../../../shaders/media.wgsl")),
     ("no_fog.wgsl", include_str!("../../../shaders/no_fog.wgsl")),
     (
+        "no_fog_media.wgsl",
+        include_str!("../../../shaders/no_fog_media.wgsl"),
+    ),
+    ("no_sky.wgsl", include_str!("../../../shaders/no_sky.wgsl")),
+    (
+        "no_sky_media.wgsl",
+        include_str!("../../../shaders/no_sky_media.wgsl"),
+    ),
+    (
         "no_terrain.wgsl",
         include_str!("../../../shaders/no_terrain.wgsl"),
     ),
@@ -68,6 +85,19 @@ pub const SHADER_FILES: [(&str, &str); 23] = [
         include_str!("../../../shaders/samples.wgsl"),
     ),
     ("shade.wgsl", include_str!("../../../shaders/shade.wgsl")),
+    ("sky.wgsl", include_str!("../../../shaders/sky.wgsl")),
+    (
+        "sky_batch.wgsl",
+        include_str!("../../../shaders/sky_batch.wgsl"),
+    ),
+    (
+        "sky_media.wgsl",
+        include_str!("../../../shaders/sky_media.wgsl"),
+    ),
+    (
+        "sky_shading.wgsl",
+        include_str!("../../../shaders/sky_shading.wgsl"),
+    ),
     (
         "terrain.wgsl",
         include_str!("../../../shaders/terrain.wgsl"),
@@ -86,8 +116,8 @@ pub const SHADER_FILES: [(&str, &str); 23] = [
     ),
 ];
 
-/// The entry modules, one per pass (`passes::*`, `TerrainPass` and `FogPass`).
-pub const ENTRY_MODULES: [&str; 9] = [
+/// The entry modules, one per pass (`passes::*`, `TerrainPass`, `FogPass` and `SkyPass`).
+pub const ENTRY_MODULES: [&str; 10] = [
     "raygen.wgsl",
     "intersect_freeform.wgsl",
     "intersect_terrain.wgsl",
@@ -97,6 +127,7 @@ pub const ENTRY_MODULES: [&str; 9] = [
     "rebase.wgsl",
     "terrain_batch.wgsl",
     "fog_batch.wgsl",
+    "sky_batch.wgsl",
 ];
 
 /// The text of shader file `name`.
@@ -157,6 +188,8 @@ pub struct ModuleOptions {
     pub terrain: bool,
     /// The scene has a fog layer (`if fog` / `unless fog`).
     pub fog: bool,
+    /// The scene has a physically based sky (`if sky` / `unless sky`).
+    pub sky: bool,
 }
 
 impl Default for ModuleOptions {
@@ -165,6 +198,7 @@ impl Default for ModuleOptions {
             sizes: ArraySizes::default(),
             terrain: true,
             fog: true,
+            sky: true,
         }
     }
 }
@@ -234,6 +268,8 @@ impl Compose {
             "unless terrain" => !self.options.terrain,
             "if fog" => self.options.fog,
             "unless fog" => !self.options.fog,
+            "if sky" => self.options.sky,
+            "unless sky" => !self.options.sky,
             _ => false,
         }
     }
@@ -271,15 +307,20 @@ impl Compose {
                     if !self.condition(condition) {
                         continue;
                     }
-                    let g = bindings::GROUPS
-                        .iter()
-                        .find(|g| g.name == group)
-                        .ok_or_else(|| ComposeError::UnknownGroup {
-                            file: name.to_owned(),
-                            group: group.to_owned(),
-                        })?;
-                    if !self.groups.contains(g) {
-                        self.groups.push(*g);
+                    let g = if group == "shading" {
+                        // The scene's lights with its media (see `bindings::shading`).
+                        bindings::shading(self.options.fog, self.options.sky)
+                    } else {
+                        *bindings::GROUPS
+                            .iter()
+                            .find(|g| g.name == group)
+                            .ok_or_else(|| ComposeError::UnknownGroup {
+                                file: name.to_owned(),
+                                group: group.to_owned(),
+                            })?
+                    };
+                    if !self.groups.contains(&g) {
+                        self.groups.push(g);
                     }
                 }
             } else {
@@ -348,8 +389,8 @@ fn instantiate(from: &str, template: &str, args: &str) -> Result<String, Compose
 }
 
 /// The generated prelude: the geometry structs and op codes (fray-geometry), the terrain's
-/// parameter struct (fray-terrain), the fog layer's (fray-atmosphere), the work-list structs
-/// (fray-quadtree), this crate's frame, path, light, material and rebase structs, the shared
+/// parameter struct (fray-terrain), the fog layer's and the sky's (fray-atmosphere), the
+/// work-list structs (fray-quadtree), this crate's frame, path, light, material and rebase structs, the shared
 /// constants, the counters' layout and the array sizes.
 pub fn prelude(sizes: &ArraySizes) -> String {
     let mut s = gpu_layout::wgsl_declarations();
@@ -425,6 +466,8 @@ pub struct Specialisation {
     pub terrain: bool,
     /// A fog layer: the media pass runs and resolve takes the misses' radiance from it.
     pub fog: bool,
+    /// A physically based sky: likewise (the media pass draws it and its air).
+    pub sky: bool,
 }
 
 impl Specialisation {
@@ -441,7 +484,13 @@ impl Specialisation {
             projector: params::projector_kind(&scene.camera),
             terrain: !scene.terrains.is_empty(),
             fog: scene.atmosphere.fog.is_some(),
+            sky: scene.atmosphere.sky.is_some(),
         }
+    }
+
+    /// Whether the scene has media (fog or a sky): the media pass runs.
+    pub fn media(&self) -> bool {
+        self.fog || self.sky
     }
 
     /// The `override` constants of entry module `entry` (each module declares only its own).
@@ -453,7 +502,7 @@ impl Specialisation {
         ];
         match entry {
             "raygen.wgsl" => vec![("PROJECTOR", f64::from(self.projector))],
-            "resolve.wgsl" => vec![("HAS_MEDIA", b(self.fog))],
+            "resolve.wgsl" => vec![("HAS_MEDIA", b(self.media()))],
             "intersect_freeform.wgsl" => free_form.to_vec(),
             "shade.wgsl" => {
                 let mut c = free_form.to_vec();
@@ -486,6 +535,7 @@ impl Specialisation {
             (self.point_lights, "point-lights"),
             (self.terrain, "terrain"),
             (self.fog, "fog"),
+            (self.sky, "sky"),
         ] {
             if on {
                 parts.push(name);
@@ -530,7 +580,8 @@ mod tests {
         embedded.sort();
         assert_eq!(on_disk, embedded, "every file in shaders/ must be embedded");
         let mut reached: Vec<String> = Vec::new();
-        for (terrain, fog) in [(false, false), (true, false), (false, true), (true, true)] {
+        for k in 0..8u32 {
+            let (terrain, fog, sky) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
             for sizes in [
                 ArraySizes::default(),
                 ArraySizes {
@@ -546,10 +597,14 @@ mod tests {
                     sizes,
                     terrain,
                     fog,
+                    sky,
                 };
                 for entry in ENTRY_MODULES {
                     let source = compose(entry, &options).unwrap();
-                    validate(&format!("{entry} (terrain {terrain}, fog {fog})"), &source);
+                    validate(
+                        &format!("{entry} (terrain {terrain}, fog {fog}, sky {sky})"),
+                        &source,
+                    );
                     for (name, text) in SHADER_FILES {
                         if !text.is_empty() && source.contains(&format!("// ---- {name}")) {
                             reached.push(name.to_owned());
@@ -599,7 +654,7 @@ mod tests {
             shade.contains("// ---- fog.wgsl ----") && shade.contains("var<uniform> fog: GpuFog")
         );
         assert!(!shade.contains("// ---- no_fog.wgsl ----"));
-        for entry in ["shade.wgsl", "resolve.wgsl"] {
+        for entry in ["shade.wgsl", "resolve.wgsl", "media.wgsl"] {
             let clear = compose(
                 entry,
                 &ModuleOptions {
@@ -611,10 +666,58 @@ mod tests {
             assert!(
                 !clear.contains("// ---- fog.wgsl ----")
                     && !clear.contains("// ---- fog_shading.wgsl ----")
+                    && !clear.contains("// ---- fog_media.wgsl ----")
                     && !clear.contains("var<uniform> fog"),
                 "{entry}"
             );
         }
+        // And the sky's: with a sky, shade reads its transmittance table and media both tables;
+        // without, neither module has sky code, the sky's block or a table.
+        assert!(
+            shade.contains("// ---- sky.wgsl ----")
+                && shade.contains("// ---- sky_shading.wgsl ----")
+                && shade.contains("var<uniform> sky: GpuSky")
+                && shade.contains("var sky_transmittance_table: texture_2d<f32>")
+                && !shade.contains("// ---- no_sky.wgsl ----")
+        );
+        let media = compose("media.wgsl", &options).unwrap();
+        assert!(
+            media.contains("// ---- sky_media.wgsl ----")
+                && media.contains("// ---- fog_media.wgsl ----")
+        );
+        for entry in ["shade.wgsl", "resolve.wgsl", "media.wgsl"] {
+            let clear = compose(
+                entry,
+                &ModuleOptions {
+                    sky: false,
+                    ..options
+                },
+            )
+            .unwrap();
+            assert!(
+                !clear.contains("// ---- sky.wgsl ----")
+                    && !clear.contains("// ---- sky_shading.wgsl ----")
+                    && !clear.contains("// ---- sky_media.wgsl ----")
+                    && !clear.contains("var<uniform> sky")
+                    && !clear.contains("sky_transmittance_table")
+                    && !clear.contains("sky_view_table"),
+                "{entry}"
+            );
+        }
+        // A scene with neither medium: the plain lights-and-materials group.
+        let plain = ModuleOptions {
+            fog: false,
+            sky: false,
+            ..options
+        };
+        assert_eq!(
+            module_groups("shade.wgsl", &plain).unwrap()[2],
+            bindings::SHADING
+        );
+        assert_eq!(
+            module_groups("media.wgsl", &options).unwrap()[1],
+            bindings::SHADING_FOG_SKY
+        );
         assert!(matches!(
             compose("nonexistent.wgsl", &options),
             Err(ComposeError::Missing { .. })
@@ -663,6 +766,7 @@ mod tests {
         expect::<fray_quadtree::WorkItem>(&found);
         expect::<fray_quadtree::Candidate>(&found);
         expect::<fray_atmosphere::gpu_layout::GpuFog>(&found);
+        expect::<fray_atmosphere::gpu_layout::GpuSky>(&found);
         let constants: HashMap<String, naga::Handle<naga::Expression>> = module
             .constants
             .iter()
@@ -678,6 +782,11 @@ mod tests {
             ("TILE_THREADS", crate::work::TILE),
             ("FOG_METHOD", fray_atmosphere::gpu_layout::FOG_METHOD),
             ("PHASE_PRINTED", fray_atmosphere::gpu_layout::PHASE_PRINTED),
+            ("NO_LIGHT", fray_atmosphere::gpu_layout::NO_LIGHT),
+            (
+                "SKY_AERIAL_PERSPECTIVE",
+                fray_atmosphere::gpu_layout::SKY_AERIAL_PERSPECTIVE,
+            ),
         ] {
             assert_eq!(
                 module.global_expressions[constants[name]],
@@ -711,5 +820,14 @@ mod tests {
         let f = Specialisation::for_scene(&foggy, true);
         assert!(f.fog && f.describe().ends_with("fog"));
         assert_eq!(f.constants("resolve.wgsl"), vec![("HAS_MEDIA", 1.0)]);
+        // A sky alone is media too.
+        let sky = fray_scene::parse(
+            "Scene(camera: Pinhole(eye: (0, 2, -4), look_at: (0, 0, 0)), atmosphere: (sky: ()), objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
+            "inline.ron",
+        )
+        .unwrap();
+        let k = Specialisation::for_scene(&sky, true);
+        assert!(k.sky && !k.fog && k.media() && k.describe().ends_with("sky"));
+        assert_eq!(k.constants("resolve.wgsl"), vec![("HAS_MEDIA", 1.0)]);
     }
 }

@@ -33,6 +33,7 @@ const OPTIONS: ModuleOptions = ModuleOptions {
     },
     terrain: true,
     fog: false,
+    sky: false,
 };
 
 /// The complete terrain batch module: the generated prelude (which holds the terrain's parameter

@@ -401,6 +401,95 @@ fn a_moved_camera_sees_the_fog_from_where_it_is() {
     }
 }
 
+/// The sky stays resident too: its transmittance table is scene data (uploaded once), its
+/// sky-view table depends only on the eye's height (written again only when that changes) and
+/// its parameters are written per frame. A camera moved level (here 80 m sideways) uploads its
+/// parameters and work list but no table; one moved up 300 m uploads the sky-view table of its
+/// new height (192 × 108 texels of 16 bytes) and sees the sky as a fresh upload there does.
+fn a_moved_camera_uploads_the_sky_view_table_only_for_a_new_height() {
+    let gpu = common::gpu("a_moved_camera_uploads_the_sky_view_table_only_for_a_new_height");
+    let scene = fray_scene::parse(
+        r#"Scene(
+            image: (width: 64, height: 48),
+            camera: Pinhole(eye: (0, 20, 0), look_at: (1000, 60, 300), fov_y: 40, near: 0.1),
+            lights: [Sun(direction: (0.93, 0.17, 0.3), irradiance: (20, 20, 20))],
+            atmosphere: (sky: (haze: 2)),
+            objects: [
+                (shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)),
+                    bounds: (min: (-20000, -1, -20000), max: (20000, 0, 20000)))),
+                (shape: Sphere(center: (3000, 300, 800), radius: 300)),
+            ],
+        )"#,
+        "sky.ron",
+    )
+    .unwrap();
+    let sky = scene.atmosphere.sky.as_ref().unwrap();
+    let sizes = sky.sky.tables();
+    let view_table = u64::from(sizes.sky_view_width) * u64::from(sizes.sky_view_height) * 16;
+    let transmittance =
+        u64::from(sizes.transmittance_width) * u64::from(sizes.transmittance_height) * 16;
+    let settings = GpuSettings::for_scene(&scene);
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let view = View::of_scene(&scene, settings.samples);
+    let first = resident.render(&view).unwrap();
+    assert!(first.stats.scene_uploaded_bytes >= transmittance);
+    assert!(first.stats.uploaded_bytes >= first.stats.scene_uploaded_bytes + view_table);
+    let again = resident.render(&view).unwrap();
+    assert_eq!(bits(&first), bits(&again), "the same view, other bits");
+    // The camera moved by `offset`, looking the same way.
+    let shifted = |offset: glam::DVec3| {
+        let fray_core::Projector::Pinhole(p) = scene.camera else {
+            panic!("a pinhole scene");
+        };
+        let fov = 2.0 * p.tan_half_fov_y.atan();
+        let (eye, target) = (p.eye + offset, p.eye + offset + p.basis.forward * 8.0);
+        let camera = fray_core::Pinhole::new(eye, target, glam::DVec3::Y, fov, p.near).unwrap();
+        View {
+            camera: fray_core::Projector::Pinhole(camera),
+            ..view
+        }
+    };
+    let level = shifted(glam::DVec3::new(60.0, 0.0, -50.0));
+    let up = shifted(glam::DVec3::new(0.0, 300.0, 0.0));
+    for (what, v, table) in [("level", level, false), ("up", up, true)] {
+        let frame = resident.render(&v).unwrap();
+        let stats = &frame.stats;
+        eprintln!(
+            "moved {what}: {} bytes uploaded (sky-view table {view_table}, transmittance {transmittance})",
+            stats.uploaded_bytes
+        );
+        assert_eq!(
+            (stats.pipelines_built, stats.scene_uploaded_bytes),
+            (0, 0),
+            "{what}"
+        );
+        assert_eq!(
+            stats.uploaded_bytes >= view_table,
+            table,
+            "{what}: {stats:?}"
+        );
+        let mut at_moved = scene.clone();
+        at_moved.camera = v.camera;
+        let fresh = gpu.render(&at_moved, &settings).unwrap();
+        let (mut off, mut misses) = (0usize, 0usize);
+        for ((a, b), d) in frame
+            .colour
+            .pixels()
+            .iter()
+            .zip(fresh.colour.pixels())
+            .zip(frame.depth.pixels())
+        {
+            off += usize::from((*a - *b).abs().max_element() > 1e-4 * a.max_element().max(1.0));
+            misses += usize::from(!d.is_finite());
+        }
+        let pixels = frame.colour.pixels().len();
+        eprintln!("moved {what}: {off} of {pixels} pixels off a fresh upload ({misses} sky)");
+        assert!(misses > 0, "{what}: no sky in view");
+        // Silhouette pixels may flip under the rebase's rounding.
+        assert!(off * 50 <= pixels, "{what}: {off} of {pixels} pixels");
+    }
+}
+
 fn main() {
     common::run(
         &[
@@ -431,6 +520,10 @@ fn main() {
             (
                 "a_moved_camera_sees_the_fog_from_where_it_is",
                 a_moved_camera_sees_the_fog_from_where_it_is,
+            ),
+            (
+                "a_moved_camera_uploads_the_sky_view_table_only_for_a_new_height",
+                a_moved_camera_uploads_the_sky_view_table_only_for_a_new_height,
             ),
         ],
         &[],

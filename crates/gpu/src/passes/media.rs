@@ -1,11 +1,14 @@
 //! The media pass, between shade and resolve: one invocation per ray of the band, the radiance
-//! reaching the camera through the scene's fog — `T · L_surface + L_in` over `[t_near, t_hit]`
-//! for a hit, `T · background + L_in` over `[t_near, ∞)` for a miss (`shaders/media.wgsl` over
-//! `shaders/fog.wgsl`, the f32 twin of fray-trace's `Media` and fray-atmosphere's `FogLayer`).
-//! Built only for scenes with fog; resolve is then specialised to take every ray's radiance.
+//! reaching the camera through the scene's media — `T · L_surface + L_in` over `[t_near, t_hit]`
+//! for a hit (the fog's terms and the sky's air composed in the CPU's order), `T · background +
+//! L_in` over `[t_near, ∞)` for a miss (the sky's background, or the scene's colour, through the
+//! fog) — `shaders/media.wgsl` over `shaders/fog.wgsl` and `shaders/sky.wgsl`, the f32 twins of
+//! fray-trace's `Media`, fray-atmosphere's `FogLayer` and `Sky`. Built only for scenes with fog
+//! or a sky; resolve is then specialised to take every ray's radiance.
 
 use super::{Kernel, PassSetup};
-use crate::bindings::{FRAME, Group, SHADING_FOG};
+use crate::bindings::{self, FRAME, Group};
+use crate::shader::ModuleOptions;
 use crate::{GpuContext, GpuError};
 
 /// The media pass.
@@ -15,16 +18,18 @@ pub struct MediaPass {
 }
 
 impl MediaPass {
-    /// The groups it binds: the frame (paths), the lights (suns, ambient in the frame) with the
-    /// fog layer.
-    pub const GROUPS: [Group; 2] = [FRAME, SHADING_FOG];
+    /// The groups it binds for a scene composed with `options`: the frame (paths), the lights
+    /// (suns, ambient in the frame) with the fog layer and the sky (`bindings::shading`).
+    pub fn groups(options: &ModuleOptions) -> [Group; 2] {
+        [FRAME, bindings::shading(options.fog, options.sky)]
+    }
 
     pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(setup, "media.wgsl", &Self::GROUPS)?;
+        let kernel = Kernel::new(setup, "media.wgsl", &Self::groups(setup.options))?;
         Ok(Self { kernel })
     }
 
-    /// Takes `rays` rays (the band's) through the fog.
+    /// Takes `rays` rays (the band's) through the media.
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,

@@ -1,9 +1,8 @@
 //! The GPU frame in passes, one struct each, each owning its pipeline (and its own buffers):
 //! rebase (the resident scene moved to the camera) → ray generation → intersection per
 //! primitive kind (free forms, terrains), each narrowing the rays' nearest hits → surfaces and
-//! shading (shadow rays any-hit per kind) → media (fog, only with one) → resolve into the
-//! frame's storage textures. The
-//! frame's shared buffers (paths, counters, parameters) and bind groups belong to
+//! shading (shadow rays any-hit per kind) → media (fog and the sky, only with them) → resolve
+//! into the frame's storage textures. The frame's shared buffers (paths, counters, parameters) and bind groups belong to
 //! `crate::render::GpuScene`; pipelines come from the renderer's cache.
 
 pub mod freeform;
@@ -224,20 +223,23 @@ pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, ctx: &GpuContext, group
 
 #[cfg(test)]
 mod tests {
-    use crate::bindings::{FOG_BATCH, TERRAIN_BATCH, TERRAINS};
+    use crate::bindings::{FOG_BATCH, SKY_BATCH, TERRAIN_BATCH, TERRAINS};
     use crate::shader::{self, ModuleOptions};
 
     /// Every pass binds its groups in the order its module numbers them (so a pipeline layout
     /// has no gaps and a bind group lands at the index the WGSL declares).
     #[test]
     fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for (terrain, fog) in [(false, false), (true, false), (false, true), (true, true)] {
+        for k in 0..8u32 {
+            let (terrain, fog, sky) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
             let options = ModuleOptions {
                 terrain,
                 fog,
+                sky,
                 ..ModuleOptions::default()
             };
             let shade = super::shade::ShadePass::groups(&options);
+            let media = super::media::MediaPass::groups(&options);
             for (entry, groups) in [
                 ("raygen.wgsl", &super::raygen::RayGenPass::GROUPS[..]),
                 (
@@ -249,14 +251,18 @@ mod tests {
                     &super::terrain::TerrainIntersectPass::GROUPS[..],
                 ),
                 ("shade.wgsl", &shade[..]),
-                ("media.wgsl", &super::media::MediaPass::GROUPS[..]),
+                ("media.wgsl", &media[..]),
                 ("resolve.wgsl", &super::resolve::ResolvePass::GROUPS[..]),
                 ("rebase.wgsl", &[crate::bindings::REBASE][..]),
                 ("terrain_batch.wgsl", &[TERRAIN_BATCH, TERRAINS][..]),
                 ("fog_batch.wgsl", &[FOG_BATCH][..]),
+                ("sky_batch.wgsl", &[SKY_BATCH][..]),
             ] {
                 let declared = shader::module_groups(entry, &options).unwrap();
-                assert_eq!(declared, groups, "{entry} (terrain {terrain}, fog {fog})");
+                assert_eq!(
+                    declared, groups,
+                    "{entry} (terrain {terrain}, fog {fog}, sky {sky})"
+                );
             }
         }
     }

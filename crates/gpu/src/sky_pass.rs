@@ -1,0 +1,222 @@
+//! The batch sky pass (one struct and its pipeline): `shaders/sky.wgsl` over a batch of
+//! camera-relative queries for one sky seen from one eye ([`SkyBatch`]), reading back per query
+//! what the sky gives it — the sky-view table and the background (table and sun's disc) along
+//! its direction, the aerial perspective in front of a surface at its distance, the
+//! transmittance to the sun at a point and the transmittance table at an altitude and cosine.
+//! It is the f32 twin of `fray_atmosphere::sky::{SkyView::{lookup, background},
+//! Sky::{aerial_perspective, transmittance_to_sun}, TransmittanceTable::lookup}`; a parity test
+//! bounds the difference. The GPU frame runs the same functions in its media and shade passes.
+
+use crate::bindings::SKY_BATCH;
+use crate::passes::PipelineCache;
+use crate::readback::{read_back, readback_buffer};
+use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
+use crate::sky_tables::{table_texture, view, write_table};
+use crate::{GpuContext, GpuError};
+use fray_atmosphere::gpu_layout::GpuSky;
+use fray_atmosphere::sky::{SkyViewTable, TransmittanceTable};
+use wgpu::util::DeviceExt;
+
+const PASS: &str = "sky";
+const WORKGROUP: u32 = 64;
+/// vec4s per answer.
+const ANSWER_VEC4S: usize = 6;
+
+/// What the batch module is composed with (it binds nothing of a scene).
+const OPTIONS: ModuleOptions = ModuleOptions {
+    sizes: ArraySizes {
+        max_leaves: 1,
+        max_perturbations: 1,
+        max_stack: 1,
+        max_lights: 1,
+        max_materials: 1,
+        max_terrains: 1,
+    },
+    terrain: false,
+    fog: false,
+    sky: true,
+};
+
+/// One query, relative to the eye: `(ray origin, surface distance t)` (`t ≥ 1e30`: the whole
+/// ray), `(unit ray direction, a table altitude h)`, `(a point p, a table cosine μ)`.
+pub type GpuSkyQuery = [[f32; 4]; 3];
+
+/// What the sky gave a query, as the GPU found it (RGB each).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuSkyAnswer {
+    /// The sky-view table along the direction (`SkyView::lookup`).
+    pub view: [f32; 3],
+    /// The background along it: the table and, where the block draws it, the sun's disc.
+    pub background: [f32; 3],
+    /// The aerial perspective over `[0, t]` of the ray (`Sky::aerial_perspective`).
+    pub in_scatter: [f32; 3],
+    pub transmittance: [f32; 3],
+    /// The transmittance to the sun at the point (`Sky::transmittance_to_sun`).
+    pub to_sun: [f32; 3],
+    /// The transmittance table at `(R_g + h, μ)` (`TransmittanceTable::lookup`).
+    pub table: [f32; 3],
+}
+
+/// The batch sky pass: its pipeline, built once, for any sky and eye.
+#[derive(Debug)]
+pub struct SkyPass {
+    cache: PipelineCache,
+    pipeline: std::sync::Arc<wgpu::ComputePipeline>,
+}
+
+/// One sky seen from one eye, as a batch reads it: `GpuSky::new` for the eye, the sky's
+/// transmittance table and the eye's sky-view table.
+#[derive(Clone, Copy, Debug)]
+pub struct SkyBatch<'a> {
+    pub block: &'a GpuSky,
+    pub transmittance: &'a TransmittanceTable,
+    pub view: &'a SkyViewTable,
+}
+
+impl SkyPass {
+    /// Builds the pipeline.
+    pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
+        let cache = PipelineCache::default();
+        let pipeline = cache.pipeline(
+            ctx,
+            "sky_batch.wgsl",
+            &[SKY_BATCH],
+            &OPTIONS,
+            &Specialisation::default(),
+        )?;
+        Ok(Self { cache, pipeline })
+    }
+
+    /// What `sky` gives each of `queries` (its block and tables uploaded for this batch).
+    pub fn answers(
+        &self,
+        ctx: &GpuContext,
+        sky: SkyBatch<'_>,
+        queries: &[GpuSkyQuery],
+    ) -> Result<Vec<GpuSkyAnswer>, GpuError> {
+        if queries.is_empty() {
+            return Ok(Vec::new());
+        }
+        let device = &ctx.device;
+        let query_bytes = std::mem::size_of_val(queries) as u64;
+        let bytes = (queries.len() * ANSWER_VEC4S * 16) as u64;
+        for (what, size) in [
+            ("sky batch queries", query_bytes),
+            ("sky batch results", bytes),
+        ] {
+            crate::bindings::check_buffer(ctx, what, size, wgpu::BufferUsages::STORAGE)?;
+        }
+        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sky batch parameters"),
+            contents: bytemuck::bytes_of(sky.block),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let table = |label, width, height, texels: &[[f32; 4]]| {
+            let texture = table_texture(ctx, label, width, height)?;
+            write_table(ctx, &texture, width, texels);
+            Ok::<_, GpuError>(texture)
+        };
+        let t = sky.transmittance;
+        let transmittance = table(
+            "sky batch transmittance table",
+            t.width(),
+            t.height(),
+            t.texels(),
+        )?;
+        let v = sky.view;
+        let sky_view = table(
+            "sky batch sky-view table",
+            v.width(),
+            v.height(),
+            v.texels(),
+        )?;
+        let query_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sky queries"),
+            contents: bytemuck::cast_slice(queries),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sky results"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = readback_buffer(device, "sky readback", bytes);
+        let (tv, vv) = (view(&transmittance), view(&sky_view));
+        let bind_group = SKY_BATCH.bind(
+            device,
+            &self.cache.layout(ctx, &SKY_BATCH),
+            &[
+                params.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&tv),
+                wgpu::BindingResource::TextureView(&vv),
+                query_buffer.as_entire_binding(),
+                output.as_entire_binding(),
+            ],
+        );
+        let groups = (queries.len() as u32).div_ceil(WORKGROUP);
+        let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(PASS),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
+        ctx.queue.submit([encoder.finish()]);
+        let raw: Vec<[[f32; 4]; ANSWER_VEC4S]> = read_back(device, &readback, bytes, PASS)?;
+        let rgb = |v: [f32; 4]| [v[0], v[1], v[2]];
+        Ok(raw
+            .iter()
+            .map(|a| GpuSkyAnswer {
+                view: rgb(a[0]),
+                background: rgb(a[1]),
+                in_scatter: rgb(a[2]),
+                transmittance: rgb(a[3]),
+                to_sun: rgb(a[4]),
+                table: rgb(a[5]),
+            })
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The batch module (generated structs + sky.wgsl) validates with naga, and its `GpuSky` is
+    /// laid out as Rust's (every field in order, at Rust's offset).
+    #[test]
+    fn sky_wgsl_validates_and_its_struct_layout_matches_rust() {
+        let source = crate::shader::compose("sky_batch.wgsl", &OPTIONS).unwrap();
+        let module = naga::front::wgsl::parse_str(&source).expect("sky_batch.wgsl parses");
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module);
+        assert!(info.is_ok(), "{info:?}");
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("GpuSky"))
+            .expect("GpuSky declared");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("GpuSky is not a struct");
+        };
+        assert_eq!(*span as usize, std::mem::size_of::<GpuSky>());
+        use fray_atmosphere::gpu_layout::GpuStruct;
+        let fields = GpuSky::fields();
+        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
+        let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
+        assert_eq!(names, rust);
+        for (m, f) in members.iter().zip(&fields) {
+            assert_eq!(m.offset as usize, f.rust_offset, "{}", f.name);
+        }
+    }
+}

@@ -1,0 +1,18 @@
+// sky_media.wgsl — the sky's hook in media.wgsl for a scene with a sky (sky.wgsl): a miss's
+// background is the sky-view table and, where drawn, the sun's disc (Media::background); a hit
+// sees its surface through the air over [0, t_hit] from the ray's origin, when the scene asks
+// for aerial perspective (Media::terms). For a miss the march runs over an empty path (t = 0:
+// zero-length steps, exactly clear terms) rather than under a branch on the hit — straight-line,
+// as sky.wgsl explains. no_sky_media.wgsl is its twin for a scene without a sky.
+//
+// #include "sky.wgsl"
+
+fn media_background(d: vec3<f32>) -> vec3<f32> {
+    return sky_background(d);
+}
+
+fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, hit: bool) -> MediaTerms {
+    let aerial = (sky.flags & SKY_AERIAL_PERSPECTIVE) != 0u;
+    let air = sky_aerial_perspective(o, d, select(0.0, t, hit && aerial));
+    return MediaTerms(air.transmittance, air.in_scatter);
+}

@@ -1,0 +1,10 @@
+// sky_shading.wgsl — the sky's hook in shade.wgsl for a scene with a sky: the sky's sun reaches
+// a surface point through the air (fray-trace's Media::light_transmittance: the table at the
+// point's altitude and cosine to the sun, sky.wgsl), whether or not shadows are on; every other
+// light arrives whole. no_sky.wgsl is its twin for a scene without a sky.
+//
+// #include "sky.wgsl"
+
+fn sky_light_transmittance(p: vec3<f32>, light: u32) -> vec3<f32> {
+    return select(vec3<f32>(1.0), sky_transmittance_to_sun(p), light == sky.sun_light);
+}
