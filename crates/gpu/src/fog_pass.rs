@@ -162,29 +162,6 @@ mod tests {
     #[test]
     fn fog_wgsl_validates_and_its_struct_layout_matches_rust() {
         let source = crate::shader::compose("fog_batch.wgsl", &OPTIONS).unwrap();
-        let module = naga::front::wgsl::parse_str(&source).expect("fog_batch.wgsl parses");
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module);
-        assert!(info.is_ok(), "{info:?}");
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("GpuFog"))
-            .expect("GpuFog declared");
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("GpuFog is not a struct");
-        };
-        assert_eq!(*span as usize, std::mem::size_of::<GpuFog>());
-        use fray_atmosphere::gpu_layout::GpuStruct;
-        let fields = GpuFog::fields();
-        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
-        let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
-        assert_eq!(names, rust);
-        for (m, f) in members.iter().zip(&fields) {
-            assert_eq!(m.offset as usize, f.rust_offset, "{}", f.name);
-        }
+        crate::shader::assert_validates_with_struct::<GpuFog>(&source);
     }
 }

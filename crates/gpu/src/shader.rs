@@ -545,6 +545,38 @@ impl Specialisation {
     }
 }
 
+/// Test support: `source` parses and validates with naga and declares `T` as Rust lays it out —
+/// every field by name, in order, at Rust's offset, and the same size. The batch modules' tests
+/// (terrain, fog, sky) share it.
+#[cfg(test)]
+pub(crate) fn assert_validates_with_struct<T: GpuStruct>(source: &str) {
+    let name = T::wgsl();
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("the module declaring {name} does not parse: {e}"));
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module);
+    assert!(info.is_ok(), "{info:?}");
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name.as_str()))
+        .unwrap_or_else(|| panic!("{name} declared"));
+    let naga::TypeInner::Struct { members, span } = &ty.inner else {
+        panic!("{name} is not a struct");
+    };
+    assert_eq!(*span as usize, std::mem::size_of::<T>(), "{name} size");
+    let fields = T::fields();
+    let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
+    let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
+    assert_eq!(names, rust, "{name} fields");
+    for (m, f) in members.iter().zip(&fields) {
+        assert_eq!(m.offset as usize, f.rust_offset, "{name}.{}", f.name);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -194,29 +194,6 @@ mod tests {
     #[test]
     fn sky_wgsl_validates_and_its_struct_layout_matches_rust() {
         let source = crate::shader::compose("sky_batch.wgsl", &OPTIONS).unwrap();
-        let module = naga::front::wgsl::parse_str(&source).expect("sky_batch.wgsl parses");
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module);
-        assert!(info.is_ok(), "{info:?}");
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("GpuSky"))
-            .expect("GpuSky declared");
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("GpuSky is not a struct");
-        };
-        assert_eq!(*span as usize, std::mem::size_of::<GpuSky>());
-        use fray_atmosphere::gpu_layout::GpuStruct;
-        let fields = GpuSky::fields();
-        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
-        let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
-        assert_eq!(names, rust);
-        for (m, f) in members.iter().zip(&fields) {
-            assert_eq!(m.offset as usize, f.rust_offset, "{}", f.name);
-        }
+        crate::shader::assert_validates_with_struct::<GpuSky>(&source);
     }
 }

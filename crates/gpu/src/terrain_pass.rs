@@ -418,29 +418,6 @@ mod tests {
     /// compiled struct's layout is the Rust one (every field in order, at Rust's offset).
     #[test]
     fn terrain_wgsl_validates_and_its_struct_layout_matches_rust() {
-        let module = naga::front::wgsl::parse_str(&terrain_source()).expect("terrain.wgsl parses");
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module);
-        assert!(info.is_ok(), "{info:?}");
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("GpuTerrainParams"))
-            .expect("GpuTerrainParams declared");
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("GpuTerrainParams is not a struct");
-        };
-        assert_eq!(*span as usize, std::mem::size_of::<GpuTerrainParams>());
-        use gpu_layout::GpuStruct;
-        let fields = GpuTerrainParams::fields();
-        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
-        let rust: Vec<&str> = fields.iter().map(|f| f.name).collect();
-        assert_eq!(names, rust);
-        for (m, f) in members.iter().zip(&fields) {
-            assert_eq!(m.offset as usize, f.rust_offset, "{}", f.name);
-        }
+        crate::shader::assert_validates_with_struct::<GpuTerrainParams>(&terrain_source());
     }
 }
