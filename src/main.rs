@@ -179,10 +179,11 @@ fn check(path: &Path) -> Result<(), String> {
         .map(|o| o.solid.perturbation_count())
         .sum();
     println!(
-        "{name}: ok — {}×{}, {} objects ({leaves} free forms, {perturbations} perturbations), {} lights, {} materials; features: {}",
+        "{name}: ok — {}×{}, {} objects ({leaves} free forms, {perturbations} perturbations), {} terrains, {} lights, {} materials; features: {}",
         scene.width,
         scene.height,
         scene.objects.len(),
+        scene.terrains.len(),
         scene.lights.len(),
         scene.materials.len(),
         scene.features.names().join(", ")
