@@ -1,0 +1,16 @@
+//! `fray-clouds`: volumetric clouds (DESIGN.md §6), the reference implementation. Usable alone:
+//! no GPU, no scene files.
+//!
+//! So far: [`perlin`], Ken Perlin's improved noise ("Improving Noise", SIGGRAPH 2002) exactly —
+//! his permutation table, the fade `6t⁵ − 15t⁴ + 10t³` and the 12 gradient directions chosen by
+//! the low 4 bits of the hash — in f64 (the reference) and f32, and [`fractal`] sums of it.
+//!
+//! ```
+//! // The published check value of Perlin's reference implementation.
+//! assert!((fray_clouds::perlin::noise(3.14, 42.0, 7.0) - 0.136_919_958_784_000_12).abs() < 1e-15);
+//! // Zero on the lattice.
+//! assert_eq!(fray_clouds::perlin::noise(-3.0, 0.0, 17.0), 0.0);
+//! ```
+
+pub mod fractal;
+pub mod perlin;
