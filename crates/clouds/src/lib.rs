@@ -3,7 +3,9 @@
 //!
 //! So far: [`perlin`], Ken Perlin's improved noise ("Improving Noise", SIGGRAPH 2002) exactly —
 //! his permutation table, the fade `6t⁵ − 15t⁴ + 10t³` and the 12 gradient directions chosen by
-//! the low 4 bits of the hash — in f64 (the reference) and f32, and [`fractal`] sums of it.
+//! the low 4 bits of the hash — in f64 (the reference) and f32, and [`fractal`] sums of it;
+//! [`DensityGrid`]s sampled trilinearly, with [`MaxGrid`] bounds for empty-space skipping; and
+//! [`inr`], INRIMAGE-4 volumes such as the CT scan in `data/volumes/`.
 //!
 //! ```
 //! // The published check value of Perlin's reference implementation.
@@ -12,5 +14,11 @@
 //! assert_eq!(fray_clouds::perlin::noise(-3.0, 0.0, 17.0), 0.0);
 //! ```
 
+mod error;
 pub mod fractal;
+mod grid;
+pub mod inr;
 pub mod perlin;
+
+pub use error::CloudsError;
+pub use grid::{DensityGrid, MaxGrid};
