@@ -5,7 +5,9 @@
 //! his permutation table, the fade `6t⁵ − 15t⁴ + 10t³` and the 12 gradient directions chosen by
 //! the low 4 bits of the hash — in f64 (the reference) and f32, and [`fractal`] sums of it;
 //! [`DensityGrid`]s sampled trilinearly, with [`MaxGrid`] bounds for empty-space skipping; and
-//! [`inr`], INRIMAGE-4 volumes such as the CT scan in `data/volumes/`.
+//! [`inr`], INRIMAGE-4 volumes such as the CT scan in `data/volumes/`; [`shape`], a layer's
+//! density — noise cut by coverage and a threshold, a height profile, an [`Envelope`] — and
+//! [`bake`] into a grid.
 //!
 //! ```
 //! // The published check value of Perlin's reference implementation.
@@ -14,11 +16,14 @@
 //! assert_eq!(fray_clouds::perlin::noise(-3.0, 0.0, 17.0), 0.0);
 //! ```
 
+pub mod bake;
 mod error;
 pub mod fractal;
 mod grid;
 pub mod inr;
 pub mod perlin;
+pub mod shape;
 
 pub use error::CloudsError;
 pub use grid::{DensityGrid, MaxGrid};
+pub use shape::{CloudField, Envelope, HeightProfile, Unbounded};
