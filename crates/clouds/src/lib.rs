@@ -7,7 +7,7 @@
 //! [`DensityGrid`]s sampled trilinearly, with [`MaxGrid`] bounds for empty-space skipping; and
 //! [`inr`], INRIMAGE-4 volumes such as the CT scan in `data/volumes/`; [`shape`], a layer's
 //! density — noise cut by coverage and a threshold, a height profile, an [`Envelope`] — and
-//! [`bake`] into a grid.
+//! [`bake`] into a grid; [`march`], the cloud march with sun rays (the CPU reference).
 //!
 //! ```
 //! // The published check value of Perlin's reference implementation.
@@ -21,6 +21,7 @@ mod error;
 pub mod fractal;
 mod grid;
 pub mod inr;
+pub mod march;
 pub mod perlin;
 pub mod shape;
 
