@@ -160,13 +160,30 @@ impl MaxGrid {
 
     /// The bound of the block holding `p` (unit-cube coordinates, clamped).
     pub fn bound_at(&self, p: [f64; 3]) -> f32 {
+        self.block_at(p).0
+    }
+
+    /// The bound of the block holding `p` and the block's box in unit-cube coordinates (the
+    /// first and last blocks reach out to ±∞ along each axis, as the clamp does).
+    pub fn block_at(&self, p: [f64; 3]) -> (f32, [f64; 3], [f64; 3]) {
         let mut index = [0usize; 3];
+        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
         for a in 0..3 {
-            let cell = (p[a] * self.grid_size[a] as f64).floor();
-            let cell = cell.clamp(0.0, (self.grid_size[a] - 1) as f64) as usize;
+            let n = self.grid_size[a] as f64;
+            let cell = (p[a] * n).floor().clamp(0.0, n - 1.0) as usize;
             index[a] = (cell / self.block).min(self.blocks[a] - 1);
+            lo[a] = if index[a] == 0 {
+                f64::NEG_INFINITY
+            } else {
+                (index[a] * self.block) as f64 / n
+            };
+            hi[a] = if index[a] + 1 == self.blocks[a] {
+                f64::INFINITY
+            } else {
+                ((index[a] + 1) * self.block) as f64 / n
+            };
         }
         let [bx, by, _] = self.blocks;
-        self.max[(index[2] * by + index[1]) * bx + index[0]]
+        (self.max[(index[2] * by + index[1]) * bx + index[0]], lo, hi)
     }
 }

@@ -6,8 +6,8 @@
 //! step's density (`1 − e^{−σΔ}`), so thick steps do not overshoot; the march ends early once
 //! the transmittance is below a threshold, and at `t_max` (the opaque hit inside the cloud).
 
-use crate::DensityGrid;
 use crate::bake::Region;
+use crate::{DensityGrid, MaxGrid};
 
 /// Extinction anywhere in a box: what the march samples.
 pub trait Density: Sync {
@@ -15,14 +15,23 @@ pub trait Density: Sync {
     fn density(&self, p: [f64; 3]) -> f64;
     /// The box outside which the density is zero.
     fn region(&self) -> Region;
+
+    /// Empty-space skipping: if the density is provably zero from `p` along `d` (unit) for some
+    /// distance, that distance (the march skips its samples there, which would all be zero:
+    /// lossless); `None` where it is not known to be zero.
+    fn empty_for(&self, _p: [f64; 3], _d: [f64; 3]) -> Option<f64> {
+        None
+    }
 }
 
-/// A baked or loaded grid placed in the world over `region`, its samples times `scale` (1/m).
+/// A baked or loaded grid placed in the world over `region`, its samples times `scale` (1/m);
+/// with `skip`, its max grid for empty-space skipping.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridVolume {
     pub grid: DensityGrid,
     pub region: Region,
     pub scale: f64,
+    pub skip: Option<MaxGrid>,
 }
 
 impl Density for GridVolume {
@@ -37,6 +46,24 @@ impl Density for GridVolume {
 
     fn region(&self) -> Region {
         self.region
+    }
+
+    fn empty_for(&self, p: [f64; 3], d: [f64; 3]) -> Option<f64> {
+        let skip = self.skip.as_ref()?;
+        let r = &self.region;
+        let extent: [f64; 3] = std::array::from_fn(|a| r.max[a] - r.min[a]);
+        let unit = std::array::from_fn(|a| (p[a] - r.min[a]) / extent[a]);
+        let (bound, lo, hi) = skip.block_at(unit);
+        if bound > 0.0 {
+            return None;
+        }
+        // Every trilinear sample in the block is ≤ its bound 0 (and ≥ 0 for a grid of
+        // non-negative densities): zero until the ray leaves the block's box.
+        let block = Region {
+            min: std::array::from_fn(|a| r.min[a] + lo[a] * extent[a]),
+            max: std::array::from_fn(|a| r.min[a] + hi[a] * extent[a]),
+        };
+        clip(&block, p, d, 0.0, f64::INFINITY).map(|(_, out)| out)
     }
 }
 
@@ -159,9 +186,22 @@ pub fn march(
     // The light travels along −s and is scattered toward the eye, along −d: cos θ = s · d.
     let phase = light.phase.eval(s[0] * d[0] + s[1] * d[1] + s[2] * d[2]);
     let jitter = settings.jitter.clamp(0.0, 1.0 - f64::EPSILON);
-    for k in 0..steps {
+    let mut k = 0;
+    while k < steps {
         let t = lo + (k as f64 + jitter) * dt;
         let p = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
+        if let Some(empty) = volume.empty_for(p, d) {
+            // The next sample at or past the empty stretch's end (the samples before it would
+            // all be zero: skipping them changes nothing).
+            let next = ((t + empty - lo) / dt - jitter).ceil();
+            k = if next > k as f64 {
+                next.min(steps as f64) as u64
+            } else {
+                k + 1
+            };
+            continue;
+        }
+        k += 1;
         let sigma = volume.density(p);
         result.samples += 1;
         if sigma <= 0.0 {

@@ -15,6 +15,7 @@ fn slab(sigma: f64, region: Region) -> GridVolume {
         grid: DensityGrid::from_fn([2, 2, 2], &MemoryBudget::default(), |_, _, _| 1.0).unwrap(),
         region,
         scale: sigma,
+        skip: None,
     }
 }
 
@@ -132,4 +133,73 @@ fn no_nan_inside_or_on_the_boundary_and_the_march_stops_at_a_hit() {
         &l,
     );
     assert!((short.transmittance - (-0.02f64 * 50.0).exp()).abs() < 1e-9);
+}
+
+/// Empty-space skipping is lossless: through a sparse baked field the march with the max grid
+/// gives the same transmittance and in-scatter bit for bit as without it, evaluating fewer
+/// density samples.
+#[test]
+fn empty_space_skipping_changes_nothing_and_saves_samples() {
+    use fray_clouds::bake::bake;
+    use fray_clouds::{CloudField, Unbounded};
+    let region = Region {
+        min: [-4000.0, 1000.0, -4000.0],
+        max: [4000.0, 4000.0, 4000.0],
+    };
+    let field = CloudField {
+        coverage: 0.35,
+        ..CloudField::default()
+    };
+    let grid = bake(
+        &field,
+        &Unbounded,
+        region,
+        [48, 24, 48],
+        &MemoryBudget::default(),
+        |_, _| {},
+    )
+    .unwrap();
+    let plain = GridVolume {
+        grid: grid.clone(),
+        region,
+        scale: 1.0,
+        skip: None,
+    };
+    let skipping = GridVolume {
+        skip: Some(grid.max_grid(4)),
+        ..plain.clone()
+    };
+    let settings = MarchSettings {
+        step: 40.0,
+        min_transmittance: 0.0,
+        ..MarchSettings::default()
+    };
+    let l = light(0.05);
+    let mut state = 5u64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut evaluated, mut skipped_to) = (0u64, 0u64);
+    for _ in 0..400 {
+        let o = [next() * 8000.0 - 4000.0, 4500.0, next() * 8000.0 - 4000.0];
+        let d = {
+            let v = [next() - 0.5, -0.3 - next(), next() - 0.5];
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            [v[0] / n, v[1] / n, v[2] / n]
+        };
+        let a = march(&plain, o, d, (0.0, f64::INFINITY), &settings, &l);
+        let b = march(&skipping, o, d, (0.0, f64::INFINITY), &settings, &l);
+        assert_eq!(a.transmittance.to_bits(), b.transmittance.to_bits());
+        assert_eq!(
+            a.in_scatter.map(f64::to_bits),
+            b.in_scatter.map(f64::to_bits)
+        );
+        evaluated += u64::from(a.samples);
+        skipped_to += u64::from(b.samples);
+    }
+    println!("density samples: {evaluated} without skipping, {skipped_to} with");
+    assert!(skipped_to * 2 < evaluated, "{skipped_to} vs {evaluated}");
 }
