@@ -37,136 +37,90 @@ fn p(i: usize) -> usize {
     usize::from(P[i])
 }
 
-/// The lattice cell index (wrapped to 0..=255, as Perlin's `(int)floor(x) & 255` does for
-/// negative coordinates too) and the offset in the cell. Coordinates beyond ±2⁵³ have no
-/// fractional part; `floor` there is exact.
-#[inline]
-fn cell(x: f64) -> (usize, f64) {
-    let f = x.floor();
-    // `as i64` saturates for huge values; `& 255` of a saturated value is still a valid index.
-    ((f as i64 & 255) as usize, x - f)
-}
+/// Perlin's noise, its fade, lerp, grad and lattice cell, in one float type: instantiated for f64
+/// (the reference) and f32 (what a shader computes), so the two cannot drift apart.
+macro_rules! improved_noise {
+    ($float:ty, $noise:ident, $fade:ident, $grad:ident, $doc:literal) => {
+        /// The fade curve `6t⁵ − 15t⁴ + 10t³`.
+        #[inline]
+        pub fn $fade(t: $float) -> $float {
+            t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+        }
 
-/// The fade curve `6t⁵ − 15t⁴ + 10t³`.
-#[inline]
-pub fn fade(t: f64) -> f64 {
-    t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
-}
+        /// Perlin's `grad`: the dot product of the hash's gradient (one of 12 edge directions
+        /// of a cube, by its low 4 bits) with `(x, y, z)`.
+        #[inline]
+        pub fn $grad(hash: usize, x: $float, y: $float, z: $float) -> $float {
+            let h = hash & 15;
+            let u = if h < 8 { x } else { y };
+            let v = if h < 4 {
+                y
+            } else if h == 12 || h == 14 {
+                x
+            } else {
+                z
+            };
+            (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
+        }
 
-#[inline]
-fn lerp(t: f64, a: f64, b: f64) -> f64 {
-    a + t * (b - a)
-}
-
-/// Perlin's `grad`: the dot product of the hash's gradient (one of 12 edge directions of a cube,
-/// by its low 4 bits) with `(x, y, z)`.
-#[inline]
-pub fn grad(hash: usize, x: f64, y: f64, z: f64) -> f64 {
-    let h = hash & 15;
-    let u = if h < 8 { x } else { y };
-    let v = if h < 4 {
-        y
-    } else if h == 12 || h == 14 {
-        x
-    } else {
-        z
+        #[doc = $doc]
+        pub fn $noise(x: $float, y: $float, z: $float) -> $float {
+            // The lattice cell (wrapped to 0..=255, as Perlin's `(int)floor(x) & 255` does for
+            // negative coordinates too; `as i64` saturates for huge values, and `& 255` of a
+            // saturated value is still an index) and the offset in it.
+            let cell = |x: $float| {
+                let f = x.floor();
+                ((f as i64 & 255) as usize, x - f)
+            };
+            let lerp = |t: $float, a: $float, b: $float| a + t * (b - a);
+            let (xi, x) = cell(x);
+            let (yi, y) = cell(y);
+            let (zi, z) = cell(z);
+            let (u, v, w) = ($fade(x), $fade(y), $fade(z));
+            let a = p(xi) + yi;
+            let (aa, ab) = (p(a) + zi, p(a + 1) + zi);
+            let b = p(xi + 1) + yi;
+            let (ba, bb) = (p(b) + zi, p(b + 1) + zi);
+            lerp(
+                w,
+                lerp(
+                    v,
+                    lerp(u, $grad(p(aa), x, y, z), $grad(p(ba), x - 1.0, y, z)),
+                    lerp(
+                        u,
+                        $grad(p(ab), x, y - 1.0, z),
+                        $grad(p(bb), x - 1.0, y - 1.0, z),
+                    ),
+                ),
+                lerp(
+                    v,
+                    lerp(
+                        u,
+                        $grad(p(aa + 1), x, y, z - 1.0),
+                        $grad(p(ba + 1), x - 1.0, y, z - 1.0),
+                    ),
+                    lerp(
+                        u,
+                        $grad(p(ab + 1), x, y - 1.0, z - 1.0),
+                        $grad(p(bb + 1), x - 1.0, y - 1.0, z - 1.0),
+                    ),
+                ),
+            )
+        }
     };
-    (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
 }
 
-/// Improved noise at `(x, y, z)`, in f64: Perlin's reference implementation step for step.
-pub fn noise(x: f64, y: f64, z: f64) -> f64 {
-    let (xi, x) = cell(x);
-    let (yi, y) = cell(y);
-    let (zi, z) = cell(z);
-    let (u, v, w) = (fade(x), fade(y), fade(z));
-    let a = p(xi) + yi;
-    let (aa, ab) = (p(a) + zi, p(a + 1) + zi);
-    let b = p(xi + 1) + yi;
-    let (ba, bb) = (p(b) + zi, p(b + 1) + zi);
-    lerp(
-        w,
-        lerp(
-            v,
-            lerp(u, grad(p(aa), x, y, z), grad(p(ba), x - 1.0, y, z)),
-            lerp(
-                u,
-                grad(p(ab), x, y - 1.0, z),
-                grad(p(bb), x - 1.0, y - 1.0, z),
-            ),
-        ),
-        lerp(
-            v,
-            lerp(
-                u,
-                grad(p(aa + 1), x, y, z - 1.0),
-                grad(p(ba + 1), x - 1.0, y, z - 1.0),
-            ),
-            lerp(
-                u,
-                grad(p(ab + 1), x, y - 1.0, z - 1.0),
-                grad(p(bb + 1), x - 1.0, y - 1.0, z - 1.0),
-            ),
-        ),
-    )
-}
-
-/// [`noise`] computed in f32 throughout (the cell from the f32 coordinate, f32 fade, gradients
-/// and blends): what a shader computes.
-pub fn noise_f32(x: f32, y: f32, z: f32) -> f32 {
-    fn cell(x: f32) -> (usize, f32) {
-        let f = x.floor();
-        ((f as i64 & 255) as usize, x - f)
-    }
-    fn fade(t: f32) -> f32 {
-        t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
-    }
-    fn lerp(t: f32, a: f32, b: f32) -> f32 {
-        a + t * (b - a)
-    }
-    fn grad(hash: usize, x: f32, y: f32, z: f32) -> f32 {
-        let h = hash & 15;
-        let u = if h < 8 { x } else { y };
-        let v = if h < 4 {
-            y
-        } else if h == 12 || h == 14 {
-            x
-        } else {
-            z
-        };
-        (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
-    }
-    let (xi, x) = cell(x);
-    let (yi, y) = cell(y);
-    let (zi, z) = cell(z);
-    let (u, v, w) = (fade(x), fade(y), fade(z));
-    let a = p(xi) + yi;
-    let (aa, ab) = (p(a) + zi, p(a + 1) + zi);
-    let b = p(xi + 1) + yi;
-    let (ba, bb) = (p(b) + zi, p(b + 1) + zi);
-    lerp(
-        w,
-        lerp(
-            v,
-            lerp(u, grad(p(aa), x, y, z), grad(p(ba), x - 1.0, y, z)),
-            lerp(
-                u,
-                grad(p(ab), x, y - 1.0, z),
-                grad(p(bb), x - 1.0, y - 1.0, z),
-            ),
-        ),
-        lerp(
-            v,
-            lerp(
-                u,
-                grad(p(aa + 1), x, y, z - 1.0),
-                grad(p(ba + 1), x - 1.0, y, z - 1.0),
-            ),
-            lerp(
-                u,
-                grad(p(ab + 1), x, y - 1.0, z - 1.0),
-                grad(p(bb + 1), x - 1.0, y - 1.0, z - 1.0),
-            ),
-        ),
-    )
-}
+improved_noise!(
+    f64,
+    noise,
+    fade,
+    grad,
+    "Improved noise at `(x, y, z)`, in f64: Perlin's reference implementation step for step."
+);
+improved_noise!(
+    f32,
+    noise_f32,
+    fade_f32,
+    grad_f32,
+    "[`noise`] computed in f32 throughout (the cell from the f32 coordinate, f32 fade, gradients and blends): what a shader computes."
+);
