@@ -67,3 +67,40 @@ pub(crate) fn read_back<T: Pod>(
         bytemuck::pod_collect_to_vec::<u8, T>,
     )
 }
+
+/// Runs a batch test pass: `pipeline` over `items` invocations in workgroups of `workgroup`
+/// (spread over two dimensions past the device's per-dimension limit) with `groups` bound in
+/// order, then copies `output[..bytes]` to a fresh readback buffer and reads it back as `T`s.
+/// The batch passes (terrain, fog, sky) differ only in what they bind and how they decode.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_batch<T: Pod>(
+    ctx: &crate::context::GpuContext,
+    pipeline: &wgpu::ComputePipeline,
+    groups: &[&wgpu::BindGroup],
+    items: u32,
+    workgroup: u32,
+    output: &wgpu::Buffer,
+    bytes: u64,
+    pass: &'static str,
+) -> Result<Vec<T>, GpuError> {
+    let device = &ctx.device;
+    let readback = readback_buffer(device, pass, bytes);
+    let workgroups = items.div_ceil(workgroup);
+    let x = workgroups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
+    let mut encoder =
+        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    {
+        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(pass),
+            timestamp_writes: None,
+        });
+        compute.set_pipeline(pipeline);
+        for (index, group) in groups.iter().enumerate() {
+            compute.set_bind_group(index as u32, *group, &[]);
+        }
+        compute.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
+    }
+    encoder.copy_buffer_to_buffer(output, 0, &readback, 0, bytes);
+    ctx.queue.submit([encoder.finish()]);
+    read_back(device, &readback, bytes, pass)
+}

@@ -9,7 +9,7 @@
 
 use crate::bindings::SKY_BATCH;
 use crate::passes::PipelineCache;
-use crate::readback::{read_back, readback_buffer};
+use crate::readback::run_batch;
 use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
 use crate::sky_tables::{table_texture, view, write_table};
 use crate::{GpuContext, GpuError};
@@ -141,7 +141,6 @@ impl SkyPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = readback_buffer(device, "sky readback", bytes);
         let (tv, vv) = (view(&transmittance), view(&sky_view));
         let bind_group = SKY_BATCH.bind(
             device,
@@ -154,22 +153,16 @@ impl SkyPass {
                 output.as_entire_binding(),
             ],
         );
-        let groups = (queries.len() as u32).div_ceil(WORKGROUP);
-        let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
-        let mut encoder =
-            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(PASS),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
-        }
-        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
-        ctx.queue.submit([encoder.finish()]);
-        let raw: Vec<[[f32; 4]; ANSWER_VEC4S]> = read_back(device, &readback, bytes, PASS)?;
+        let raw: Vec<[[f32; 4]; ANSWER_VEC4S]> = run_batch(
+            ctx,
+            &self.pipeline,
+            &[&bind_group],
+            queries.len() as u32,
+            WORKGROUP,
+            &output,
+            bytes,
+            PASS,
+        )?;
         let rgb = |v: [f32; 4]| [v[0], v[1], v[2]];
         Ok(raw
             .iter()

@@ -9,7 +9,7 @@
 
 use crate::bindings::{self, TERRAIN_BATCH, TERRAINS};
 use crate::passes::PipelineCache;
-use crate::readback::{read_back, readback_buffer};
+use crate::readback::run_batch;
 use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_core::PixelFootprint;
@@ -324,7 +324,6 @@ impl TerrainPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = readback_buffer(device, "terrain readback", bytes);
         let bind_group = TERRAIN_BATCH.bind(
             device,
             &self.cache.layout(ctx, &TERRAIN_BATCH),
@@ -334,23 +333,16 @@ impl TerrainPass {
                 output.as_entire_binding(),
             ],
         );
-        let groups = (rays.len() as u32).div_ceil(WORKGROUP);
-        let x = groups.min(ctx.limits.max_compute_workgroups_per_dimension.max(1));
-        let mut encoder =
-            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(PASS),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_bind_group(1, &self.terrains, &[]);
-            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
-        }
-        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
-        ctx.queue.submit([encoder.finish()]);
-        let raw: Vec<[[f32; 4]; 2]> = read_back(device, &readback, bytes, PASS)?;
+        let raw: Vec<[[f32; 4]; 2]> = run_batch(
+            ctx,
+            &self.pipeline,
+            &[&bind_group, &self.terrains],
+            rays.len() as u32,
+            WORKGROUP,
+            &output,
+            bytes,
+            PASS,
+        )?;
         Ok(raw
             .iter()
             .map(|[a, b]| GpuTerrainHit {
