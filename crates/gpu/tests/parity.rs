@@ -846,6 +846,44 @@ const FOG_SCENES: [(&str, &str); 7] = [
 /// `exp` and contractions.
 const FOG_COLOUR: f32 = 2e-4;
 
+/// A media scene's GPU frame, checked as both media tests need it: the pipelines are specialised
+/// for `medium` ("fog" / "sky" in the specialisation and in the stats), culling off gives the same
+/// colour and depth bits; with how many misses show something other than the plain background.
+fn media_frame(gpu: &GpuRenderer, name: &str, scene: &Scene, medium: &str) -> (Frame, usize) {
+    let settings = GpuSettings::for_scene(scene);
+    let frame = gpu.render(scene, &settings).unwrap();
+    assert!(
+        frame.stats.passes[0].contains(&format!("{medium}]"))
+            && frame.stats.passes.iter().any(|p| p == medium),
+        "{name}: {:?}",
+        frame.stats.passes
+    );
+    let off = gpu
+        .render(
+            scene,
+            &GpuSettings {
+                culling: false,
+                ..settings
+            },
+        )
+        .unwrap();
+    assert_eq!(
+        frame.colour.pixels(),
+        off.colour.pixels(),
+        "{name}: culling"
+    );
+    assert_eq!(frame.depth.pixels(), off.depth.pixels(), "{name}: culling");
+    let background = scene.background;
+    let shown = frame
+        .depth
+        .pixels()
+        .iter()
+        .zip(frame.colour.pixels())
+        .filter(|(d, c)| !d.is_finite() && **c != background)
+        .count();
+    (frame, shown)
+}
+
 /// The fog on the GPU matches the CPU's on the synthetic fog scenes (free forms, see
 /// [`FOG_SCENES`]) within the frame bounds — depth, hit/miss off edges, colour within
 /// `COLOUR_ABS + COLOUR_REL·|c|` off edges and shadow boundaries, and within [`FOG_COLOUR`]
@@ -857,40 +895,11 @@ fn fog_scenes_match_the_cpu_reference() {
     for (name, text) in FOG_SCENES {
         let scene = fray_scene::parse(text, name).unwrap();
         assert!(scene.features.fog, "{name}");
-        let settings = GpuSettings::for_scene(&scene);
-        let frame = gpu.render(&scene, &settings).unwrap();
-        assert!(
-            frame.stats.passes[0].contains("fog]") && frame.stats.passes.iter().any(|p| p == "fog"),
-            "{name}: {:?}",
-            frame.stats.passes
-        );
-        let background = scene.background;
-        let fogged_misses = frame
-            .depth
-            .pixels()
-            .iter()
-            .zip(frame.colour.pixels())
-            .filter(|(d, c)| !d.is_finite() && **c != background)
-            .count();
+        let (_, fogged_misses) = media_frame(&gpu, name, &scene, "fog");
         assert!(
             fogged_misses > 0 || name.contains("above"),
             "{name}: no fogged miss"
         );
-        let off = gpu
-            .render(
-                &scene,
-                &GpuSettings {
-                    culling: false,
-                    ..settings
-                },
-            )
-            .unwrap();
-        assert_eq!(
-            frame.colour.pixels(),
-            off.colour.pixels(),
-            "{name}: culling"
-        );
-        assert_eq!(frame.depth.pixels(), off.depth.pixels(), "{name}: culling");
         let r = check(name, &scene, &gpu);
         assert!(r.max_colour <= FOG_COLOUR, "{name}: {r:?}");
     }
@@ -1057,21 +1066,7 @@ fn sky_scenes_match_the_cpu_reference() {
     for (name, text) in SKY_SCENES {
         let scene = fray_scene::parse(text, name).unwrap();
         assert!(scene.features.sky, "{name}");
-        let settings = GpuSettings::for_scene(&scene);
-        let frame = gpu.render(&scene, &settings).unwrap();
-        assert!(
-            frame.stats.passes[0].contains("sky]") && frame.stats.passes.iter().any(|p| p == "sky"),
-            "{name}: {:?}",
-            frame.stats.passes
-        );
-        let background = scene.background;
-        let sky_misses = frame
-            .depth
-            .pixels()
-            .iter()
-            .zip(frame.colour.pixels())
-            .filter(|(d, c)| !d.is_finite() && **c != background)
-            .count();
+        let (frame, sky_misses) = media_frame(&gpu, name, &scene, "sky");
         assert!(sky_misses > 0, "{name}: no sky");
         if name.contains("in view") {
             // The sun's disc, E/Ω ≈ 3·10⁵ W/(m² sr) through the air, covers a pixel centre.
@@ -1083,21 +1078,6 @@ fn sky_scenes_match_the_cpu_reference() {
                 .count();
             assert!(disc > 0, "{name}: no sun disc");
         }
-        let off = gpu
-            .render(
-                &scene,
-                &GpuSettings {
-                    culling: false,
-                    ..settings
-                },
-            )
-            .unwrap();
-        assert_eq!(
-            frame.colour.pixels(),
-            off.colour.pixels(),
-            "{name}: culling"
-        );
-        assert_eq!(frame.depth.pixels(), off.depth.pixels(), "{name}: culling");
         let r = check(name, &scene, &gpu);
         assert!(r.max_colour_rel <= SKY_COLOUR_REL, "{name}: {r:?}");
     }
