@@ -290,13 +290,22 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         } else {
             String::new()
         };
+        // The clouds: what was built, and what the marches of camera rays sampled.
+        let clouds = match &scene.clouds {
+            Some(c) => format!(
+                ", clouds: {}, {:.1} density samples per camera ray",
+                c.describe(),
+                s.cloud_samples as f64 / s.primary_rays.max(1) as f64
+            ),
+            None => String::new(),
+        };
         // The GPU's kernel time, where the device measured it (timestamp queries).
         let kernel = s
             .kernel_time
             .map(|k| format!(", GPU kernels {:.1} ms", k.as_secs_f64() * 1e3))
             .unwrap_or_default();
         println!(
-            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}{grid}, ε = {:.3e}; ran: {}",
+            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}{grid}{clouds}, ε = {:.3e}; ran: {}",
             output.display(),
             frame.colour.width(),
             frame.colour.height(),

@@ -22,22 +22,20 @@ impl Region {
     }
 }
 
-/// Bakes `field` inside `envelope` over `region` into a grid of `size`; `progress(done, total)`
-/// after each z slice.
+/// Bakes `field` inside `envelope` over `region` into a grid of `size`, z slices in parallel;
+/// `progress(done, total)` after each slice (from the thread that finished it).
 pub fn bake(
     field: &CloudField,
     envelope: &dyn Envelope,
     region: Region,
     size: [usize; 3],
     budget: &MemoryBudget,
-    mut progress: impl FnMut(usize, usize),
+    progress: impl Fn(usize, usize) + Sync,
 ) -> Result<DensityGrid, CloudsError> {
-    DensityGrid::from_fn(size, budget, |i, j, k| {
-        let value = field.density(region.cell_centre(size, [i, j, k]), envelope) as f32;
-        // The grid is filled x fastest, z slowest: the last cell of a slice ends it.
-        if i + 1 == size[0] && j + 1 == size[1] {
-            progress(k + 1, size[2]);
-        }
-        value
-    })
+    DensityGrid::from_fn_parallel(
+        size,
+        budget,
+        |i, j, k| field.density(region.cell_centre(size, [i, j, k]), envelope) as f32,
+        |done| progress(done, size[2]),
+    )
 }

@@ -38,6 +38,37 @@ impl DensityGrid {
         Ok(Self { size, data })
     }
 
+    /// [`DensityGrid::from_fn`] filled z slice by z slice on rayon's threads (the same values:
+    /// `f` is pure), calling `done(slices_done)` as each slice completes.
+    pub fn from_fn_parallel(
+        size: [usize; 3],
+        budget: &MemoryBudget,
+        f: impl Fn(usize, usize, usize) -> f32 + Sync,
+        done: impl Fn(usize) + Sync,
+    ) -> Result<Self, CloudsError> {
+        use rayon::prelude::*;
+        let count = checked_count(size)?;
+        budget.check_elements(
+            format!("a {} × {} × {} density grid", size[0], size[1], size[2]),
+            count,
+            4,
+        )?;
+        let mut data = vec![0.0f32; count as usize];
+        let finished = std::sync::atomic::AtomicUsize::new(0);
+        let [nx, ny, _] = size;
+        data.par_chunks_mut(nx * ny)
+            .enumerate()
+            .for_each(|(k, slice)| {
+                for j in 0..ny {
+                    for i in 0..nx {
+                        slice[j * nx + i] = f(i, j, k);
+                    }
+                }
+                done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            });
+        Ok(Self { size, data })
+    }
+
     /// A grid of `data` (x fastest), which must hold `nx·ny·nz` values.
     pub fn from_data(size: [usize; 3], data: Vec<f32>) -> Result<Self, CloudsError> {
         let count = checked_count(size)?;

@@ -57,6 +57,9 @@ pub struct RenderStats {
     /// because their depth disagreed with a node's (both 0 when the media run per pixel).
     pub media_interpolated: u64,
     pub media_exact: u64,
+    /// Density samples the cloud marches of camera rays took, empty-space skipping leaving out
+    /// what it proved empty (0 without clouds).
+    pub cloud_samples: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).
     pub passes: Vec<String>,
     /// Wall time of the render call.

@@ -216,6 +216,9 @@ impl<'a> GpuScene<'a> {
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
         }
+        if scene.features.clouds {
+            return Err(GpuError::Unsupported { feature: "clouds" });
+        }
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;
         let anchor = params::reference_point(&scene.camera);

@@ -43,6 +43,9 @@ pub struct Scene {
     /// Fog and sky: media between the camera and what it sees (default: none).
     #[serde(default)]
     pub atmosphere: Atmosphere,
+    /// A volume of cloud (or any density grid) marched with sun rays (default: none).
+    #[serde(default)]
+    pub clouds: Option<Clouds>,
     #[serde(default)]
     pub settings: Settings,
 }
@@ -495,6 +498,207 @@ pub enum FogModel {
     Exact,
     /// The method's formulas (14) and (15): the sun through the whole layer everywhere.
     Method,
+}
+
+/// A cloud volume (DESIGN §6, `docs/clouds.md`): a density over a world box, marched in equal
+/// steps with a sun ray at each sample.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Clouds {
+    /// The world box the volume fills; a `Layer`'s base and top are its `y` range.
+    pub region: Bounds,
+    /// Where the density comes from.
+    pub density: CloudDensity,
+    /// Scattering coefficient (1/m) at density 1, `≥ 0`; default 0.02.
+    #[serde(default = "default_cloud_scattering")]
+    pub scattering: f64,
+    /// Absorption coefficient (1/m) at density 1, `≥ 0`; default 0.0002 (droplets barely
+    /// absorb).
+    #[serde(default = "default_cloud_absorption")]
+    pub absorption: f64,
+    #[serde(default)]
+    pub phase: CloudPhase,
+    /// A factor on the scene's `ambient` radiance for the light scattered in from the sky;
+    /// default 1.
+    #[serde(default = "one")]
+    pub ambient: f64,
+    /// The view ray's step length (world units), `> 0`; default: the region's smallest side / 32.
+    #[serde(default)]
+    pub step: Option<f64>,
+    /// Steps of each sun ray, a whole number in `1..=256`; default 6.
+    #[serde(default = "default_sun_steps")]
+    pub sun_steps: f64,
+    /// The march stops once the transmittance is below this, in `[0, 1)`; default 1e-3.
+    #[serde(default = "default_min_transmittance")]
+    pub min_transmittance: f64,
+    /// Offsets each pixel's samples by interleaved gradient noise against banding; default true.
+    #[serde(default = "yes")]
+    pub jitter: bool,
+    /// Empty-space skipping: the cells per side of a max-grid block, a whole number in
+    /// `1..=64`; `0` turns skipping off; default 4.
+    #[serde(default = "default_skip_block")]
+    pub skip_block: f64,
+}
+
+fn default_cloud_scattering() -> f64 {
+    0.02
+}
+
+fn default_cloud_absorption() -> f64 {
+    0.0002
+}
+
+fn default_sun_steps() -> f64 {
+    6.0
+}
+
+fn default_min_transmittance() -> f64 {
+    1e-3
+}
+
+fn default_skip_block() -> f64 {
+    4.0
+}
+
+/// The density of a cloud volume.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum CloudDensity {
+    /// A cloud layer baked from improved Perlin noise.
+    Layer(Box<CloudLayer>),
+    /// A density grid from a file (INRIMAGE-4 `.inr`, one float channel), stretched over the
+    /// region; its values times `scale` are the density.
+    Volume {
+        /// Relative to the scene file.
+        path: String,
+        #[serde(default = "one")]
+        scale: f64,
+    },
+}
+
+/// A cloud layer: fractal noise cut by coverage and a threshold, shaped by a height profile,
+/// bounded by an envelope, baked into a grid over the region.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CloudLayer {
+    /// Grid samples along x, y, z, each a whole number in `1..=1024`; default (128, 32, 128).
+    #[serde(default = "default_cloud_resolution")]
+    pub resolution: Vec3,
+    /// The size (world units) of the largest noise features, `> 0`; default 2000.
+    #[serde(default = "default_feature_size")]
+    pub feature_size: f64,
+    /// Octaves of the fractal sum, a whole number in `1..=12`; default 5.
+    #[serde(default = "default_octaves")]
+    pub octaves: f64,
+    /// Frequency factor between octaves, `> 0`; default 2.
+    #[serde(default = "default_lacunarity")]
+    pub lacunarity: f64,
+    /// Amplitude factor between octaves, in `[0, 1]`; default 0.5.
+    #[serde(default = "default_gain")]
+    pub gain: f64,
+    /// Which noise (deterministic per seed); default 0.
+    #[serde(default)]
+    pub seed: u32,
+    /// The fraction of the sky covered, in `[0, 1]`; default 0.5.
+    #[serde(default = "default_coverage")]
+    pub coverage: f64,
+    /// Shaped densities below this are cut, in `[0, 1)`; default 0.05.
+    #[serde(default = "default_cloud_threshold")]
+    pub threshold: f64,
+    #[serde(default)]
+    pub profile: CloudProfile,
+    /// Free forms the cloud is confined to (their union): density is zero outside, fading in
+    /// over `envelope_fade` from their surface; default: the whole layer.
+    #[serde(default)]
+    pub envelope: Option<Shape>,
+    /// World units, `≥ 0`; default 100.
+    #[serde(default = "default_envelope_fade")]
+    pub envelope_fade: f64,
+}
+
+fn default_cloud_resolution() -> Vec3 {
+    [128.0, 32.0, 128.0]
+}
+
+fn default_feature_size() -> f64 {
+    2000.0
+}
+
+fn default_octaves() -> f64 {
+    5.0
+}
+
+fn default_lacunarity() -> f64 {
+    2.0
+}
+
+fn default_gain() -> f64 {
+    0.5
+}
+
+fn default_coverage() -> f64 {
+    0.5
+}
+
+fn default_cloud_threshold() -> f64 {
+    0.05
+}
+
+fn default_envelope_fade() -> f64 {
+    100.0
+}
+
+/// How a layer's density is distributed over its height.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum CloudProfile {
+    /// Flat bases, rounded tops (the default).
+    #[default]
+    Cumulus,
+    /// A flat sheet.
+    Stratus,
+    /// Flat bases, towering tops.
+    Cumulonimbus,
+    /// Full density from `base_ramp` to `top_start` (fractions of the layer), smooth ramps to 0
+    /// at the base and the top.
+    Custom { base_ramp: f64, top_start: f64 },
+}
+
+/// The cloud droplets' phase: `(1 − back_weight)·HG(g) + back_weight·HG(back_g)`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CloudPhase {
+    /// The forward lobe's asymmetry, in `(−1, 1)`; default 0.8.
+    #[serde(default = "default_cloud_g")]
+    pub g: f64,
+    /// The second lobe's asymmetry, in `(−1, 1)`; default −0.3.
+    #[serde(default = "default_back_g")]
+    pub back_g: f64,
+    /// The second lobe's weight, in `[0, 1]`; default 0.2 (0: a single lobe).
+    #[serde(default = "default_back_weight")]
+    pub back_weight: f64,
+}
+
+fn default_cloud_g() -> f64 {
+    0.8
+}
+
+fn default_back_g() -> f64 {
+    -0.3
+}
+
+fn default_back_weight() -> f64 {
+    0.2
+}
+
+impl Default for CloudPhase {
+    fn default() -> Self {
+        Self {
+            g: default_cloud_g(),
+            back_g: default_back_g(),
+            back_weight: default_back_weight(),
+        }
+    }
 }
 
 /// Render settings stored in the scene.

@@ -21,6 +21,8 @@ pub struct FeatureSet {
     pub fog: bool,
     /// A physically based sky.
     pub sky: bool,
+    /// A cloud volume.
+    pub clouds: bool,
 }
 
 impl FeatureSet {
@@ -36,6 +38,7 @@ impl FeatureSet {
             (self.point_lights, "point-lights"),
             (self.fog, "fog"),
             (self.sky, "sky"),
+            (self.clouds, "clouds"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

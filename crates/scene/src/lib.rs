@@ -31,6 +31,7 @@
 //! ```
 
 mod atmosphere;
+mod clouds;
 pub mod description;
 mod error;
 mod features;
@@ -47,6 +48,7 @@ pub use atmosphere::{
     Atmosphere, DEFAULT_GRID_SPACING, DEFAULT_GRID_SPACING_TEXT, Fog, GRID_SPACINGS, MAX_SKY_STEPS,
     Sky,
 };
+pub use clouds::{CloudSource, Clouds, MAX_CLOUD_RESOLUTION, MAX_SKIP_BLOCK, MAX_SUN_STEPS};
 pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;

@@ -156,6 +156,16 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
     let atmosphere = crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere, &lights)?;
     features.fog = atmosphere.fog.is_some();
     features.sky = atmosphere.sky.is_some();
+    let clouds = match &d.clouds {
+        Some(c) => Some(std::sync::Arc::new(crate::clouds::resolve(
+            &root.field("clouds"),
+            c,
+            base,
+            &fray_core::MemoryBudget::default(),
+        )?)),
+        None => None,
+    };
+    features.clouds = clouds.is_some();
 
     Ok(Scene {
         width,
@@ -168,6 +178,7 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
         objects,
         terrains,
         atmosphere,
+        clouds,
         settings,
         features,
     })
@@ -224,7 +235,7 @@ pub(crate) fn positive(path: &FieldPath, x: f64) -> Result<f64> {
     }
 }
 
-fn non_negative(path: &FieldPath, x: f64) -> Result<f64> {
+pub(crate) fn non_negative(path: &FieldPath, x: f64) -> Result<f64> {
     if x >= 0.0 && x.is_finite() {
         Ok(x)
     } else {
@@ -565,6 +576,20 @@ impl ShapeContext<'_> {
     }
 }
 
+/// A shape that is not drawn but bounds something (a cloud's envelope): its CSG solid, with no
+/// materials and no effect on the scene's features.
+pub(crate) fn bounding_solid(path: &FieldPath, shape: &description::Shape) -> Result<Solid> {
+    let materials = BTreeMap::new();
+    let mut features = FeatureSet::default();
+    let mut ctx = ShapeContext {
+        materials: &materials,
+        leaf_materials: Vec::new(),
+        features: &mut features,
+    };
+    let shape = ctx.shape(path, shape, DAffine3::IDENTITY, 0)?;
+    Solid::new(shape).or_else(|e| invalid(path, e.to_string()))
+}
+
 /// `q` moved by `t` (skipped for the identity, so plain quadrics keep their exact coefficients).
 fn placed(path: &FieldPath, q: Quadric, t: DAffine3) -> Result<Quadric> {
     if t == DAffine3::IDENTITY {
@@ -579,7 +604,7 @@ fn placed(path: &FieldPath, q: Quadric, t: DAffine3) -> Result<Quadric> {
     }
 }
 
-fn bounds(path: &FieldPath, b: &description::Bounds) -> Result<Aabb> {
+pub(crate) fn bounds(path: &FieldPath, b: &description::Bounds) -> Result<Aabb> {
     let min = point(&path.field("min"), b.min)?;
     let max = point(&path.field("max"), b.max)?;
     if min.cmple(max).all() {

@@ -26,6 +26,8 @@ pub struct Scene {
     pub terrains: Vec<TerrainObject>,
     /// Fog (and later sky) between the camera and the surfaces; empty by default.
     pub atmosphere: crate::Atmosphere,
+    /// A cloud volume, baked or loaded once and shared by the backends; `None` by default.
+    pub clouds: Option<Arc<crate::Clouds>>,
     pub settings: Settings,
     /// What this scene uses; backends build only what is listed.
     pub features: FeatureSet,

@@ -243,6 +243,7 @@ fn every_variant_parses_and_resolves() {
             point_lights: true,
             fog: false,
             sky: false,
+            clouds: false,
         }
     );
 }
@@ -666,6 +667,7 @@ fn the_documented_example_resolves() {
             point_lights: true,
             fog: false,
             sky: false,
+            clouds: false,
         }
     );
 }

@@ -141,6 +141,24 @@ impl<'a> Integrator<'a> {
         }
     }
 
+    /// [`Integrator::radiance`] of the camera ray through image point `at` (pixel units): its
+    /// media as the frame loop takes them (the media grid, the clouds' per-pixel jitter).
+    pub fn camera_radiance(
+        &self,
+        ctx: &mut TraceContext,
+        at: (f64, f64),
+        ray: &Ray,
+        range: Interval,
+    ) -> DVec3 {
+        match nearest_hit(self.scene, ctx, ray, range, self.epsilon) {
+            Some(si) => {
+                let surface = self.surface_radiance(ctx, &si, -ray.dir, None);
+                self.camera_through_media(ctx, at, ray, Interval::new(range.lo, si.t), surface)
+            }
+            None => self.camera_miss(ctx, at, ray, range.lo),
+        }
+    }
+
     /// The radiance leaving `si` toward `wo` (unit, away from the surface): the material's
     /// ambient term plus, per light, its BRDF times the irradiance times the transmittance of the
     /// shadow ray toward it. Opaque surfaces are lit on the side `wo` sees. `occluders`: per

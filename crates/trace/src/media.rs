@@ -10,12 +10,23 @@
 //! fog's top through the air above the camera (Klassen's `Ic`). The cross terms this leaves out
 //! (air extinction of fog light inside the same stretch) are the air's optical depth over the
 //! fog's span: under 1 % for spans under 1 km.
+//!
+//! A cloud volume is marched where the ray crosses its box (`fray_clouds::march`, lit by the
+//! scene's first sun and its ambient radiance) and inserted at its entry distance `a`: the fog
+//! and air over `[t_near, a]` in front of it, the fog and air from `a` on behind it (their share
+//! inside the box goes behind the cloud: exact where they do not overlap). A ray that hits
+//! nothing sees the sky's table, which already holds the air over the whole ray; the air in
+//! front of the cloud is peeled off it (`L_far = (L_sky − L_air) / T_air`), so a clear stretch
+//! of the box shows the sky unchanged. Light toward surfaces takes the cloud's transmittance
+//! (shadows), marched at the view step.
 
 use fray_atmosphere::sky::{ScatterTerms, SkyView};
 use fray_atmosphere::{FogLayer, FogLighting, FogModel, FogTerms, Sunlight};
+use fray_clouds::march::{self as cloud_march, CloudLight, Density};
 use fray_core::{Interval, Ray};
-use fray_scene::{Light, Scene};
+use fray_scene::{Clouds, Light, Scene};
 use glam::DVec3;
+use std::sync::Arc;
 
 /// What the media do to a ray segment: `L_eye = transmittance · L_behind + in_scatter`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,11 +93,19 @@ struct SkyMedium {
     eye: DVec3,
 }
 
+/// The clouds of a frame: the scene's volume and how it is lit.
+#[derive(Clone, Debug)]
+struct CloudMedium {
+    clouds: Arc<Clouds>,
+    light: CloudLight,
+}
+
 /// The scene's media for one frame.
 #[derive(Clone, Debug)]
 pub struct Media {
     fog: Option<FogMedium>,
     sky: Option<SkyMedium>,
+    clouds: Option<CloudMedium>,
     background: DVec3,
 }
 
@@ -102,7 +121,7 @@ fn eye_of(camera: &fray_core::Projector) -> DVec3 {
 impl Media {
     /// The scene's media, or `None` if it has none (nothing is built, nothing runs).
     pub fn of(scene: &Scene) -> Option<Self> {
-        if scene.atmosphere.is_empty() {
+        if scene.atmosphere.is_empty() && scene.clouds.is_none() {
             return None;
         }
         let eye = eye_of(&scene.camera);
@@ -144,35 +163,143 @@ impl Media {
                 },
             }
         });
+        let clouds = scene.clouds.as_ref().map(|c| {
+            let sun_light = scene
+                .lights
+                .iter()
+                .position(|l| matches!(l, Light::Sun { .. }));
+            let (sun_direction, mut sun_irradiance) = match sun_light.map(|i| scene.lights[i]) {
+                Some(Light::Sun {
+                    direction,
+                    irradiance,
+                }) => (direction, irradiance.as_dvec3()),
+                _ => (DVec3::Y, DVec3::ZERO),
+            };
+            if let Some(s) = sky
+                .as_ref()
+                .filter(|s| sun_light.is_some() && s.sky.sun_light == sun_light)
+            {
+                // The sky's sun reaches the volume through the air above its centre.
+                let r = &c.volume.region;
+                let centre =
+                    DVec3::from_array(std::array::from_fn(|a| 0.5 * (r.min[a] + r.max[a])));
+                sun_irradiance *= s.sky.sky.transmittance_to_sun(centre, eye);
+            }
+            CloudMedium {
+                light: CloudLight {
+                    sun_direction: sun_direction.to_array(),
+                    sun_irradiance: sun_irradiance.to_array(),
+                    ambient: (scene.ambient.as_dvec3() * c.ambient).to_array(),
+                    albedo: c.albedo,
+                    phase: c.phase,
+                },
+                clouds: c.clone(),
+            }
+        });
         Some(Self {
             fog,
             sky,
+            clouds,
             background: scene.background.as_dvec3(),
         })
+    }
+
+    /// Whether the media hold a cloud volume (marched per pixel: no media grid).
+    pub fn has_clouds(&self) -> bool {
+        self.clouds.is_some()
+    }
+
+    /// Where in each step the clouds' samples of the camera ray through image point `(x, y)`
+    /// lie: the pixel's interleaved gradient noise when the clouds jitter, else midpoints.
+    pub fn camera_jitter(&self, (x, y): (f64, f64)) -> f64 {
+        match &self.clouds {
+            Some(c) if c.clouds.jitter => {
+                cloud_march::pixel_jitter(x.max(0.0) as u32, y.max(0.0) as u32)
+            }
+            _ => 0.5,
+        }
+    }
+
+    /// [`Media::terms`] with the clouds' samples offset by `jitter` (in `[0, 1)`, a camera
+    /// pixel's), adding the cloud march's density samples to `samples`.
+    pub fn terms_jittered(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        jitter: f64,
+        samples: &mut u64,
+    ) -> MediaTerms {
+        let Some(c) = &self.clouds else {
+            return self.atmosphere_terms(ray, range);
+        };
+        let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+        let region = c.clouds.volume.region();
+        let Some((a, b)) = cloud_march::clip(&region, o, d, range.lo, range.hi) else {
+            return self.atmosphere_terms(ray, range);
+        };
+        let settings = fray_clouds::march::MarchSettings {
+            jitter,
+            ..c.clouds.march
+        };
+        let marched = cloud_march::march(&c.clouds.volume, o, d, (a, b), &settings, &c.light);
+        *samples += u64::from(marched.samples);
+        let cloud = MediaTerms {
+            transmittance: DVec3::splat(marched.transmittance),
+            in_scatter: DVec3::from_array(marched.in_scatter),
+        };
+        let front = self.atmosphere_terms(ray, Interval::new(range.lo, a));
+        let back = self.atmosphere_terms(ray, Interval::new(a, range.hi));
+        let terms = front.then(&cloud).then(&back);
+        if range.hi.is_finite() {
+            return terms;
+        }
+        // A miss: the sky's table holds the air over the whole ray; peel the air in front of
+        // the cloud off it, `L_far = (L_sky − L_air) / T_air`.
+        match self.air(ray, a) {
+            Some(air) if air.transmittance.min_element() > 1e-12 => terms.then(&MediaTerms {
+                transmittance: 1.0 / air.transmittance,
+                in_scatter: -air.in_scatter / air.transmittance,
+            }),
+            // The cloud lies beyond where the air lets anything through: the sky alone.
+            Some(_) => self.atmosphere_terms(ray, range),
+            None => terms,
+        }
     }
 
     /// The media's terms along `ray` over `range`. A finite `range.hi` ends at a surface: fog
     /// and air. `range.hi = ∞` (a ray that hits nothing): the fog alone — the sky's air along
     /// the whole ray is in [`Media::background`].
     pub fn terms(&self, ray: &Ray, range: Interval) -> MediaTerms {
+        self.terms_jittered(ray, range, 0.5, &mut 0)
+    }
+
+    /// The sky's air over `[0, t]` along `ray` when it is drawn in front of surfaces.
+    fn air(&self, ray: &Ray, t: f64) -> Option<MediaTerms> {
+        self.sky
+            .as_ref()
+            .filter(|s| s.sky.aerial_perspective)
+            .map(|s| {
+                MediaTerms::from(
+                    s.sky
+                        .sky
+                        .aerial_perspective(ray.origin, ray.dir, t, s.sky.steps),
+                )
+            })
+    }
+
+    /// The fog's and air's terms (no clouds), as [`Media::terms`] describes.
+    fn atmosphere_terms(&self, ray: &Ray, range: Interval) -> MediaTerms {
         let fog = self.fog.as_ref().map(|f| {
             let terms = f.layer.terms(ray, range, &f.lighting, f.model);
             let starts_inside = f.layer.span(ray, range).is_some_and(|s| s.lo <= range.lo);
             (MediaTerms::from(terms), starts_inside)
         });
-        let air = self
-            .sky
-            .as_ref()
-            .filter(|s| s.sky.aerial_perspective && range.hi.is_finite())
-            .map(|s| {
-                // The air over [0, t]; the near plane's sliver of air is left in.
-                MediaTerms::from(s.sky.sky.aerial_perspective(
-                    ray.origin,
-                    ray.dir,
-                    range.hi,
-                    s.sky.steps,
-                ))
-            });
+        // The air over [0, t]; the near plane's sliver of air is left in.
+        let air = if range.hi.is_finite() {
+            self.air(ray, range.hi)
+        } else {
+            None
+        };
         match (fog, air) {
             (None, None) => MediaTerms::CLEAR,
             (Some((fog, _)), None) => fog,
@@ -248,6 +375,20 @@ impl Media {
         }
         if let Some(s) = self.sky.as_ref().filter(|s| s.sky.sun_light == Some(index)) {
             through *= s.sky.sky.transmittance_to_sun(p, s.eye);
+        }
+        if let Some(c) = &self.clouds {
+            let far = match light {
+                Light::Sun { .. } => f64::INFINITY,
+                Light::Point { .. } => distance,
+            };
+            let depth = cloud_march::optical_depth(
+                &c.clouds.volume,
+                p.to_array(),
+                to_light.to_array(),
+                (0.0, far),
+                c.clouds.march.step,
+            );
+            through *= (-depth).exp();
         }
         through
     }

@@ -238,7 +238,8 @@ pub(crate) fn camera_terms(
         }
         ctx.counts.media_exact += 1;
     }
-    media.terms(ray, range)
+    let jitter = media.camera_jitter((x, y));
+    media.terms_jittered(ray, range, jitter, &mut ctx.counts.cloud_samples)
 }
 
 #[cfg(test)]

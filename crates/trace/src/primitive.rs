@@ -39,6 +39,8 @@ pub struct RayCounts {
     /// could not interpolate (depths disagree) and evaluated exactly.
     pub media_interpolated: u64,
     pub media_exact: u64,
+    /// Density samples the cloud marches of camera rays took (0 without clouds).
+    pub cloud_samples: u64,
 }
 
 impl TraceContext {

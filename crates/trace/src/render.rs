@@ -167,7 +167,11 @@ pub fn render_into(
     }
     let w = width as usize;
     let mut integrator = Integrator::new(scene, settings);
-    if let (Some(media), Some(spacing)) = (integrator.media(), settings.media_grid) {
+    // Clouds change from pixel to pixel: with them every camera ray takes its own terms.
+    let grid_spacing = settings
+        .media_grid
+        .filter(|_| integrator.media().is_some_and(|m| !m.has_clouds()));
+    if let (Some(media), Some(spacing)) = (integrator.media(), grid_spacing) {
         let grid = pool.install(|| {
             MediaGrid::build(
                 scene,
@@ -290,6 +294,7 @@ pub fn render_into(
         stats.terrain_stop_levels += t.terrain.stop_levels_above_finest;
         stats.media_interpolated += t.media_interpolated;
         stats.media_exact += t.media_exact;
+        stats.cloud_samples += t.cloud_samples;
     }
     if list.is_some() {
         stats.passes.push("quadtree".into());
@@ -321,7 +326,7 @@ pub fn render_into(
         stats.passes.retain(|p| {
             !matches!(
                 p.as_str(),
-                "shadows" | "sun" | "point-lights" | "fog" | "sky"
+                "shadows" | "sun" | "point-lights" | "fog" | "sky" | "clouds"
             )
         });
     }

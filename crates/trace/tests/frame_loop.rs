@@ -51,8 +51,8 @@ fn every_pixel_gets_the_hit_of_nearest_hit() {
     }
 }
 
-/// The integrator's per-ray entry, `Integrator::radiance` — the one every non-camera ray will
-/// take — gives each camera ray exactly the colour the frame loop gave its pixel (which found the
+/// The integrator's per-ray entry, `Integrator::camera_radiance` (`radiance` with the camera
+/// pixel's media jitter; the one every non-camera ray will take otherwise) — gives each camera ray exactly the colour the frame loop gave its pixel (which found the
 /// hits a tile at a time and culled the shadow rays' occluders per tile): one integrator.
 #[test]
 fn the_integrators_radiance_of_each_camera_ray_is_the_frames_colour() {
@@ -72,7 +72,10 @@ fn the_integrators_radiance_of_each_camera_ray_is_the_frames_colour() {
                     continue;
                 };
                 let range = fray_core::Interval::new(c.t_near, f64::INFINITY);
-                let radiance = integrator.radiance(&mut ctx, &c.ray, range).as_vec3();
+                let at = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+                let radiance = integrator
+                    .camera_radiance(&mut ctx, at, &c.ray, range)
+                    .as_vec3();
                 assert_eq!(
                     radiance.to_array().map(f32::to_bits),
                     frame.colour.get(x, y).to_array().map(f32::to_bits),

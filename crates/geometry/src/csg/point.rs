@@ -71,6 +71,18 @@ impl Solid {
         run(&self.program, &mut value).unwrap_or(f64::NEG_INFINITY)
     }
 
+    /// The CSG value at `p` with the gradient of the operand that decides it (the one that wins
+    /// every `max`/`min`): `F / |∇F|` is a first-order distance to the surface, which is how
+    /// cloud envelopes measure "how deep" a point is.
+    pub fn eval_with_gradient(&self, p: DVec3) -> (f64, DVec3) {
+        let mut surface = Surface {
+            leaves: &self.leaves,
+            eval: |_: usize, leaf: &FreeForm| leaf.eval_with_gradient(p),
+        };
+        run(&self.program, &mut surface)
+            .map_or((f64::NEG_INFINITY, DVec3::ZERO), |(v, g, _)| (v, g))
+    }
+
     /// The outward unit normal at a surface point `p` and the leaf whose surface it is: the
     /// gradient of the operand that is active in every `max`/`min`. Falls back to `fallback`
     /// where the gradient vanishes (a cone's apex).
