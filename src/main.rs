@@ -159,19 +159,23 @@ fn parse_samples(text: &str) -> Result<fray_core::PixelSamples, String> {
     fray_core::PixelSamples::new(n).map_err(|e| e.to_string())
 }
 
-fn load(path: Option<&Path>) -> Result<(fray_scene::Scene, String), String> {
+/// The scene at `path` (or the default scene), what it builds checked against `budget`.
+fn load(
+    path: Option<&Path>,
+    budget: &fray_core::MemoryBudget,
+) -> Result<(fray_scene::Scene, String), String> {
     match path {
-        Some(p) => fray_scene::load(p)
+        Some(p) => fray_scene::load_within(p, budget)
             .map(|s| (s, p.display().to_string()))
             .map_err(|e| e.to_string()),
-        None => fray_scene::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME)
+        None => fray_scene::parse_within(DEFAULT_SCENE, DEFAULT_SCENE_NAME, budget)
             .map(|s| (s, DEFAULT_SCENE_NAME.to_string()))
             .map_err(|e| e.to_string()),
     }
 }
 
 fn check(path: &Path) -> Result<(), String> {
-    let (scene, name) = load(Some(path))?;
+    let (scene, name) = load(Some(path), &fray_core::MemoryBudget::default())?;
     let leaves: usize = scene.objects.iter().map(|o| o.solid.leaves().len()).sum();
     let perturbations: usize = scene
         .objects
@@ -192,7 +196,8 @@ fn check(path: &Path) -> Result<(), String> {
 }
 
 fn render(args: &RenderArgs) -> Result<(), String> {
-    let (scene, name) = load(args.scene.as_deref())?;
+    let budget = args.memory_budget.unwrap_or_default();
+    let (scene, name) = load(args.scene.as_deref(), &budget)?;
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args
             .scene

@@ -367,6 +367,21 @@ fn a_frame_over_the_memory_budget_is_a_clear_error() {
         "{}",
         stderr(&o)
     );
+    // The budget covers what the scene itself builds: here the CT volume's 1 MiB grid.
+    let o = fray(&[
+        "render",
+        "data/scenes/clouds_ct_skull.ron",
+        "--memory-budget",
+        "512K",
+        "-o",
+        "never-written.png",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("clouds.density.path") && stderr(&o).contains("64 × 64 × 64 volume"),
+        "{}",
+        stderr(&o)
+    );
     let o = fray(&["render", "--memory-budget", "4X", "-o", "never-written.png"]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("K, M, G or T suffix"), "{}", stderr(&o));

@@ -84,6 +84,7 @@ pub(crate) fn resolve(
     path: &FieldPath,
     d: &description::Atmosphere,
     lights: &[Light],
+    budget: &MemoryBudget,
 ) -> Result<Atmosphere> {
     let fog = match &d.fog {
         None => None,
@@ -91,7 +92,7 @@ pub(crate) fn resolve(
     };
     let sky = match &d.sky {
         None => None,
-        Some(s) => Some(sky(&path.field("sky"), s, lights)?),
+        Some(s) => Some(sky(&path.field("sky"), s, lights, budget)?),
     };
     let grid = match d.grid {
         None => None,
@@ -110,7 +111,12 @@ pub(crate) fn resolve(
     Ok(Atmosphere { fog, sky, grid })
 }
 
-fn sky(path: &FieldPath, d: &description::Sky, lights: &[Light]) -> Result<Sky> {
+fn sky(
+    path: &FieldPath,
+    d: &description::Sky,
+    lights: &[Light],
+    budget: &MemoryBudget,
+) -> Result<Sky> {
     let ground = finite(&path.field("ground_elevation"), d.ground_elevation)?;
     if !(d.haze.is_finite() && d.haze >= 0.0) {
         return invalid(&path.field("haze"), format!("must be ≥ 0, got {}", d.haze));
@@ -144,11 +150,12 @@ fn sky(path: &FieldPath, d: &description::Sky, lights: &[Light]) -> Result<Sky> 
         _ => SkySun::new(DVec3::Y, DVec3::ZERO),
     };
     let built =
-        fray_atmosphere::sky::Sky::new(model, sun, SkyTables::default(), &MemoryBudget::default())
-            .map_err(|e| crate::resolve::Invalid {
+        fray_atmosphere::sky::Sky::new(model, sun, SkyTables::default(), budget).map_err(|e| {
+            crate::resolve::Invalid {
                 path: path.clone(),
                 message: e.to_string(),
-            })?;
+            }
+        })?;
     Ok(Sky {
         sky: Arc::new(built),
         sun_light,

@@ -173,7 +173,8 @@ pub(crate) fn resolve(
     let density_path = path.field("density");
     let (grid, scale, source) = match &d.density {
         CloudDensity::Layer(layer) => {
-            let at = density_path.field("Layer");
+            // Located through the variant (`Layer((…))`): the path names the fields inside.
+            let at = density_path.clone();
             let started = std::time::Instant::now();
             let grid = bake_layer(&at, layer, region, budget)?;
             (
@@ -184,9 +185,14 @@ pub(crate) fn resolve(
                 },
             )
         }
-        CloudDensity::Volume { path: file, scale } => {
-            let at = density_path.field("Volume");
+        CloudDensity::Volume {
+            path: file,
+            scale,
+            threshold,
+        } => {
+            let at = density_path.clone();
             let scale = non_negative(&at.field("scale"), *scale)?;
+            let threshold = crate::resolve::finite(&at.field("threshold"), *threshold)?;
             let full = base.join(file);
             let volume = fray_clouds::inr::load(&full, budget)
                 .or_else(|e| invalid(&at.field("path"), e.to_string()))?;
@@ -205,7 +211,21 @@ pub(crate) fn resolve(
                     ),
                 );
             }
-            (volume.grid, scale, CloudSource::Volume { path: full })
+            let grid = if threshold == 0.0 {
+                volume.grid
+            } else {
+                // What lies below the threshold is empty (and skipped); above it, the excess.
+                let cut = threshold as f32;
+                let data = volume
+                    .grid
+                    .data()
+                    .iter()
+                    .map(|v| (v - cut).max(0.0))
+                    .collect();
+                fray_clouds::DensityGrid::from_data(volume.grid.size(), data)
+                    .or_else(|e| invalid(&at.field("path"), e.to_string()))?
+            };
+            (grid, scale, CloudSource::Volume { path: full })
         }
     };
     let skip = skip_block.map(|b| grid.max_grid(b as usize));

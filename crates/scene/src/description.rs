@@ -567,12 +567,17 @@ pub enum CloudDensity {
     /// A cloud layer baked from improved Perlin noise.
     Layer(Box<CloudLayer>),
     /// A density grid from a file (INRIMAGE-4 `.inr`, one float channel), stretched over the
-    /// region; its values times `scale` are the density.
+    /// region; its values above `threshold`, less the threshold, times `scale` are the density
+    /// (a CT scan's bone above its iso-value, say).
     Volume {
         /// Relative to the scene file.
         path: String,
+        /// `≥ 0`; default 1.
         #[serde(default = "one")]
         scale: f64,
+        /// Finite; default 0 (every value ≥ 0 kept as it is).
+        #[serde(default)]
+        threshold: f64,
     },
 }
 

@@ -5,23 +5,36 @@ use crate::locate::{LineColumn, locate};
 use crate::path::{FieldPath, Segment};
 use crate::resolve::resolve;
 use crate::{Scene, SceneError};
+use fray_core::MemoryBudget;
 use ron::error::{Error as RonError, SpannedError};
 use ron::extensions::Extensions;
 use std::path::Path;
 
 /// Reads, parses, validates and resolves the scene file at `path`. Errors name the file.
+/// What it builds (height maps and pyramids, cloud grids, sky tables) is checked against the
+/// default [`MemoryBudget`].
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_within(path, &MemoryBudget::default())
+}
+
+/// [`load`] with what the scene builds checked against `budget` before it is allocated.
+pub fn load_within(path: &Path, budget: &MemoryBudget) -> Result<Scene, SceneError> {
     let source = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
         path: path.to_owned(),
         source,
     })?;
-    parse(&source, &path.display().to_string())
+    parse_within(&source, &path.display().to_string(), budget)
 }
 
 /// Parses, validates and resolves scene text; `file` is the name errors report, and asset paths
 /// are relative to its folder.
 pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
-    parse_at_depth(source, file, 0).map(|(scene, _)| scene)
+    parse_within(source, file, &MemoryBudget::default())
+}
+
+/// [`parse`] with what the scene builds checked against `budget`.
+pub fn parse_within(source: &str, file: &str, budget: &MemoryBudget) -> Result<Scene, SceneError> {
+    parse_at_depth(source, file, 0, budget).map(|(scene, _)| scene)
 }
 
 /// How deep `include`s may nest (a file that includes itself stops here).
@@ -33,6 +46,7 @@ fn parse_at_depth(
     source: &str,
     file: &str,
     depth: usize,
+    budget: &MemoryBudget,
 ) -> Result<(Scene, description::Scene), SceneError> {
     let mut d = parse_description(source, file)?;
     // Assets (height maps) are found relative to the scene file.
@@ -59,7 +73,8 @@ fn parse_at_depth(
         let path = base.join(name);
         let text = std::fs::read_to_string(&path)
             .map_err(|e| located(at.clone(), format!("cannot read {}: {e}", path.display())))?;
-        let (_, mut included) = parse_at_depth(&text, &path.display().to_string(), depth + 1)?;
+        let (_, mut included) =
+            parse_at_depth(&text, &path.display().to_string(), depth + 1, budget)?;
         rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
         for (material, m) in included.materials {
             match d.materials.get(&material) {
@@ -80,7 +95,7 @@ fn parse_at_depth(
         }
         d.objects.extend(included.objects);
     }
-    let scene = resolve(&d, base).map_err(|e| {
+    let scene = resolve(&d, base, budget).map_err(|e| {
         let LineColumn { line, column } = locate(source, &e.path);
         SceneError::Invalid {
             file: file.to_owned(),

@@ -33,7 +33,11 @@ pub(crate) fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result
 }
 
 /// Checks and resolves a whole description.
-pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
+pub(crate) fn resolve(
+    d: &description::Scene,
+    base: &Path,
+    budget: &fray_core::MemoryBudget,
+) -> Result<Scene> {
     let root = FieldPath::root();
     let mut features = FeatureSet::default();
 
@@ -86,12 +90,7 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
                 .material(&path.field("material"), m)?,
                 None => 0,
             };
-            let terrain = crate::terrain::terrain(
-                &path.field("shape"),
-                t,
-                base,
-                &fray_core::MemoryBudget::default(),
-            )?;
+            let terrain = crate::terrain::terrain(&path.field("shape"), t, base, budget)?;
             features.terrain = true;
             terrains.push(TerrainObject {
                 name: name(),
@@ -153,7 +152,8 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
         samples,
     };
     features.shadows = settings.shadows && !lights.is_empty();
-    let atmosphere = crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere, &lights)?;
+    let atmosphere =
+        crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere, &lights, budget)?;
     features.fog = atmosphere.fog.is_some();
     features.sky = atmosphere.sky.is_some();
     let clouds = match &d.clouds {
@@ -161,7 +161,7 @@ pub(crate) fn resolve(d: &description::Scene, base: &Path) -> Result<Scene> {
             &root.field("clouds"),
             c,
             base,
-            &fray_core::MemoryBudget::default(),
+            budget,
         )?)),
         None => None,
     };

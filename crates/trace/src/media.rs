@@ -12,13 +12,13 @@
 //! fog's span: under 1 % for spans under 1 km.
 //!
 //! A cloud volume is marched where the ray crosses its box (`fray_clouds::march`, lit by the
-//! scene's first sun and its ambient radiance) and inserted at its entry distance `a`: the fog
-//! and air over `[t_near, a]` in front of it, the fog and air from `a` on behind it (their share
-//! inside the box goes behind the cloud: exact where they do not overlap). A ray that hits
-//! nothing sees the sky's table, which already holds the air over the whole ray; the air in
-//! front of the cloud is peeled off it (`L_far = (L_sky − L_air) / T_air`), so a clear stretch
-//! of the box shows the sky unchanged. Light toward surfaces takes the cloud's transmittance
-//! (shadows), marched at the view step.
+//! scene's first sun and its ambient radiance) and inserted at its entry distance `a`: with
+//! `whole` the fog and air over the ray (the sky's table of a miss holding the air along all of
+//! it) and `front` their part over `[t_near, a]`, the terms are `front ∘ cloud ∘ front⁻¹ ∘ whole`
+//! — the light reaching the cloud is what the atmosphere alone would deliver, with the part in
+//! front peeled off — so a clear stretch of the box changes nothing, and fog or air inside the
+//! box are put behind the cloud (exact where they do not overlap). Light toward surfaces takes
+//! the cloud's transmittance (shadows), marched at the view step.
 
 use fray_atmosphere::sky::{ScatterTerms, SkyView};
 use fray_atmosphere::{FogLayer, FogLighting, FogModel, FogTerms, Sunlight};
@@ -247,23 +247,21 @@ impl Media {
             transmittance: DVec3::splat(marched.transmittance),
             in_scatter: DVec3::from_array(marched.in_scatter),
         };
+        // What the fog and air alone deliver to the eye (from a surface, or from the background,
+        // which holds the sky's air along the whole ray), and their part in front of the cloud.
+        // The light reaching the cloud's entry is the whole with the front peeled off:
+        // `front ∘ cloud ∘ front⁻¹ ∘ whole`, which is `whole` when the cloud is clear.
+        let whole = self.atmosphere_terms(ray, range);
         let front = self.atmosphere_terms(ray, Interval::new(range.lo, a));
-        let back = self.atmosphere_terms(ray, Interval::new(a, range.hi));
-        let terms = front.then(&cloud).then(&back);
-        if range.hi.is_finite() {
-            return terms;
+        if front.transmittance.min_element() <= 1e-12 {
+            // Nothing from the cloud gets through what lies in front of it.
+            return whole;
         }
-        // A miss: the sky's table holds the air over the whole ray; peel the air in front of
-        // the cloud off it, `L_far = (L_sky − L_air) / T_air`.
-        match self.air(ray, a) {
-            Some(air) if air.transmittance.min_element() > 1e-12 => terms.then(&MediaTerms {
-                transmittance: 1.0 / air.transmittance,
-                in_scatter: -air.in_scatter / air.transmittance,
-            }),
-            // The cloud lies beyond where the air lets anything through: the sky alone.
-            Some(_) => self.atmosphere_terms(ray, range),
-            None => terms,
-        }
+        let peel = MediaTerms {
+            transmittance: 1.0 / front.transmittance,
+            in_scatter: -front.in_scatter / front.transmittance,
+        };
+        front.then(&cloud).then(&peel).then(&whole)
     }
 
     /// The media's terms along `ray` over `range`. A finite `range.hi` ends at a surface: fog

@@ -1,0 +1,186 @@
+//! Clouds in scene files: a layer and a volume resolved with their defaults, every bad value
+//! reported at its file, line and field, unreadable volumes named with their path and reason,
+//! and a grid past the memory budget refused before it is made.
+
+fn err(src: &str) -> String {
+    match fray_scene::parse(src, "s.ron") {
+        Ok(_) => panic!("expected an error for {src}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+const LAYER: &str = "(clouds: (region: (min: (-100, 10, -100), max: (100, 40, 100)), density: Layer((resolution: (8, 4, 8)))))";
+
+#[test]
+fn a_layer_takes_its_defaults_and_sets_the_feature() {
+    let s = fray_scene::parse(LAYER, "s.ron").unwrap();
+    assert!(s.features.clouds && s.features.names().contains(&"clouds"));
+    let c = s.clouds.unwrap();
+    assert_eq!(c.volume.grid.size(), [8, 4, 8]);
+    assert_eq!(c.volume.region.min, [-100.0, 10.0, -100.0]);
+    // Extinction at density 1 = scattering + absorption; albedo their ratio.
+    assert!((c.volume.scale - 0.0202).abs() < 1e-15);
+    assert!((c.albedo - 0.02 / 0.0202).abs() < 1e-15);
+    // The default step: the smallest side / 32.
+    assert_eq!(c.march.step, 30.0 / 32.0);
+    assert_eq!(c.march.sun_steps, 6);
+    assert_eq!(c.skip_block, Some(4));
+    assert!(c.volume.skip.is_some() && c.jitter);
+    assert!(c.describe().contains("8×4×8"), "{}", c.describe());
+    let none = fray_scene::parse("()", "s.ron").unwrap();
+    assert!(none.clouds.is_none() && !none.features.clouds);
+    // Skipping off.
+    let off = LAYER.replace("density:", "skip_block: 0, density:");
+    let c = fray_scene::parse(&off, "s.ron").unwrap().clouds.unwrap();
+    assert!(c.volume.skip.is_none() && c.skip_block.is_none());
+}
+
+#[test]
+fn an_envelope_confines_the_layer() {
+    // The whole layer is cloud (coverage 1, no threshold) except outside the envelope.
+    let full = "(clouds: (region: (min: (-100, 0, -100), max: (100, 100, 100)), density: Layer((resolution: (16, 16, 16), coverage: 1, threshold: 0, profile: Custom(base_ramp: 0, top_start: 1), envelope_fade: 0ENVELOPE))))";
+    let open = fray_scene::parse(&full.replace("ENVELOPE", ""), "s.ron").unwrap();
+    let ball = fray_scene::parse(
+        &full.replace(
+            "ENVELOPE",
+            ", envelope: Sphere(center: (0, 50, 0), radius: 30)",
+        ),
+        "s.ron",
+    )
+    .unwrap();
+    let (open, ball) = (open.clouds.unwrap(), ball.clouds.unwrap());
+    let size = [16, 16, 16];
+    let region = ball.volume.region;
+    let (mut inside, mut outside) = (0, 0);
+    for k in 0..16 {
+        for j in 0..16 {
+            for i in 0..16 {
+                let p = region.cell_centre(size, [i, j, k]);
+                let r = ((p[0]).powi(2) + (p[1] - 50.0).powi(2) + p[2].powi(2)).sqrt();
+                let unit = [
+                    (i as f64 + 0.5) / 16.0,
+                    (j as f64 + 0.5) / 16.0,
+                    (k as f64 + 0.5) / 16.0,
+                ];
+                let (b, o) = (ball.volume.grid.sample(unit), open.volume.grid.sample(unit));
+                if r > 30.0 {
+                    assert_eq!(b, 0.0, "outside the envelope at {p:?}");
+                    outside += 1;
+                } else {
+                    assert_eq!(b, o, "inside the envelope at {p:?}");
+                    inside += usize::from(o > 0.0);
+                }
+            }
+        }
+    }
+    assert!(
+        inside > 50 && outside > 1000,
+        "{inside} inside, {outside} outside"
+    );
+    // The envelope draws nothing and adds no features.
+    let s = fray_scene::parse(
+        &full.replace(
+            "ENVELOPE",
+            ", envelope: Union([Sphere(radius: 3), Sphere(center: (5, 0, 0), radius: 3)])",
+        ),
+        "s.ron",
+    )
+    .unwrap();
+    assert!(s.objects.is_empty() && !s.features.csg && !s.features.free_forms);
+}
+
+#[test]
+fn bad_cloud_values_name_file_line_and_field() {
+    let bad = |from: &str, to: &str| err(&LAYER.replace(from, to));
+    assert!(
+        bad("max: (100, 40, 100)", "max: (100, 10, 100)")
+            .contains("clouds.region: must have a positive size on every axis")
+    );
+    assert!(bad("density:", "scattering: -1, density:").contains("clouds.scattering: must be ≥ 0"));
+    assert!(
+        bad("density:", "sun_steps: 0, density:")
+            .contains("clouds.sun_steps: must be a whole number in 1..=256")
+    );
+    assert!(bad("density:", "step: 0, density:").contains("clouds.step: must be > 0"));
+    assert!(bad("density:", "min_transmittance: 1, density:").contains("clouds.min_transmittance"));
+    assert!(bad("density:", "skip_block: 2.5, density:").contains("clouds.skip_block"));
+    assert!(
+        bad("density:", "phase: (g: 1), density:").contains("clouds.phase.g: must be in (−1, 1)")
+    );
+    assert!(
+        bad("(8, 4, 8)", "(8, 0, 8)")
+            .contains("clouds.density.resolution[1]: must be a whole number in 1..=1024")
+    );
+    assert!(
+        bad("(8, 4, 8))", "(8, 4, 8), coverage: 2)")
+            .contains("clouds.density.coverage: must be in [0, 1]")
+    );
+    assert!(bad("(8, 4, 8))", "(8, 4, 8), octaves: 0)").contains("clouds.density.octaves"));
+    assert!(bad("(8, 4, 8))", "(8, 4, 8), threshold: 1)").contains("clouds.density.threshold"));
+    assert!(
+        bad(
+            "(8, 4, 8))",
+            "(8, 4, 8), profile: Custom(base_ramp: 0.5, top_start: 0.2))"
+        )
+        .contains("clouds.density.profile.top_start: must be ≥ base_ramp")
+    );
+    assert!(
+        bad("(8, 4, 8))", "(8, 4, 8), envelope: Sphere(radius: -1))")
+            .contains("clouds.density.envelope")
+    );
+    // The line is the field's.
+    let e = err(
+        "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)),\n  density: Layer((\n    coverage: 3))))",
+    );
+    assert!(e.starts_with("s.ron:3:"), "{e}");
+}
+
+#[test]
+fn a_grid_past_the_budget_is_refused_before_it_is_made() {
+    let src = LAYER.replace("(8, 4, 8)", "(512, 256, 512)");
+    let budget = fray_core::MemoryBudget::new(64 << 20);
+    let e = fray_scene::parse_within(&src, "s.ron", &budget)
+        .unwrap_err()
+        .to_string();
+    // 256 MiB of f32 over a 64 MiB budget, named with its size and at the resolution field.
+    assert!(
+        e.contains("clouds.density.resolution") && e.contains("512 × 256 × 512 density grid"),
+        "{e}"
+    );
+}
+
+#[test]
+fn volumes_load_and_bad_files_name_their_path_and_reason() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/volumes");
+    let src = |path: &str, extra: &str| {
+        format!(
+            "(clouds: (region: (min: (-1, -1, -1), max: (1, 1, 1)), density: Volume(path: \"{path}\"{extra})))"
+        )
+    };
+    let skull = dir.join("skull_2.9.inr").display().to_string();
+    let s = fray_scene::parse(&src(&skull, ""), "s.ron").unwrap();
+    let c = s.clouds.unwrap();
+    assert_eq!(c.volume.grid.size(), [64, 64, 64]);
+    let max = |c: &fray_scene::Clouds| c.volume.grid.data().iter().copied().fold(0.0f32, f32::max);
+    assert!((max(&c) - 5.43).abs() < 0.01, "{}", max(&c));
+    // The threshold keeps the excess above it.
+    let cut = fray_scene::parse(&src(&skull, ", threshold: 2.9, scale: 2"), "s.ron").unwrap();
+    let cut = cut.clouds.unwrap();
+    assert!((max(&cut) - (max(&c) - 2.9)).abs() < 1e-5);
+    assert_eq!(cut.volume.scale, 2.0 * c.volume.scale);
+    let zeros = |c: &fray_scene::Clouds| c.volume.grid.data().iter().filter(|v| **v == 0.0).count();
+    assert!(zeros(&cut) > zeros(&c));
+    // A missing file: its path and the reason, at the field.
+    let e = err(&src("no/such/volume.inr", ""));
+    assert!(
+        e.contains("clouds.density.path") && e.contains("volume.inr") && e.contains("cannot read"),
+        "{e}"
+    );
+    // Not an INRIMAGE file.
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
+    let e = err(&src(&scene.display().to_string(), ""));
+    assert!(
+        e.contains("Cargo.toml") && e.contains("clouds.density.path"),
+        "{e}"
+    );
+}
