@@ -159,23 +159,23 @@ fn parse_samples(text: &str) -> Result<fray_core::PixelSamples, String> {
     fray_core::PixelSamples::new(n).map_err(|e| e.to_string())
 }
 
-/// The scene at `path` (or the default scene), what it builds checked against `budget`.
+/// The scene at `path` (or the default scene), built as `options` say.
 fn load(
     path: Option<&Path>,
-    budget: &fray_core::MemoryBudget,
+    options: &fray_scene::BuildOptions,
 ) -> Result<(fray_scene::Scene, String), String> {
     match path {
-        Some(p) => fray_scene::load_within(p, budget)
+        Some(p) => fray_scene::load_with(p, options)
             .map(|s| (s, p.display().to_string()))
             .map_err(|e| e.to_string()),
-        None => fray_scene::parse_within(DEFAULT_SCENE, DEFAULT_SCENE_NAME, budget)
+        None => fray_scene::parse_with(DEFAULT_SCENE, DEFAULT_SCENE_NAME, options)
             .map(|s| (s, DEFAULT_SCENE_NAME.to_string()))
             .map_err(|e| e.to_string()),
     }
 }
 
 fn check(path: &Path) -> Result<(), String> {
-    let (scene, name) = load(Some(path), &fray_core::MemoryBudget::default())?;
+    let (scene, name) = load(Some(path), &fray_scene::BuildOptions::default())?;
     let leaves: usize = scene.objects.iter().map(|o| o.solid.leaves().len()).sum();
     let perturbations: usize = scene
         .objects
@@ -196,8 +196,32 @@ fn check(path: &Path) -> Result<(), String> {
 }
 
 fn render(args: &RenderArgs) -> Result<(), String> {
-    let budget = args.memory_budget.unwrap_or_default();
-    let (scene, name) = load(args.scene.as_deref(), &budget)?;
+    // Long builds (a cloud layer's bake) show a bar on a terminal.
+    let build_bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::new(0);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {pos}/{len} {elapsed}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let build_report = |what: &str, done: usize, total: usize| {
+        if let Some(bar) = &build_bar {
+            bar.set_message(what.to_owned());
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }
+    };
+    let options = fray_scene::BuildOptions {
+        budget: args.memory_budget.unwrap_or_default(),
+        progress: Some(&build_report),
+    };
+    let loaded = load(args.scene.as_deref(), &options);
+    if let Some(bar) = &build_bar {
+        bar.finish_and_clear();
+    }
+    let (scene, name) = loaded?;
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args
             .scene

@@ -10,7 +10,6 @@ use fray_clouds::bake::Region;
 use fray_clouds::fractal::Fractal;
 use fray_clouds::march::{DualLobe, GridVolume, MarchSettings};
 use fray_clouds::{CloudField, Envelope, HeightProfile};
-use fray_core::MemoryBudget;
 use fray_geometry::Solid;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -123,8 +122,9 @@ pub(crate) fn resolve(
     path: &FieldPath,
     d: &description::Clouds,
     base: &Path,
-    budget: &MemoryBudget,
+    options: &crate::BuildOptions,
 ) -> Result<Clouds> {
+    let budget = &options.budget;
     let region_path = path.field("region");
     let aabb = bounds(&region_path, &d.region)?;
     let extent = aabb.max - aabb.min;
@@ -176,7 +176,7 @@ pub(crate) fn resolve(
             // Located through the variant (`Layer((…))`): the path names the fields inside.
             let at = density_path.clone();
             let started = std::time::Instant::now();
-            let grid = bake_layer(&at, layer, region, budget)?;
+            let grid = bake_layer(&at, layer, region, options)?;
             (
                 grid,
                 1.0,
@@ -256,7 +256,7 @@ fn bake_layer(
     path: &FieldPath,
     d: &description::CloudLayer,
     region: Region,
-    budget: &MemoryBudget,
+    options: &crate::BuildOptions,
 ) -> Result<fray_clouds::DensityGrid> {
     let res_path = path.field("resolution");
     let mut size = [0usize; 3];
@@ -316,7 +316,8 @@ fn bake_layer(
         envelope_fade,
     };
     let bake = |envelope: &dyn Envelope| {
-        fray_clouds::bake::bake(&field, envelope, region, size, budget, |_, _| {})
+        let progress = |done, total| options.report("baking clouds", done, total);
+        fray_clouds::bake::bake(&field, envelope, region, size, &options.budget, progress)
             .or_else(|e| invalid(&res_path, e.to_string()))
     };
     match &d.envelope {

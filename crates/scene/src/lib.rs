@@ -52,7 +52,9 @@ pub use clouds::{CloudSource, Clouds, MAX_CLOUD_RESOLUTION, MAX_SKIP_BLOCK, MAX_
 pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;
-pub use load::{load, load_within, parse, parse_description, parse_within};
+pub use load::{
+    BuildOptions, BuildProgress, load, load_with, parse, parse_description, parse_with,
+};
 pub use primitive::{PrimitiveId, PrimitiveKind};
 pub use resolve::MAX_IMAGE_SIDE;
 pub use scene::{Light, Material, Object, Scene, Settings, TerrainObject};

@@ -14,27 +14,66 @@ use std::path::Path;
 /// What it builds (height maps and pyramids, cloud grids, sky tables) is checked against the
 /// default [`MemoryBudget`].
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    load_within(path, &MemoryBudget::default())
+    load_with(path, &BuildOptions::default())
 }
 
-/// [`load`] with what the scene builds checked against `budget` before it is allocated.
-pub fn load_within(path: &Path, budget: &MemoryBudget) -> Result<Scene, SceneError> {
+/// [`load`] building as `options` say: within their memory budget, reporting long builds.
+pub fn load_with(path: &Path, options: &BuildOptions) -> Result<Scene, SceneError> {
     let source = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
         path: path.to_owned(),
         source,
     })?;
-    parse_within(&source, &path.display().to_string(), budget)
+    parse_with(&source, &path.display().to_string(), options)
 }
 
 /// Parses, validates and resolves scene text; `file` is the name errors report, and asset paths
 /// are relative to its folder.
 pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
-    parse_within(source, file, &MemoryBudget::default())
+    parse_with(source, file, &BuildOptions::default())
 }
 
-/// [`parse`] with what the scene builds checked against `budget`.
-pub fn parse_within(source: &str, file: &str, budget: &MemoryBudget) -> Result<Scene, SceneError> {
-    parse_at_depth(source, file, 0, budget).map(|(scene, _)| scene)
+/// [`parse`] building as `options` say.
+pub fn parse_with(source: &str, file: &str, options: &BuildOptions) -> Result<Scene, SceneError> {
+    parse_at_depth(source, file, 0, options).map(|(scene, _)| scene)
+}
+
+/// A report of a long build's progress: what, steps done, steps in all (from any thread).
+pub type BuildProgress<'a> = &'a (dyn Fn(&str, usize, usize) + Sync);
+
+/// How a scene builds what it needs while it loads.
+#[derive(Clone, Copy, Default)]
+pub struct BuildOptions<'a> {
+    /// What every grid, map and table is checked against before it is allocated.
+    pub budget: MemoryBudget,
+    /// Called as long builds progress (a cloud layer's bake: `("baking clouds", slices done,
+    /// slices)`), from any thread.
+    pub progress: Option<BuildProgress<'a>>,
+}
+
+impl std::fmt::Debug for BuildOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BuildOptions")
+            .field("budget", &self.budget)
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
+}
+
+impl BuildOptions<'_> {
+    /// The default options with `budget`.
+    pub fn within(budget: MemoryBudget) -> Self {
+        Self {
+            budget,
+            progress: None,
+        }
+    }
+
+    /// Reports progress, if anyone listens.
+    pub(crate) fn report(&self, what: &str, done: usize, total: usize) {
+        if let Some(progress) = self.progress {
+            progress(what, done, total);
+        }
+    }
 }
 
 /// How deep `include`s may nest (a file that includes itself stops here).
@@ -46,7 +85,7 @@ fn parse_at_depth(
     source: &str,
     file: &str,
     depth: usize,
-    budget: &MemoryBudget,
+    options: &BuildOptions,
 ) -> Result<(Scene, description::Scene), SceneError> {
     let mut d = parse_description(source, file)?;
     // Assets (height maps) are found relative to the scene file.
@@ -74,7 +113,7 @@ fn parse_at_depth(
         let text = std::fs::read_to_string(&path)
             .map_err(|e| located(at.clone(), format!("cannot read {}: {e}", path.display())))?;
         let (_, mut included) =
-            parse_at_depth(&text, &path.display().to_string(), depth + 1, budget)?;
+            parse_at_depth(&text, &path.display().to_string(), depth + 1, options)?;
         rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
         for (material, m) in included.materials {
             match d.materials.get(&material) {
@@ -95,7 +134,7 @@ fn parse_at_depth(
         }
         d.objects.extend(included.objects);
     }
-    let scene = resolve(&d, base, budget).map_err(|e| {
+    let scene = resolve(&d, base, options).map_err(|e| {
         let LineColumn { line, column } = locate(source, &e.path);
         SceneError::Invalid {
             file: file.to_owned(),

@@ -36,8 +36,9 @@ pub(crate) fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result
 pub(crate) fn resolve(
     d: &description::Scene,
     base: &Path,
-    budget: &fray_core::MemoryBudget,
+    options: &crate::BuildOptions,
 ) -> Result<Scene> {
+    let budget = &options.budget;
     let root = FieldPath::root();
     let mut features = FeatureSet::default();
 
@@ -161,7 +162,7 @@ pub(crate) fn resolve(
             &root.field("clouds"),
             c,
             base,
-            budget,
+            options,
         )?)),
         None => None,
     };

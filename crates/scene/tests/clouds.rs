@@ -36,6 +36,25 @@ fn a_layer_takes_its_defaults_and_sets_the_feature() {
 }
 
 #[test]
+fn the_bake_reports_its_progress() {
+    let reports = std::sync::Mutex::new(Vec::new());
+    let progress = |what: &str, done: usize, total: usize| {
+        reports.lock().unwrap().push((what.to_owned(), done, total));
+    };
+    let options = fray_scene::BuildOptions {
+        progress: Some(&progress),
+        ..Default::default()
+    };
+    fray_scene::parse_with(LAYER, "s.ron", &options).unwrap();
+    let mut reports = reports.into_inner().unwrap();
+    reports.sort();
+    let expected: Vec<_> = (1..=8)
+        .map(|k| ("baking clouds".to_owned(), k, 8))
+        .collect();
+    assert_eq!(reports, expected);
+}
+
+#[test]
 fn an_envelope_confines_the_layer() {
     // The whole layer is cloud (coverage 1, no threshold) except outside the envelope.
     let full = "(clouds: (region: (min: (-100, 0, -100), max: (100, 100, 100)), density: Layer((resolution: (16, 16, 16), coverage: 1, threshold: 0, profile: Custom(base_ramp: 0, top_start: 1), envelope_fade: 0ENVELOPE))))";
@@ -138,8 +157,8 @@ fn bad_cloud_values_name_file_line_and_field() {
 #[test]
 fn a_grid_past_the_budget_is_refused_before_it_is_made() {
     let src = LAYER.replace("(8, 4, 8)", "(512, 256, 512)");
-    let budget = fray_core::MemoryBudget::new(64 << 20);
-    let e = fray_scene::parse_within(&src, "s.ron", &budget)
+    let options = fray_scene::BuildOptions::within(fray_core::MemoryBudget::new(64 << 20));
+    let e = fray_scene::parse_with(&src, "s.ron", &options)
         .unwrap_err()
         .to_string();
     // 256 MiB of f32 over a 64 MiB budget, named with its size and at the resolution field.
