@@ -5,10 +5,12 @@
 // the layer; the sky's air (sky_media.wgsl) adds the aerial perspective in front of a surface,
 // and a miss's background is the sky (its table and the sun's disc) seen through the fog. Fog
 // and air are composed as two layers in the order the ray enters them, as the CPU does: the fog
-// in front when the ray starts inside it, the air in front otherwise. A scene without one of
-// them includes its no_*_media.wgsl twin (clear terms; the plain background). Built only for
-// scenes with fog or a sky; resolve then takes every ray's radiance, misses included (its
-// HAS_MEDIA).
+// in front when the ray starts inside it, the air in front otherwise. A cloud volume
+// (clouds_media.wgsl) is marched where the ray crosses its box and inserted at its entry, the
+// atmosphere in front of it and behind it. A scene without one of them includes its
+// no_*_media.wgsl twin (clear terms; the plain background; the atmosphere alone). Built only
+// for scenes with fog, a sky or clouds; resolve then takes every ray's radiance, misses
+// included (its HAS_MEDIA). Counts the cloud march's density samples.
 //
 // #bindings frame, shading
 // #include "ray.wgsl"
@@ -16,6 +18,9 @@
 // #include "no_fog_media.wgsl" unless fog
 // #include "sky_media.wgsl" if sky
 // #include "no_sky_media.wgsl" unless sky
+// #include "clouds_media.wgsl" if clouds
+// #include "no_clouds_media.wgsl" unless clouds
+// #include "counters.wgsl"
 
 // What a medium does to a ray segment: L_eye = transmittance · L_behind + in_scatter
 // (fray-trace's MediaTerms).
@@ -29,26 +34,44 @@ fn media_then(front: MediaTerms, behind: MediaTerms) -> MediaTerms {
     return MediaTerms(front.transmittance * behind.transmittance, front.transmittance * behind.in_scatter + front.in_scatter);
 }
 
+// `a` where `c` is false, `b` where it is true (select, for terms).
+fn media_select(a: MediaTerms, b: MediaTerms, c: bool) -> MediaTerms {
+    return MediaTerms(select(a.transmittance, b.transmittance, c), select(a.in_scatter, b.in_scatter, c));
+}
+
+// The fog's terms and the air's composed in the order the ray enters them (Media's
+// atmosphere_terms): the fog in front when the ray starts inside it, the air otherwise.
+fn media_atmosphere_with(fog: FogMedia, air: MediaTerms) -> MediaTerms {
+    return media_select(media_then(air, fog.terms), media_then(fog.terms, air), fog.starts_inside);
+}
+
+// The cloud march's density samples of this invocation's ray (set by media_terms).
+var<private> cloud_samples: u32;
+
 @compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+) {
+    zero_counts(local_index);
+    workgroupBarrier();
     let k = id.x + id.y * groups.x * 64u;
-    if k >= frame.width * frame.band_rows * frame.rays_per_pixel {
-        return;
+    cloud_samples = 0u;
+    // No ray (a degenerate projector pair, origin.w < 0): resolve shows the background, as the
+    // CPU does. With anti-aliasing the centre ray (ray 0 of its pixel) gives depth and normal
+    // only: its colour is never read, so its media are not computed (nor counted).
+    let colour_ray = frame.rays_per_pixel == 1u || k % frame.rays_per_pixel != 0u;
+    if k < frame.width * frame.band_rows * frame.rays_per_pixel && colour_ray && paths[k].origin.w >= 0.0 {
+        let path = paths[k];
+        let o = path.origin.xyz;
+        let d = path.dir.xyz;
+        let hit = path.hit.x >= 0.0;
+        let behind = select(media_background(d), path.radiance.xyz, hit);
+        let terms = media_terms(o, d, path.origin.w, select(BIG, path.hit.x, hit), hit, k);
+        paths[k].radiance = vec4<f32>(behind * terms.transmittance + terms.in_scatter, 0.0);
     }
-    let path = paths[k];
-    if path.origin.w < 0.0 {
-        // No ray (a degenerate projector pair): resolve shows the background, as the CPU does.
-        return;
-    }
-    let o = path.origin.xyz;
-    let d = path.dir.xyz;
-    let hit = path.hit.x >= 0.0;
-    let behind = select(media_background(d), path.radiance.xyz, hit);
-    let fog = fog_media(o, d, path.origin.w, select(BIG, path.hit.x, hit));
-    let air = media_air(o, d, path.hit.x, hit);
-    let fog_first = media_then(fog.terms, air);
-    let air_first = media_then(air, fog.terms);
-    let t = select(air_first.transmittance, fog_first.transmittance, fog.starts_inside);
-    let l = select(air_first.in_scatter, fog_first.in_scatter, fog.starts_inside);
-    paths[k].radiance = vec4<f32>(behind * t + l, 0.0);
+    count(COUNT_CLOUD_SAMPLES, cloud_samples);
+    workgroupBarrier();
+    flush_counts(local_index);
 }

@@ -5,6 +5,6 @@ fn media_background(d: vec3<f32>) -> vec3<f32> {
     return frame.background.xyz;
 }
 
-fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, hit: bool) -> MediaTerms {
+fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, finite: bool) -> MediaTerms {
     return MediaTerms(vec3<f32>(1.0), vec3<f32>(0.0));
 }

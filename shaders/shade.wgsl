@@ -3,9 +3,9 @@
 // terrain's normal from its hit), the cut face where the ray starts inside, then ambient +
 // Lambert (albedo/π) + normalised Phong with each light seen through the RGB transmittance of a
 // shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32), and
-// through the media where the scene has them: the fog (fog_shading.wgsl) and, for the sky's
-// sun, the air (sky_shading.wgsl). Writes the radiance and the outward shading normal into the
-// path. `shading` is the scene's group of lights and materials with its media's parameters and
+// through the media where the scene has them: the fog (fog_shading.wgsl), the clouds
+// (clouds_shading.wgsl) and, for the sky's sun, the air (sky_shading.wgsl). Writes the radiance
+// and the outward shading normal into the path. `shading` is the scene's group of lights and materials with its media's parameters and
 // tables (bindings::shading).
 //
 // #bindings frame, free_forms, shading, terrains if terrain
@@ -17,6 +17,8 @@
 // #include "no_fog.wgsl" unless fog
 // #include "sky_shading.wgsl" if sky
 // #include "no_sky.wgsl" unless sky
+// #include "clouds_shading.wgsl" if clouds
+// #include "no_clouds.wgsl" unless clouds
 // #include "counters.wgsl"
 
 override HAS_FREE_FORMS: bool = true;
@@ -77,7 +79,8 @@ fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, ep
         }
         // Not a shadow: the media dim the light whether or not shadows are on.
         let fog_t = fog_light_transmittance(p, light.kind, to_light, distance);
-        var light_in = irradiance * (fog_t * sky_light_transmittance(p, i));
+        let cloud_t = cloud_light_transmittance(p, to_light, distance);
+        var light_in = irradiance * (fog_t * cloud_t * sky_light_transmittance(p, i));
         if SHADOWS {
             shadow_rays++;
             let through = transmittance(p + n * frame.shadow_offset, to_light, distance, eps);

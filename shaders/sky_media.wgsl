@@ -11,8 +11,10 @@ fn media_background(d: vec3<f32>) -> vec3<f32> {
     return sky_background(d);
 }
 
-fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, hit: bool) -> MediaTerms {
+// The air over [0, t] when t is finite (a surface's or a cloud's distance) and the scene draws
+// aerial perspective; clear terms otherwise.
+fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, finite: bool) -> MediaTerms {
     let aerial = (sky.flags & SKY_AERIAL_PERSPECTIVE) != 0u;
-    let air = sky_aerial_perspective(o, d, select(0.0, t, hit && aerial));
+    let air = sky_aerial_perspective(o, d, select(0.0, t, finite && aerial));
     return MediaTerms(air.transmittance, air.in_scatter);
 }

@@ -19,6 +19,7 @@
 pub mod bake;
 mod error;
 pub mod fractal;
+pub mod gpu_layout;
 mod grid;
 pub mod inr;
 pub mod march;

@@ -26,6 +26,8 @@ pub enum Access {
     Texture(wgpu::TextureFormat),
     /// A 2D texture of unfilterable floats (`texture_2d<f32>`), read with `textureLoad`.
     Sampled,
+    /// A 3D texture of unfilterable floats (`texture_3d<f32>`), read with `textureLoad`.
+    Sampled3d,
 }
 
 /// One binding of a group.
@@ -108,6 +110,11 @@ const SKY_TRANSMITTANCE: Binding = binding(
     Access::Sampled,
 );
 const SKY_VIEW: Binding = binding(5, "sky_view_table", "texture_2d<f32>", Access::Sampled);
+/// The clouds: their parameters (camera-relative, written per frame), the density grid and the
+/// max grid of its blocks (resident; a single zero texel when skipping is off).
+const CLOUDS: Binding = binding(6, "clouds", "GpuClouds", Uniform);
+const CLOUD_DENSITY: Binding = binding(7, "cloud_density", "texture_3d<f32>", Access::Sampled3d);
+const CLOUD_MAX: Binding = binding(8, "cloud_max", "texture_3d<f32>", Access::Sampled3d);
 
 /// Lights and materials, for a scene without media.
 pub const SHADING: Group = Group {
@@ -133,14 +140,62 @@ pub const SHADING_FOG_SKY: Group = Group {
     bindings: &[LIGHTS, MATERIALS, FOG, SKY, SKY_TRANSMITTANCE, SKY_VIEW],
 };
 
-/// The lights-and-materials group of a scene with (or without) fog and a sky: what a module's
-/// `shading` stands for. A scene without a medium binds none of its buffers.
-pub const fn shading(fog: bool, sky: bool) -> Group {
-    match (fog, sky) {
-        (false, false) => SHADING,
-        (true, false) => SHADING_FOG,
-        (false, true) => SHADING_SKY,
-        (true, true) => SHADING_FOG_SKY,
+/// [`SHADING`] and the clouds, for a scene with a cloud volume.
+pub const SHADING_CLOUDS: Group = Group {
+    name: "shading_clouds",
+    bindings: &[LIGHTS, MATERIALS, CLOUDS, CLOUD_DENSITY, CLOUD_MAX],
+};
+
+/// [`SHADING_FOG`] and the clouds.
+pub const SHADING_FOG_CLOUDS: Group = Group {
+    name: "shading_fog_clouds",
+    bindings: &[LIGHTS, MATERIALS, FOG, CLOUDS, CLOUD_DENSITY, CLOUD_MAX],
+};
+
+/// [`SHADING_SKY`] and the clouds.
+pub const SHADING_SKY_CLOUDS: Group = Group {
+    name: "shading_sky_clouds",
+    bindings: &[
+        LIGHTS,
+        MATERIALS,
+        SKY,
+        SKY_TRANSMITTANCE,
+        SKY_VIEW,
+        CLOUDS,
+        CLOUD_DENSITY,
+        CLOUD_MAX,
+    ],
+};
+
+/// [`SHADING_FOG_SKY`] and the clouds.
+pub const SHADING_FOG_SKY_CLOUDS: Group = Group {
+    name: "shading_fog_sky_clouds",
+    bindings: &[
+        LIGHTS,
+        MATERIALS,
+        FOG,
+        SKY,
+        SKY_TRANSMITTANCE,
+        SKY_VIEW,
+        CLOUDS,
+        CLOUD_DENSITY,
+        CLOUD_MAX,
+    ],
+};
+
+/// The lights-and-materials group of a scene with (or without) fog, a sky and clouds: what a
+/// module's `shading` stands for. A scene without a medium binds none of its buffers or
+/// textures.
+pub const fn shading(fog: bool, sky: bool, clouds: bool) -> Group {
+    match (fog, sky, clouds) {
+        (false, false, false) => SHADING,
+        (true, false, false) => SHADING_FOG,
+        (false, true, false) => SHADING_SKY,
+        (true, true, false) => SHADING_FOG_SKY,
+        (false, false, true) => SHADING_CLOUDS,
+        (true, false, true) => SHADING_FOG_CLOUDS,
+        (false, true, true) => SHADING_SKY_CLOUDS,
+        (true, true, true) => SHADING_FOG_SKY_CLOUDS,
     }
 }
 
@@ -234,8 +289,21 @@ pub const SKY_BATCH: Group = Group {
     ],
 };
 
+/// The batch clouds pass (`CloudsPass`): the volume's parameters and grids, rays in, answers
+/// out.
+pub const CLOUDS_BATCH: Group = Group {
+    name: "clouds_batch",
+    bindings: &[
+        binding(0, "clouds", "GpuClouds", Uniform),
+        binding(1, "cloud_density", "texture_3d<f32>", Access::Sampled3d),
+        binding(2, "cloud_max", "texture_3d<f32>", Access::Sampled3d),
+        binding(3, "cloud_queries", "array<vec4<f32>>", StorageRead),
+        binding(4, "cloud_results", "array<vec4<f32>>", StorageReadWrite),
+    ],
+};
+
 /// Every group, for the include step.
-pub const GROUPS: [Group; 13] = [
+pub const GROUPS: [Group; 18] = [
     FRAME,
     FREE_FORMS,
     WORK,
@@ -243,6 +311,11 @@ pub const GROUPS: [Group; 13] = [
     SHADING_FOG,
     SHADING_SKY,
     SHADING_FOG_SKY,
+    SHADING_CLOUDS,
+    SHADING_FOG_CLOUDS,
+    SHADING_SKY_CLOUDS,
+    SHADING_FOG_SKY_CLOUDS,
+    CLOUDS_BATCH,
     TERRAINS,
     TARGETS,
     REBASE,
@@ -270,7 +343,9 @@ impl Group {
                     "{at} var {}: texture_storage_2d<{}, write>;\n",
                     b.name, b.wgsl
                 ),
-                Access::Sampled => format!("{at} var {}: {};\n", b.name, b.wgsl),
+                Access::Sampled | Access::Sampled3d => {
+                    format!("{at} var {}: {};\n", b.name, b.wgsl)
+                }
             };
             s.push_str(&line);
         }
@@ -300,6 +375,11 @@ impl Group {
                         view_dimension: wgpu::TextureViewDimension::D2,
                         multisampled: false,
                     },
+                    Access::Sampled3d => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D3,
+                        multisampled: false,
+                    },
                 },
                 count: None,
             })
@@ -318,7 +398,7 @@ impl Group {
     pub fn sampled_textures(&self) -> u32 {
         self.bindings
             .iter()
-            .filter(|b| b.access == Access::Sampled)
+            .filter(|b| matches!(b.access, Access::Sampled | Access::Sampled3d))
             .count() as u32
     }
 
@@ -459,10 +539,12 @@ mod tests {
             vec![TERRAIN_BATCH, TERRAINS],
             vec![FOG_BATCH],
             vec![SKY_BATCH],
+            vec![CLOUDS_BATCH],
         ];
-        for (fog, sky) in [(false, false), (true, false), (false, true), (true, true)] {
-            sets.push(vec![FRAME, FREE_FORMS, shading(fog, sky), TERRAINS]);
-            sets.push(vec![FRAME, shading(fog, sky)]);
+        for k in 0..8 {
+            let (fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
+            sets.push(vec![FRAME, FREE_FORMS, shading(fog, sky, clouds), TERRAINS]);
+            sets.push(vec![FRAME, shading(fog, sky, clouds)]);
         }
         for set in sets {
             let storage: u32 = set.iter().map(Group::storage_buffers).sum();
@@ -475,7 +557,25 @@ mod tests {
             assert!(set.len() as u32 <= defaults.max_bind_groups);
         }
         // A scene without a medium binds none of its parameters or tables.
-        assert_eq!(shading(false, false), SHADING);
+        assert_eq!(shading(false, false, false), SHADING);
+        // Every combination is its own group (layouts are cached by name).
+        let names: std::collections::HashSet<&str> = (0..8)
+            .map(|k| shading(k & 1 != 0, k & 2 != 0, k & 4 != 0).name)
+            .collect();
+        assert_eq!(names.len(), 8);
+        for k in 0..8 {
+            let g = shading(k & 1 != 0, k & 2 != 0, k & 4 != 0);
+            let has = |name: &str| g.bindings.iter().any(|b| b.name == name);
+            assert_eq!(has("fog"), k & 1 != 0, "{}", g.name);
+            assert_eq!(has("sky_view_table"), k & 2 != 0, "{}", g.name);
+            assert_eq!(
+                has("clouds") && has("cloud_density") && has("cloud_max"),
+                k & 4 != 0,
+                "{}",
+                g.name
+            );
+            assert_eq!(has("cloud_density"), k & 4 != 0, "{}", g.name);
+        }
         assert!(
             SHADING
                 .bindings

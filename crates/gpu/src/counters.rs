@@ -19,10 +19,12 @@ pub enum Counter {
     TerrainCells,
     TerrainStops,
     TerrainStopLevels,
+    /// The cloud march's density samples of camera rays (the media pass).
+    CloudSamples,
 }
 
 /// Every counter, in workgroup-slot order.
-pub const ALL: [Counter; 9] = [
+pub const ALL: [Counter; 10] = [
     Counter::Hits,
     Counter::ShadowRays,
     Counter::BoundEvaluations,
@@ -32,10 +34,11 @@ pub const ALL: [Counter; 9] = [
     Counter::TerrainCells,
     Counter::TerrainStops,
     Counter::TerrainStopLevels,
+    Counter::CloudSamples,
 ];
 
 /// 32-bit words in the frame's counter buffer.
-pub const WORDS: usize = 16;
+pub const WORDS: usize = 18;
 
 impl Counter {
     /// Its slot in the workgroup sums.
@@ -70,6 +73,7 @@ impl Counter {
             Counter::TerrainCells => "TERRAIN_CELLS",
             Counter::TerrainStops => "TERRAIN_STOPS",
             Counter::TerrainStopLevels => "TERRAIN_STOP_LEVELS",
+            Counter::CloudSamples => "CLOUD_SAMPLES",
         }
     }
 

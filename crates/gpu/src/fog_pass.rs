@@ -29,6 +29,7 @@ const OPTIONS: ModuleOptions = ModuleOptions {
     terrain: false,
     fog: true,
     sky: false,
+    clouds: false,
 };
 
 /// One ray of a batch, relative to the fog's reference point: `(origin, t_lo)`,

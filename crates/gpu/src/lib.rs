@@ -32,6 +32,8 @@
 //! ```
 
 pub mod bindings;
+pub mod cloud_textures;
+pub mod clouds_pass;
 mod context;
 pub mod counters;
 mod error;
@@ -48,13 +50,14 @@ pub mod terrain_pass;
 mod timestamps;
 pub mod work;
 
+pub use clouds_pass::CloudsPass;
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use error::GpuError;
 pub use fog_pass::FogPass;
 pub use params::View;
 pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
-    SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon, gpu_epsilon_for, render,
+    SHADOW_OFFSET_EPSILONS, camera_distance, cloud_light, gpu_epsilon, gpu_epsilon_for, render,
 };
 pub use sky_pass::{SkyBatch, SkyPass};
 pub use terrain_pass::TerrainPass;

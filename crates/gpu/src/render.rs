@@ -1,7 +1,7 @@
 //! The GPU frame: settings, the f32 ε, the renderer (a device and its pipeline cache) and the
 //! resident scene a frame is rendered from ([`GpuScene`]) — per frame the rebase, the quadtree
 //! work list, then per band of rows the passes (ray generation → free forms → terrains →
-//! shading → media (fog, sky) → resolve into storage textures), and the textures read back into
+//! shading → media (fog, sky, clouds) → resolve into storage textures), and the textures read back into
 //! a [`Frame`].
 
 use crate::bindings::{self, FRAME, FREE_FORMS, TARGETS, TERRAINS, WORK};
@@ -22,6 +22,8 @@ use crate::timestamps::Timestamps;
 use crate::work::{GpuWork, TILE, quadtree_config};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::{GpuFog, GpuSky, GpuSkyOptions};
+use fray_clouds::gpu_layout::GpuClouds;
+use fray_clouds::march::CloudLight;
 use fray_core::{Frame, Image, MemoryBudget, PixelSamples, RenderStats};
 use fray_scene::Scene;
 use glam::{DVec3, Vec3};
@@ -98,6 +100,40 @@ pub fn gpu_epsilon_for(scene: &Scene, camera: &fray_core::Projector, requested: 
     requested.max(EPSILON_FLOOR * camera_distance(scene, camera))
 }
 
+/// How the scene's clouds are lit seen from `eye` (fray-trace's `Media::of`): by the scene's
+/// first sun — its irradiance dimmed by the air above the volume's centre when it is the sky's
+/// sun — and the scene's ambient radiance times the clouds' factor.
+pub fn cloud_light(scene: &Scene, clouds: &fray_scene::Clouds, eye: DVec3) -> CloudLight {
+    let sun_light = scene
+        .lights
+        .iter()
+        .position(|l| matches!(l, fray_scene::Light::Sun { .. }));
+    let (sun_direction, mut sun_irradiance) = match sun_light.map(|i| scene.lights[i]) {
+        Some(fray_scene::Light::Sun {
+            direction,
+            irradiance,
+        }) => (direction, irradiance.as_dvec3()),
+        _ => (DVec3::Y, DVec3::ZERO),
+    };
+    if let Some(s) = scene
+        .atmosphere
+        .sky
+        .as_ref()
+        .filter(|s| sun_light.is_some() && s.sun_light == sun_light)
+    {
+        let r = &clouds.volume.region;
+        let centre = DVec3::from_array(std::array::from_fn(|a| 0.5 * (r.min[a] + r.max[a])));
+        sun_irradiance *= s.sky.transmittance_to_sun(centre, eye);
+    }
+    CloudLight {
+        sun_direction: sun_direction.to_array(),
+        sun_irradiance: sun_irradiance.to_array(),
+        ambient: (scene.ambient.as_dvec3() * clouds.ambient).to_array(),
+        albedo: clouds.albedo,
+        phase: clouds.phase,
+    }
+}
+
 /// A GPU backend: one device and its pipelines, reused across scenes and frames.
 #[derive(Debug)]
 pub struct GpuRenderer {
@@ -152,7 +188,7 @@ struct Passes {
     free_forms: Option<FreeFormPass>,
     terrains: Option<TerrainIntersectPass>,
     shade: ShadePass,
-    /// Only with fog or a sky.
+    /// Only with fog, a sky or clouds.
     media: Option<MediaPass>,
     resolve: ResolvePass,
 }
@@ -216,9 +252,6 @@ impl<'a> GpuScene<'a> {
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
         }
-        if scene.features.clouds {
-            return Err(GpuError::Unsupported { feature: "clouds" });
-        }
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;
         let anchor = params::reference_point(&scene.camera);
@@ -237,6 +270,7 @@ impl<'a> GpuScene<'a> {
             terrain: !scene.terrains.is_empty(),
             fog: scene.atmosphere.fog.is_some(),
             sky: scene.atmosphere.sky.is_some(),
+            clouds: scene.clouds.is_some(),
         };
         let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
@@ -530,6 +564,7 @@ impl<'a> GpuScene<'a> {
             terrain_cells: Counter::TerrainCells.read(&words),
             terrain_stops: Counter::TerrainStops.read(&words),
             terrain_stop_levels: Counter::TerrainStopLevels.read(&words),
+            cloud_samples: Counter::CloudSamples.read(&words),
             uploaded_bytes: uploaded + scene_uploaded,
             scene_uploaded_bytes: scene_uploaded,
             pipelines_built,
@@ -598,6 +633,18 @@ impl<'a> GpuScene<'a> {
             ctx.queue
                 .write_buffer(&resident.params, 0, bytemuck::bytes_of(&block));
             uploaded += std::mem::size_of::<GpuSky>() as u64;
+        }
+        if let (Some(resident), Some(c)) = (&self.resident.clouds, &scene.clouds) {
+            let block = GpuClouds::new(
+                &c.volume,
+                &cloud_light(scene, c, eye),
+                &c.march,
+                c.jitter,
+                eye.to_array(),
+            );
+            ctx.queue
+                .write_buffer(&resident.params, 0, bytemuck::bytes_of(&block));
+            uploaded += std::mem::size_of::<GpuClouds>() as u64;
         }
         uploaded
     }
@@ -763,7 +810,7 @@ impl<'a> GpuScene<'a> {
             ],
         );
         // The lights and materials with the scene's media (`bindings::shading`), in its order.
-        let shading_group = bindings::shading(r.fog.is_some(), r.sky.is_some());
+        let shading_group = bindings::shading(r.fog.is_some(), r.sky.is_some(), r.clouds.is_some());
         let sky_views = r.sky.as_ref().map(|s| {
             (
                 crate::sky_tables::view(&s.transmittance),
@@ -782,6 +829,14 @@ impl<'a> GpuScene<'a> {
                 sky.params.as_entire_binding(),
                 wgpu::BindingResource::TextureView(transmittance),
                 wgpu::BindingResource::TextureView(sky_view),
+            ]);
+        }
+        let cloud_views = r.clouds.as_ref().map(|c| c.textures.views());
+        if let (Some(clouds), Some((density, max))) = (&r.clouds, &cloud_views) {
+            resources.extend([
+                clouds.params.as_entire_binding(),
+                wgpu::BindingResource::TextureView(density),
+                wgpu::BindingResource::TextureView(max),
             ]);
         }
         let shading = shading_group.bind(device, &cache.layout(ctx, &shading_group), &resources);

@@ -5,7 +5,9 @@
 //! terrains (parameters, concatenated pyramids and samples), the fog layer's parameters
 //! (camera-relative heights, written per frame) and the sky (its transmittance table, uploaded
 //! here once; its sky-view table, written when the eye's height changes; its parameters, written
-//! per frame); every buffer and texture checked against the device's limits before it is made.
+//! per frame), the clouds (their density grid and max grid as 3D textures, uploaded here once;
+//! their parameters, camera-relative, written per frame); every buffer and texture checked
+//! against the device's limits before it is made.
 
 use crate::bindings::{self};
 use crate::params::{self, GpuLight, GpuMaterial};
@@ -80,6 +82,16 @@ pub struct ResidentSky {
     pub view: wgpu::Texture,
 }
 
+/// The clouds on the GPU.
+#[derive(Debug)]
+pub struct ResidentClouds {
+    /// Their parameters (`GpuClouds`, a uniform written per frame from f64: the box relative to
+    /// the camera, the sun's light through the sky).
+    pub params: wgpu::Buffer,
+    /// The density grid and the max grid, uploaded once.
+    pub textures: crate::cloud_textures::CloudTextures,
+}
+
 /// A scene on the GPU.
 #[derive(Debug)]
 pub struct ResidentScene {
@@ -102,6 +114,8 @@ pub struct ResidentScene {
     pub fog: Option<wgpu::Buffer>,
     /// The sky's parameters and tables; `None` without a sky (nothing of it is allocated).
     pub sky: Option<ResidentSky>,
+    /// The clouds' parameters and grids; `None` without clouds (nothing of them is allocated).
+    pub clouds: Option<ResidentClouds>,
     /// Bytes uploaded.
     pub bytes: u64,
 }
@@ -182,6 +196,20 @@ impl ResidentScene {
             }
             None => None,
         };
+        let clouds = match &scene.clouds {
+            Some(c) => {
+                let (textures, b) = crate::cloud_textures::CloudTextures::upload(ctx, &c.volume)?;
+                bytes += b;
+                let params = bindings::empty(
+                    ctx,
+                    "clouds",
+                    size_of::<fray_clouds::gpu_layout::GpuClouds>() as u64,
+                    U::UNIFORM | U::COPY_DST,
+                )?;
+                Some(ResidentClouds { params, textures })
+            }
+            None => None,
+        };
         Ok(Self {
             anchor,
             flat,
@@ -195,6 +223,7 @@ impl ResidentScene {
             terrains,
             fog,
             sky,
+            clouds,
             bytes,
         })
     }

@@ -35,6 +35,7 @@ const OPTIONS: ModuleOptions = ModuleOptions {
     terrain: false,
     fog: false,
     sky: true,
+    clouds: false,
 };
 
 /// One query, relative to the eye: `(ray origin, surface distance t)` (`t ≥ 1e30`: the whole

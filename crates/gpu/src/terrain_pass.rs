@@ -34,6 +34,7 @@ const OPTIONS: ModuleOptions = ModuleOptions {
     terrain: true,
     fog: false,
     sky: false,
+    clouds: false,
 };
 
 /// The complete terrain batch module: the generated prelude (which holds the terrain's parameter

@@ -246,6 +246,10 @@ fn every_data_scene_matches_the_cpu_reference() {
     for path in paths {
         let scene = sized(fray_scene::load(&path).unwrap());
         let name = path.display().to_string();
+        if scene.features.clouds {
+            // The cloud data scenes (some without any surface) are clouds_parity.rs's.
+            continue;
+        }
         if scene.features.terrain {
             // Terrain scenes get the terrain's colour allowance: those without media in
             // terrain_scenes_match_the_cpu_reference and several_terrains_match_the_cpu_reference,
@@ -376,8 +380,10 @@ fn culling_on_and_off_give_the_same_image() {
             .unwrap();
         assert!(on.stats.passes.iter().any(|p| p == "quadtree"), "{name}");
         assert!(!off.stats.passes.iter().any(|p| p == "quadtree"), "{name}");
+        // A scene of media alone (a cloud volume, no surface) lists no work.
+        let surfaces = !scene.objects.is_empty() || !scene.terrains.is_empty();
         assert!(
-            on.stats.work_items > 0 && on.stats.cells_visited > 0,
+            !surfaces || (on.stats.work_items > 0 && on.stats.cells_visited > 0),
             "{name}"
         );
         assert_eq!(

@@ -1,10 +1,12 @@
 //! The media pass, between shade and resolve: one invocation per ray of the band, the radiance
 //! reaching the camera through the scene's media — `T · L_surface + L_in` over `[t_near, t_hit]`
-//! for a hit (the fog's terms and the sky's air composed in the CPU's order), `T · background +
-//! L_in` over `[t_near, ∞)` for a miss (the sky's background, or the scene's colour, through the
-//! fog) — `shaders/media.wgsl` over `shaders/fog.wgsl` and `shaders/sky.wgsl`, the f32 twins of
-//! fray-trace's `Media`, fray-atmosphere's `FogLayer` and `Sky`. Built only for scenes with fog
-//! or a sky; resolve is then specialised to take every ray's radiance.
+//! for a hit (the fog's terms, the sky's air and the cloud volume's march composed in the CPU's
+//! order), `T · background + L_in` over `[t_near, ∞)` for a miss (the sky's background, or the
+//! scene's colour, through the fog and the clouds) — `shaders/media.wgsl` over
+//! `shaders/fog.wgsl`, `shaders/sky.wgsl` and `shaders/clouds.wgsl`, the f32 twins of
+//! fray-trace's `Media`, fray-atmosphere's `FogLayer` and `Sky` and fray-clouds' `march`. Built
+//! only for scenes with fog, a sky or clouds; resolve is then specialised to take every ray's
+//! radiance.
 
 use super::{Kernel, PassSetup};
 use crate::bindings::{self, FRAME, Group};
@@ -19,9 +21,13 @@ pub struct MediaPass {
 
 impl MediaPass {
     /// The groups it binds for a scene composed with `options`: the frame (paths), the lights
-    /// (suns, ambient in the frame) with the fog layer and the sky (`bindings::shading`).
+    /// (suns, ambient in the frame) with the fog layer, the sky and the clouds
+    /// (`bindings::shading`).
     pub fn groups(options: &ModuleOptions) -> [Group; 2] {
-        [FRAME, bindings::shading(options.fog, options.sky)]
+        [
+            FRAME,
+            bindings::shading(options.fog, options.sky, options.clouds),
+        ]
     }
 
     pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {

@@ -223,19 +223,20 @@ pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, ctx: &GpuContext, group
 
 #[cfg(test)]
 mod tests {
-    use crate::bindings::{FOG_BATCH, SKY_BATCH, TERRAIN_BATCH, TERRAINS};
+    use crate::bindings::{CLOUDS_BATCH, FOG_BATCH, SKY_BATCH, TERRAIN_BATCH, TERRAINS};
     use crate::shader::{self, ModuleOptions};
 
     /// Every pass binds its groups in the order its module numbers them (so a pipeline layout
     /// has no gaps and a bind group lands at the index the WGSL declares).
     #[test]
     fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for k in 0..8u32 {
-            let (terrain, fog, sky) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
+        for k in 0..16u32 {
+            let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
             let options = ModuleOptions {
                 terrain,
                 fog,
                 sky,
+                clouds,
                 ..ModuleOptions::default()
             };
             let shade = super::shade::ShadePass::groups(&options);
@@ -257,11 +258,12 @@ mod tests {
                 ("terrain_batch.wgsl", &[TERRAIN_BATCH, TERRAINS][..]),
                 ("fog_batch.wgsl", &[FOG_BATCH][..]),
                 ("sky_batch.wgsl", &[SKY_BATCH][..]),
+                ("clouds_batch.wgsl", &[CLOUDS_BATCH][..]),
             ] {
                 let declared = shader::module_groups(entry, &options).unwrap();
                 assert_eq!(
                     declared, groups,
-                    "{entry} (terrain {terrain}, fog {fog}, sky {sky})"
+                    "{entry} (terrain {terrain}, fog {fog}, sky {sky}, clouds {clouds})"
                 );
             }
         }

@@ -1,8 +1,8 @@
 //! Surfaces and shading: one invocation per ray of the band that hit — the surface (a free
 //! form's normal and leaf, a terrain's normal), the cut face, ambient + Lambert + normalised
 //! Phong with each light through the RGB transmittance of a shadow ray that every kind answers
-//! any-hit and through the media's transmittance — the fog's, and the air's for the sky's sun
-//! (`shaders/shade.wgsl`, fray-trace's `Integrator` in f32).
+//! any-hit and through the media's transmittance — the fog's, the clouds', and the air's for the
+//! sky's sun (`shaders/shade.wgsl`, fray-trace's `Integrator` in f32).
 
 use super::{Kernel, PassSetup};
 use crate::bindings::{self, FRAME, FREE_FORMS, Group, TERRAINS};
@@ -18,10 +18,10 @@ pub struct ShadePass {
 
 impl ShadePass {
     /// The groups it binds for a scene composed with `options`: the frame, the free forms, the
-    /// lights and materials (with the fog layer and the sky's block and tables where the scene
-    /// has them: `bindings::shading`), the terrains' only with terrains.
+    /// lights and materials (with the fog layer, the sky's block and tables and the clouds'
+    /// where the scene has them: `bindings::shading`), the terrains' only with terrains.
     pub fn groups(options: &ModuleOptions) -> Vec<Group> {
-        let shading = bindings::shading(options.fog, options.sky);
+        let shading = bindings::shading(options.fog, options.sky, options.clouds);
         let mut groups = vec![FRAME, FREE_FORMS, shading];
         if options.terrain {
             groups.push(TERRAINS);
