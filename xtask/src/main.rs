@@ -2,6 +2,7 @@
 
 mod bench;
 mod bench_atmosphere;
+mod bench_clouds;
 mod bless;
 mod compare;
 mod regress;
@@ -31,7 +32,9 @@ enum Command {
     /// Sweeps. `terrain`: time vs map size (exact, pixel LOD), time vs error over the LOD bias
     /// and the fixed-step march, DEM scenes exact vs default; target/bench/terrain.{csv,md}.
     /// `atmosphere`: frame time and error against the numerical reference of each fog
-    /// evaluation mode; target/bench/atmosphere.md. Default: both.
+    /// evaluation mode; target/bench/atmosphere.md. `clouds`: frame time against the march's
+    /// step and sun steps with the error against a fine-step reference, empty-space skipping
+    /// on and off, bake time against grid size; target/bench/clouds.md. Default: all.
     Bench(BenchArgs),
 }
 
@@ -40,7 +43,7 @@ struct BenchArgs {
     /// Which sweeps to run
     #[arg(value_enum, default_value_t = Sweeps::All)]
     sweeps: Sweeps,
-    /// Directory for terrain.csv, terrain.md and atmosphere.md [default: target/bench]
+    /// Directory for terrain.csv, terrain.md, atmosphere.md and clouds.md [default: target/bench]
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Repetitions per timing (the median is reported)
@@ -54,6 +57,7 @@ struct BenchArgs {
 enum Sweeps {
     Terrain,
     Atmosphere,
+    Clouds,
     All,
 }
 
@@ -126,6 +130,7 @@ fn main() -> ExitCode {
             let mut summary = String::new();
             let terrain = matches!(args.sweeps, Sweeps::Terrain | Sweeps::All);
             let atmosphere = matches!(args.sweeps, Sweeps::Atmosphere | Sweeps::All);
+            let clouds = matches!(args.sweeps, Sweeps::Clouds | Sweeps::All);
             let mut result = Ok(());
             if terrain {
                 result = bench::run(&bench::BenchOptions {
@@ -137,6 +142,16 @@ fn main() -> ExitCode {
             if atmosphere && result.is_ok() {
                 result = bench_atmosphere::run(repeats).and_then(|md| {
                     let path = out.join("atmosphere.md");
+                    std::fs::create_dir_all(&out)
+                        .and_then(|()| std::fs::write(&path, &md))
+                        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                    summary.push_str(&md);
+                    Ok(())
+                });
+            }
+            if clouds && result.is_ok() {
+                result = bench_clouds::run(repeats).and_then(|md| {
+                    let path = out.join("clouds.md");
                     std::fs::create_dir_all(&out)
                         .and_then(|()| std::fs::write(&path, &md))
                         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;

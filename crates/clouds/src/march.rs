@@ -223,7 +223,9 @@ pub fn march(
     result
 }
 
-/// The transmittance from `p` toward the sun out of the box, by `steps` midpoint samples.
+/// The transmittance from `p` toward the sun out of the box, by `steps` midpoint samples. Not
+/// skipped: with a few steps a block lookup costs about what the sample it saves does (measured:
+/// skipping here made the envelope scene 1.3× slower).
 fn sun_transmittance(
     volume: &dyn Density,
     region: &Region,
@@ -246,25 +248,17 @@ fn sun_transmittance(
     (-depth).exp()
 }
 
-/// The optical depth `∫ σ dt` along `o + t·d` (`d` unit) over `[t0, t1]` by midpoint samples of
-/// about `step` (equal steps, at least one), skipping the stretches `volume` proves empty (the
-/// samples there would all be zero: lossless). What a shadow ray toward a light meets.
-pub fn optical_depth(
+/// `Σ σ(o + t·d)·dt` over the midpoints `t = lo + (k + ½)·dt`, `k < steps`, jumping over the
+/// stretches `volume` proves empty: their terms would be exactly zero, so the sum is the same
+/// bit for bit.
+fn midpoint_depth(
     volume: &dyn Density,
     o: [f64; 3],
     d: [f64; 3],
-    (t0, t1): (f64, f64),
-    step: f64,
+    lo: f64,
+    dt: f64,
+    steps: u64,
 ) -> f64 {
-    let Some((lo, hi)) = clip(&volume.region(), o, d, t0, t1) else {
-        return 0.0;
-    };
-    let length = hi - lo;
-    if length.is_nan() || length <= 0.0 || step.is_nan() || step <= 0.0 {
-        return 0.0;
-    }
-    let steps = (length / step).ceil().clamp(1.0, 1e7) as u64;
-    let dt = length / steps as f64;
     let mut depth = 0.0;
     let mut k = 0;
     while k < steps {
@@ -283,6 +277,27 @@ pub fn optical_depth(
         depth += volume.density(p) * dt;
     }
     depth
+}
+
+/// The optical depth `∫ σ dt` along `o + t·d` (`d` unit) over `[t0, t1]` by midpoint samples of
+/// about `step` (equal steps, at least one), skipping the stretches `volume` proves empty (the
+/// samples there would all be zero: lossless). What a shadow ray toward a light meets.
+pub fn optical_depth(
+    volume: &dyn Density,
+    o: [f64; 3],
+    d: [f64; 3],
+    (t0, t1): (f64, f64),
+    step: f64,
+) -> f64 {
+    let Some((lo, hi)) = clip(&volume.region(), o, d, t0, t1) else {
+        return 0.0;
+    };
+    let length = hi - lo;
+    if length.is_nan() || length <= 0.0 || step.is_nan() || step <= 0.0 {
+        return 0.0;
+    }
+    let steps = (length / step).ceil().clamp(1.0, 1e7) as u64;
+    midpoint_depth(volume, o, d, lo, length / steps as f64, steps)
 }
 
 /// The per-pixel jitter of the march's samples: Jimenez's interleaved gradient noise
