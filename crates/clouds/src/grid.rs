@@ -21,12 +21,7 @@ impl DensityGrid {
         budget: &MemoryBudget,
         mut f: impl FnMut(usize, usize, usize) -> f32,
     ) -> Result<Self, CloudsError> {
-        let count = checked_count(size)?;
-        budget.check_elements(
-            format!("a {} × {} × {} density grid", size[0], size[1], size[2]),
-            count,
-            4,
-        )?;
+        let count = budgeted_count(size, budget)?;
         let mut data = Vec::with_capacity(count as usize);
         for k in 0..size[2] {
             for j in 0..size[1] {
@@ -47,12 +42,7 @@ impl DensityGrid {
         done: impl Fn(usize) + Sync,
     ) -> Result<Self, CloudsError> {
         use rayon::prelude::*;
-        let count = checked_count(size)?;
-        budget.check_elements(
-            format!("a {} × {} × {} density grid", size[0], size[1], size[2]),
-            count,
-            4,
-        )?;
+        let count = budgeted_count(size, budget)?;
         let mut data = vec![0.0f32; count as usize];
         let finished = std::sync::atomic::AtomicUsize::new(0);
         let [nx, ny, _] = size;
@@ -163,6 +153,17 @@ impl DensityGrid {
             max,
         }
     }
+}
+
+/// The cell count of a grid of `size`, its f32 samples checked against `budget`.
+fn budgeted_count(size: [usize; 3], budget: &MemoryBudget) -> Result<u64, CloudsError> {
+    let count = checked_count(size)?;
+    budget.check_elements(
+        format!("a {} × {} × {} density grid", size[0], size[1], size[2]),
+        count,
+        4,
+    )?;
+    Ok(count)
 }
 
 fn checked_count(size: [usize; 3]) -> Result<u64, CloudsError> {

@@ -186,22 +186,7 @@ pub fn march(
     // The light travels along −s and is scattered toward the eye, along −d: cos θ = s · d.
     let phase = light.phase.eval(s[0] * d[0] + s[1] * d[1] + s[2] * d[2]);
     let jitter = settings.jitter.clamp(0.0, 1.0 - f64::EPSILON);
-    let mut k = 0;
-    while k < steps {
-        let t = lo + (k as f64 + jitter) * dt;
-        let p = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
-        if let Some(empty) = volume.empty_for(p, d) {
-            // The next sample at or past the empty stretch's end (the samples before it would
-            // all be zero: skipping them changes nothing).
-            let next = ((t + empty - lo) / dt - jitter).ceil();
-            k = if next > k as f64 {
-                next.min(steps as f64) as u64
-            } else {
-                k + 1
-            };
-            continue;
-        }
-        k += 1;
+    for p in Samples::new(volume, o, d, (lo, dt, jitter), steps) {
         let sigma = volume.density(p);
         result.samples += 1;
         if sigma <= 0.0 {
@@ -259,24 +244,69 @@ fn midpoint_depth(
     dt: f64,
     steps: u64,
 ) -> f64 {
-    let mut depth = 0.0;
-    let mut k = 0;
-    while k < steps {
-        let t = lo + (k as f64 + 0.5) * dt;
-        let p = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
-        if let Some(empty) = volume.empty_for(p, d) {
-            let next = ((t + empty - lo) / dt - 0.5).ceil();
-            k = if next > k as f64 {
-                next.min(steps as f64) as u64
-            } else {
-                k + 1
-            };
-            continue;
+    // Folded from +0 in order: the same bits as summing every sample, zeros included.
+    Samples::new(volume, o, d, (lo, dt, 0.5), steps)
+        .fold(0.0, |depth, p| depth + volume.density(p) * dt)
+}
+
+/// The equidistant samples `lo + (k + offset)·dt`, `k < steps`, of the ray `o + t·d`, less
+/// those in stretches the volume proves empty: at a sample in such a stretch the next one is the
+/// first at or past its end (the samples skipped would all be zero, so sums over the rest are
+/// the same bit for bit).
+struct Samples<'a> {
+    volume: &'a dyn Density,
+    o: [f64; 3],
+    d: [f64; 3],
+    lo: f64,
+    dt: f64,
+    offset: f64,
+    steps: u64,
+    k: u64,
+}
+
+impl<'a> Samples<'a> {
+    fn new(
+        volume: &'a dyn Density,
+        o: [f64; 3],
+        d: [f64; 3],
+        (lo, dt, offset): (f64, f64, f64),
+        steps: u64,
+    ) -> Self {
+        Self {
+            volume,
+            o,
+            d,
+            lo,
+            dt,
+            offset,
+            steps,
+            k: 0,
         }
-        k += 1;
-        depth += volume.density(p) * dt;
     }
-    depth
+}
+
+impl Iterator for Samples<'_> {
+    type Item = [f64; 3];
+
+    fn next(&mut self) -> Option<[f64; 3]> {
+        let (o, d) = (self.o, self.d);
+        while self.k < self.steps {
+            let t = self.lo + (self.k as f64 + self.offset) * self.dt;
+            let p = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
+            if let Some(empty) = self.volume.empty_for(p, d) {
+                let next = ((t + empty - self.lo) / self.dt - self.offset).ceil();
+                self.k = if next > self.k as f64 {
+                    next.min(self.steps as f64) as u64
+                } else {
+                    self.k + 1
+                };
+                continue;
+            }
+            self.k += 1;
+            return Some(p);
+        }
+        None
+    }
 }
 
 /// The optical depth `∫ σ dt` along `o + t·d` (`d` unit) over `[t0, t1]` by midpoint samples of

@@ -9,7 +9,7 @@ use crate::bindings::CLOUDS_BATCH;
 use crate::cloud_textures::CloudTextures;
 use crate::passes::PipelineCache;
 use crate::readback::run_batch;
-use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
+use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_clouds::gpu_layout::GpuClouds;
 use fray_clouds::march::GridVolume;
@@ -20,18 +20,8 @@ const WORKGROUP: u32 = 64;
 
 /// What the batch module is composed with (it binds nothing of a scene).
 const OPTIONS: ModuleOptions = ModuleOptions {
-    sizes: ArraySizes {
-        max_leaves: 1,
-        max_perturbations: 1,
-        max_stack: 1,
-        max_lights: 1,
-        max_materials: 1,
-        max_terrains: 1,
-    },
-    terrain: false,
-    fog: false,
-    sky: false,
     clouds: true,
+    ..ModuleOptions::BATCH
 };
 
 /// One ray of a batch, relative to the block's reference point: `(origin, t0)`,

@@ -8,7 +8,7 @@
 use crate::bindings::FOG_BATCH;
 use crate::passes::PipelineCache;
 use crate::readback::run_batch;
-use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
+use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::GpuFog;
 use wgpu::util::DeviceExt;
@@ -18,18 +18,8 @@ const WORKGROUP: u32 = 64;
 
 /// What the batch module is composed with (it binds nothing of the scene).
 const OPTIONS: ModuleOptions = ModuleOptions {
-    sizes: ArraySizes {
-        max_leaves: 1,
-        max_perturbations: 1,
-        max_stack: 1,
-        max_lights: 1,
-        max_materials: 1,
-        max_terrains: 1,
-    },
-    terrain: false,
     fog: true,
-    sky: false,
-    clouds: false,
+    ..ModuleOptions::BATCH
 };
 
 /// One ray of a batch, relative to the fog's reference point: `(origin, t_lo)`,

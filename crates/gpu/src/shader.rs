@@ -218,6 +218,25 @@ pub struct ModuleOptions {
     pub clouds: bool,
 }
 
+impl ModuleOptions {
+    /// What a batch test pass is composed with: no scene's arrays (every size 1) and no
+    /// feature; a pass turns on the one it tests (`ModuleOptions { fog: true, ..BATCH }`).
+    pub const BATCH: Self = Self {
+        sizes: ArraySizes {
+            max_leaves: 1,
+            max_perturbations: 1,
+            max_stack: 1,
+            max_lights: 1,
+            max_materials: 1,
+            max_terrains: 1,
+        },
+        terrain: false,
+        fog: false,
+        sky: false,
+        clouds: false,
+    };
+}
+
 impl Default for ModuleOptions {
     fn default() -> Self {
         Self {

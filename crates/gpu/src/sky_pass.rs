@@ -10,7 +10,7 @@
 use crate::bindings::SKY_BATCH;
 use crate::passes::PipelineCache;
 use crate::readback::run_batch;
-use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
+use crate::shader::{ModuleOptions, Specialisation};
 use crate::sky_tables::{table_texture, view, write_table};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::GpuSky;
@@ -24,18 +24,8 @@ const ANSWER_VEC4S: usize = 6;
 
 /// What the batch module is composed with (it binds nothing of a scene).
 const OPTIONS: ModuleOptions = ModuleOptions {
-    sizes: ArraySizes {
-        max_leaves: 1,
-        max_perturbations: 1,
-        max_stack: 1,
-        max_lights: 1,
-        max_materials: 1,
-        max_terrains: 1,
-    },
-    terrain: false,
-    fog: false,
     sky: true,
-    clouds: false,
+    ..ModuleOptions::BATCH
 };
 
 /// One query, relative to the eye: `(ray origin, surface distance t)` (`t ≥ 1e30`: the whole

@@ -10,7 +10,7 @@
 use crate::bindings::{self, TERRAIN_BATCH, TERRAINS};
 use crate::passes::PipelineCache;
 use crate::readback::run_batch;
-use crate::shader::{ArraySizes, ModuleOptions, Specialisation};
+use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_core::PixelFootprint;
 use fray_terrain::Terrain;
@@ -23,18 +23,8 @@ const WORKGROUP: u32 = 64;
 
 /// What the batch module is composed with: one terrain.
 const OPTIONS: ModuleOptions = ModuleOptions {
-    sizes: ArraySizes {
-        max_leaves: 1,
-        max_perturbations: 1,
-        max_stack: 1,
-        max_lights: 1,
-        max_materials: 1,
-        max_terrains: 1,
-    },
     terrain: true,
-    fog: false,
-    sky: false,
-    clouds: false,
+    ..ModuleOptions::BATCH
 };
 
 /// The complete terrain batch module: the generated prelude (which holds the terrain's parameter

@@ -294,28 +294,6 @@ fn batch_march_matches_the_cpu_reference() {
 const FRAME_ABS: f32 = 1e-4;
 const FRAME_REL: f32 = 1e-3;
 
-/// Pixels whose 3×3 neighbourhood in `labels` is not uniform.
-fn boundary<T: PartialEq + Copy>(labels: &[T], w: u32, h: u32) -> Vec<bool> {
-    let at = |x: i64, y: i64| labels[(y as usize) * (w as usize) + x as usize];
-    let mut out = vec![false; labels.len()];
-    for y in 0..h as i64 {
-        for x in 0..w as i64 {
-            let c = at(x, y);
-            let mut edge = false;
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64 && at(nx, ny) != c {
-                        edge = true;
-                    }
-                }
-            }
-            out[(y as usize) * (w as usize) + x as usize] = edge;
-        }
-    }
-    out
-}
-
 /// What a frame comparison found.
 #[derive(Debug, Default)]
 struct FrameReport {
@@ -383,23 +361,7 @@ fn compare(name: &str, scene: &Scene, gpu: &GpuRenderer) -> FrameReport {
             }
         }
     }
-    let unshadowed = fray_trace::render(
-        scene,
-        &TraceSettings {
-            shadows: false,
-            ..cpu_settings
-        },
-        None,
-    )
-    .unwrap();
-    let shadow: Vec<bool> = cpu
-        .colour
-        .pixels()
-        .iter()
-        .zip(unshadowed.colour.pixels())
-        .map(|(a, b)| (*a - *b).abs().max_element() > 1e-6)
-        .collect();
-    let shadow_edges = boundary(&shadow, w, h);
+    let shadow_edges = common::shadow_edges(scene, &cpu_settings, &cpu);
     let mut r = FrameReport {
         cloud_samples: (cpu.stats.cloud_samples, g.stats.cloud_samples),
         ..FrameReport::default()

@@ -54,28 +54,6 @@ fn cpu_ids(scene: &Scene, eps: f64) -> Vec<u32> {
     ids
 }
 
-/// Pixels whose 3×3 neighbourhood in `labels` is not uniform.
-fn boundary<T: PartialEq + Copy>(labels: &[T], w: u32, h: u32) -> Vec<bool> {
-    let at = |x: i64, y: i64| labels[(y as usize) * (w as usize) + x as usize];
-    let mut out = vec![false; labels.len()];
-    for y in 0..h as i64 {
-        for x in 0..w as i64 {
-            let c = at(x, y);
-            let mut edge = false;
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64 && at(nx, ny) != c {
-                        edge = true;
-                    }
-                }
-            }
-            out[(y as usize) * (w as usize) + x as usize] = edge;
-        }
-    }
-    out
-}
-
 #[derive(Debug, Default)]
 struct Report {
     both_hit: usize,
@@ -126,29 +104,9 @@ fn compare(name: &str, scene: &Scene, gpu: &GpuRenderer) -> Report {
     let eps_gpu = gpu_epsilon(scene, settings.epsilon);
     let (w, h) = (scene.width, scene.height);
     let ids = cpu_ids(scene, cpu_settings.epsilon);
-    let edges = boundary(&ids, w, h);
+    let edges = common::boundary(&ids, w, h);
     // Shadow boundaries: where the CPU's shadowed/lit state changes between neighbours.
-    let unshadowed = fray_trace::render(
-        scene,
-        &TraceSettings {
-            shadows: false,
-            ..cpu_settings
-        },
-        None,
-    )
-    .unwrap();
-    let mut shadow = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            shadow.push(
-                (cpu.colour.get(x, y) - unshadowed.colour.get(x, y))
-                    .abs()
-                    .max_element()
-                    > 1e-6,
-            );
-        }
-    }
-    let shadow_edges = boundary(&shadow, w, h);
+    let shadow_edges = common::shadow_edges(scene, &cpu_settings, &cpu);
     let mut r = Report {
         max_depth_excess: f64::NEG_INFINITY,
         ..Report::default()

@@ -47,3 +47,54 @@ pub fn run(gpu_tests: &[(&'static str, fn())], host_tests: &[(&'static str, fn()
         .collect();
     libtest_mimic::run(&args, trials).exit()
 }
+
+/// Pixels whose 3×3 neighbourhood in `labels` (row-major, `w × h`) is not uniform: where the
+/// frame comparisons do not hold the backends to the colour bound (silhouettes, shadow edges).
+#[allow(dead_code)] // not every test file compares frames
+pub fn boundary<T: PartialEq + Copy>(labels: &[T], w: u32, h: u32) -> Vec<bool> {
+    let at = |x: i64, y: i64| labels[(y as usize) * (w as usize) + x as usize];
+    let mut out = vec![false; labels.len()];
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            let c = at(x, y);
+            let mut edge = false;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64 && at(nx, ny) != c {
+                        edge = true;
+                    }
+                }
+            }
+            out[(y as usize) * (w as usize) + x as usize] = edge;
+        }
+    }
+    out
+}
+
+/// The CPU frame's shadow boundaries: [`boundary`] of where `cpu` (rendered with `settings`)
+/// differs from the same scene rendered without shadows, by more than 1e-6 in any channel.
+#[allow(dead_code)] // not every test file compares frames
+pub fn shadow_edges(
+    scene: &fray_scene::Scene,
+    settings: &fray_trace::TraceSettings,
+    cpu: &fray_core::Frame,
+) -> Vec<bool> {
+    let unshadowed = fray_trace::render(
+        scene,
+        &fray_trace::TraceSettings {
+            shadows: false,
+            ..*settings
+        },
+        None,
+    )
+    .unwrap_or_else(|e| panic!("the unshadowed CPU frame: {e}"));
+    let shadow: Vec<bool> = cpu
+        .colour
+        .pixels()
+        .iter()
+        .zip(unshadowed.colour.pixels())
+        .map(|(a, b)| (*a - *b).abs().max_element() > 1e-6)
+        .collect();
+    boundary(&shadow, scene.width, scene.height)
+}
