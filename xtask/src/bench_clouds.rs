@@ -16,6 +16,8 @@
 //! - Empty-space skipping: every `clouds_*` data scene at 320 px wide with its max grid and
 //!   without (`volume.skip = None`), renders alternated; the ratio of medians, that the images
 //!   are the same bits, and the density samples per camera ray of each.
+//! - Grid storage: every cloud scene with its grid rounded as u8 and f16 grids would hold it,
+//!   the frame's error against the f32 grid's.
 //! - Bake time against grid size: the scene's layer (its field, its region) re-read with a
 //!   resolution of 64³ … 512³, the bake the scene loader times itself (one bake each), the
 //!   grid's bytes, and its max grid's build time.
@@ -285,6 +287,8 @@ pub fn run(repeats: usize) -> Result<String, String> {
     // Empty-space skipping, on every cloud scene.
     eprintln!("clouds: empty-space skipping");
     out.push_str(&skipping(repeats)?);
+    eprintln!("clouds: grid storage");
+    out.push_str(&storage()?);
 
     // Bake time against grid size.
     let source = std::fs::read_to_string(&path)
@@ -339,10 +343,8 @@ fn mib(bytes: usize) -> String {
     }
 }
 
-/// Empty-space skipping on and off on every `clouds_*.ron` data scene (320 px wide, each with its
-/// own march settings), renders alternated so that drifting load hits both alike; fails if an
-/// image changes (skipping must be lossless).
-fn skipping(repeats: usize) -> Result<String, String> {
+/// Every `clouds_*.ron` data scene, sorted.
+fn cloud_scenes() -> Result<Vec<std::path::PathBuf>, String> {
     let dir = workspace::root().join("data/scenes");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
         .map_err(|e| format!("{}: {e}", dir.display()))?
@@ -355,6 +357,86 @@ fn skipping(repeats: usize) -> Result<String, String> {
         })
         .collect();
     paths.sort();
+    Ok(paths)
+}
+
+/// A scene loaded at 320 px wide (its aspect kept).
+fn load_narrow(path: &std::path::Path) -> Result<Scene, String> {
+    let mut scene = fray_scene::load(path).map_err(|e| e.to_string())?;
+    let aspect = f64::from(scene.height) / f64::from(scene.width);
+    scene.width = 320;
+    scene.height = (320.0 * aspect).round().max(1.0) as u32;
+    Ok(scene)
+}
+
+/// `v` rounded to the nearest IEEE half (ties to even; subnormals in 2⁻²⁴ steps): what an f16
+/// grid would hold.
+fn to_f16(v: f32) -> f32 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let a = v.abs();
+    let quantum = (a.log2().floor().max(-14.0) - 10.0).exp2();
+    (a / quantum).round_ties_even() * quantum * v.signum()
+}
+
+/// Grid storage: every cloud scene rendered with its grid rounded to 8-bit steps of its largest
+/// value and to f16, against the f32 grid it has (the max grid rebuilt from the rounded one).
+fn storage() -> Result<String, String> {
+    let mut out = String::from(
+        "\n## Grid storage: f32 against u8 and f16\n\n\
+         Every cloud data scene at 320 px wide, CPU, its grid rounded as an 8-bit grid (steps of \
+         its largest value / 255) or an f16 grid would hold it, against the f32 grid: the \
+         frame's largest channel |Δ| per pixel, max and RMS over the frame, in units of the f32 \
+         frame's brightest pixel.\n\n\
+         | scene | grid | f32 bytes | u8: max / RMS | f16: max / RMS |\n|---|---|---:|---:|---:|\n",
+    );
+    for path in cloud_scenes()? {
+        let scene = load_narrow(&path)?;
+        let Some(clouds) = scene.clouds.clone() else {
+            continue;
+        };
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let (_, reference) = render_once(&scene)?;
+        let top = brightest(&reference);
+        let grid = &clouds.volume.grid;
+        let largest = grid.data().iter().copied().fold(0.0f32, f32::max);
+        let as_u8 = |v: f32| (v / largest * 255.0).round() * largest / 255.0;
+        let mut cells = Vec::new();
+        for round in [&as_u8 as &dyn Fn(f32) -> f32, &to_f16] {
+            let data = grid.data().iter().map(|v| round(*v)).collect();
+            let rounded = fray_clouds::DensityGrid::from_data(grid.size(), data)
+                .map_err(|e| e.to_string())?;
+            let mut c = (*clouds).clone();
+            c.volume.skip = clouds.skip_block.map(|b| rounded.max_grid(b as usize));
+            c.volume.grid = rounded;
+            let mut s = scene.clone();
+            s.clouds = Some(Arc::new(c));
+            let (_, frame) = render_once(&s)?;
+            let e = ImageError::of(&reference, &frame);
+            cells.push(format!("{:.1e} / {:.1e}", e.max / top, e.rms / top));
+        }
+        let [x, y, z] = grid.size();
+        let _ = writeln!(
+            out,
+            "| {name} | {x}×{y}×{z} | {} | {} | {} |",
+            mib(x * y * z * 4),
+            cells[0],
+            cells[1]
+        );
+    }
+    Ok(out)
+}
+
+/// Empty-space skipping on and off on every `clouds_*.ron` data scene (320 px wide, each with its
+/// own march settings), renders alternated so that drifting load hits both alike; fails if an
+/// image changes (skipping must be lossless).
+fn skipping(repeats: usize) -> Result<String, String> {
+    let paths = cloud_scenes()?;
     let mut out = String::from(
         "\n## Empty-space skipping\n\n\
          Every cloud data scene at 320 px wide, CPU, with its max grid and without \
@@ -363,10 +445,7 @@ fn skipping(repeats: usize) -> Result<String, String> {
          |---|---:|---:|---:|---:|---:|---|\n",
     );
     for path in paths {
-        let mut scene = fray_scene::load(&path).map_err(|e| e.to_string())?;
-        let aspect = f64::from(scene.height) / f64::from(scene.width);
-        scene.width = 320;
-        scene.height = (320.0 * aspect).round().max(1.0) as u32;
+        let scene = load_narrow(&path)?;
         let Some(clouds) = scene.clouds.clone() else {
             continue;
         };
