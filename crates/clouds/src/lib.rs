@@ -25,6 +25,7 @@ pub mod inr;
 pub mod march;
 pub mod perlin;
 pub mod shape;
+pub mod worley;
 
 pub use error::CloudsError;
 pub use grid::{DensityGrid, MaxGrid};

@@ -1,4 +1,5 @@
-//! The shape of a cloud layer's density: fractal noise cut by coverage and a threshold, shaped
+//! The shape of a cloud layer's density: fractal noise (Perlin's, optionally mixed with Worley
+//! billows) cut by coverage and a threshold, shaped
 //! by a height-distribution profile (flat bases, rounded or towering tops) and bounded by an
 //! envelope — any shape that answers "inside, and how deep" (the scene supplies free forms; this
 //! crate does not depend on them).
@@ -85,6 +86,9 @@ pub struct CloudField {
     pub profile: HeightProfile,
     /// The envelope's depth (world units) over which density fades in from its surface.
     pub envelope_fade: f64,
+    /// How much of the noise is Worley billows (`1 − F1`, up to 3 octaves of the same
+    /// frequency, lacunarity and gain) instead of Perlin's sum, in `[0, 1]`: puffier tops.
+    pub worley: f64,
 }
 
 impl Default for CloudField {
@@ -100,6 +104,7 @@ impl Default for CloudField {
             density_scale: 0.02,
             profile: HeightProfile::CUMULUS,
             envelope_fade: 100.0,
+            worley: 0.0,
         }
     }
 }
@@ -137,7 +142,15 @@ impl CloudField {
             .noise
             .eval(p[0] * f + o[0], p[1] * f + o[1], p[2] * f + o[2]);
         // Into [0, 1] by the sum's bound, then kept above 1 − coverage and stretched back.
-        let n = 0.5 + 0.5 * n / self.noise.amplitude_bound();
+        let mut n = 0.5 + 0.5 * n / self.noise.amplitude_bound();
+        if self.worley > 0.0 {
+            let w = self.worley.min(1.0);
+            let (x, y, z) = (p[0] * f + o[0], p[1] * f + o[1], p[2] * f + o[2]);
+            let octaves = self.noise.octaves.min(3);
+            let b =
+                crate::worley::billows(x, y, z, octaves, self.noise.lacunarity, self.noise.gain);
+            n = (1.0 - w) * n + w * b;
+        }
         let cut = 1.0 - self.coverage.clamp(0.0, 1.0);
         let shaped = if self.coverage > 0.0 {
             ((n * profile - cut) / self.coverage).max(0.0)

@@ -299,6 +299,7 @@ fn bake_layer(
         }
     };
     let envelope_fade = non_negative(&path.field("envelope_fade"), d.envelope_fade)?;
+    let worley = unit(&path.field("worley"), d.worley)?;
     let field = CloudField {
         base: region.min[1],
         top: region.max[1],
@@ -314,6 +315,7 @@ fn bake_layer(
         density_scale: 1.0,
         profile,
         envelope_fade,
+        worley,
     };
     let bake = |envelope: &dyn Envelope| {
         let progress = |done, total| options.report("baking clouds", done, total);

@@ -619,6 +619,10 @@ pub struct CloudLayer {
     /// World units, `≥ 0`; default 100.
     #[serde(default = "default_envelope_fade")]
     pub envelope_fade: f64,
+    /// The share of Worley billows (cellular noise, `1 − F1`) mixed into the Perlin sum, in
+    /// `[0, 1]`: puffier, cauliflower tops; default 0 (Perlin alone).
+    #[serde(default)]
+    pub worley: f64,
 }
 
 fn default_cloud_resolution() -> Vec3 {

@@ -29,6 +29,13 @@ fn a_layer_takes_its_defaults_and_sets_the_feature() {
     assert!(c.describe().contains("8×4×8"), "{}", c.describe());
     let none = fray_scene::parse("()", "s.ron").unwrap();
     assert!(none.clouds.is_none() && !none.features.clouds);
+    // Worley billows mixed in change the layer; none leaves it Perlin's alone.
+    let dense = LAYER.replace("(8, 4, 8)", "(16, 8, 16), coverage: 0.8");
+    let perlin = fray_scene::parse(&dense, "s.ron").unwrap().clouds.unwrap();
+    let zero = fray_scene::parse(&dense.replace("0.8", "0.8, worley: 0"), "s.ron").unwrap();
+    assert_eq!(zero.clouds.unwrap().volume.grid, perlin.volume.grid);
+    let mixed = fray_scene::parse(&dense.replace("0.8", "0.8, worley: 0.5"), "s.ron").unwrap();
+    assert_ne!(mixed.clouds.unwrap().volume.grid, perlin.volume.grid);
     // Skipping off.
     let off = LAYER.replace("density:", "skip_block: 0, density:");
     let c = fray_scene::parse(&off, "s.ron").unwrap().clouds.unwrap();
@@ -135,6 +142,10 @@ fn bad_cloud_values_name_file_line_and_field() {
             .contains("clouds.density.coverage: must be in [0, 1]")
     );
     assert!(bad("(8, 4, 8))", "(8, 4, 8), octaves: 0)").contains("clouds.density.octaves"));
+    assert!(
+        bad("(8, 4, 8))", "(8, 4, 8), worley: 1.5)")
+            .contains("clouds.density.worley: must be in [0, 1]")
+    );
     assert!(bad("(8, 4, 8))", "(8, 4, 8), threshold: 1)").contains("clouds.density.threshold"));
     assert!(
         bad(
