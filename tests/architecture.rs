@@ -29,7 +29,7 @@ fn fray_dependencies(crate_folder: &str) -> Vec<String> {
 
 #[test]
 fn model_crates_use_only_the_core() {
-    for model in ["geometry", "terrain", "atmosphere", "clouds"] {
+    for model in ["geometry", "terrain", "atmosphere", "clouds", "mesh"] {
         assert_eq!(
             fray_dependencies(model),
             ["fray-core"],

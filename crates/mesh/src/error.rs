@@ -1,0 +1,27 @@
+//! The errors of `fray-mesh`: an unreadable or malformed OBJ file (path, line where one applies,
+//! reason), a mesh whose indices or values are bad, a mesh past its memory budget.
+
+use std::path::PathBuf;
+
+/// What can go wrong when a mesh is made or loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The file is missing or unreadable.
+    #[error("{}: cannot read the mesh: {reason}", path.display())]
+    Io { path: PathBuf, reason: String },
+    /// A line of an OBJ file is malformed.
+    #[error("{}:{line}: {reason}", path.display())]
+    Obj {
+        path: PathBuf,
+        line: usize,
+        reason: String,
+    },
+    /// The file parsed but holds no usable mesh (no triangles, or `tobj` refused it).
+    #[error("{}: {reason}", path.display())]
+    Invalid { path: PathBuf, reason: String },
+    /// A mesh built in memory is inconsistent.
+    #[error("{0}")]
+    Mesh(String),
+    #[error(transparent)]
+    Budget(#[from] fray_core::BudgetError),
+}

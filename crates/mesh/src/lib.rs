@@ -1,0 +1,39 @@
+//! `fray-mesh`: triangle meshes (DESIGN.md §7), the reference implementation. Usable alone: no
+//! GPU, no scene files.
+//!
+//! So far: [`TriangleMesh`] from OBJ files ([`TriangleMesh::load_obj`], through `tobj`) with the
+//! file's normals and UVs or computed angle-weighted normals; [`triangle::intersect`], a
+//! **watertight** ray–triangle test (Woop, Benthin and Wald 2013: shear to the ray's frame, edge
+//! functions that agree on a shared edge, so rays through edges and vertices never leak) in f64;
+//! [`MeshBvh`], an `obvhs` BVH2 traversed here in f64 with a conservative slab test, for the
+//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms.
+//!
+//! ```
+//! use fray_core::{Interval, Ray};
+//! use fray_mesh::{MeshBvh, TriangleMesh};
+//! use glam::DVec3;
+//!
+//! // One triangle in the plane z = 2.
+//! let mesh = TriangleMesh::new(
+//!     vec![DVec3::new(-1.0, -1.0, 2.0), DVec3::new(1.0, -1.0, 2.0), DVec3::new(0.0, 1.0, 2.0)],
+//!     vec![[0, 1, 2]],
+//! )?;
+//! let bvh = MeshBvh::build(mesh);
+//! let ray = Ray::new(DVec3::ZERO, DVec3::Z).unwrap();
+//! let hit = bvh.nearest_hit(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+//! assert_eq!(hit.t, 2.0);
+//! assert!(bvh.any_hit(&ray, Interval::new(0.0, 10.0)));
+//! # Ok::<(), fray_mesh::MeshError>(())
+//! ```
+
+mod bvh;
+mod error;
+mod instance;
+mod mesh;
+mod obj;
+pub mod triangle;
+
+pub use bvh::{MeshBvh, MeshHit};
+pub use error::MeshError;
+pub use instance::Instance;
+pub use mesh::TriangleMesh;
