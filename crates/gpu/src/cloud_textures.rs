@@ -84,25 +84,5 @@ fn texture(
 
 /// Writes `texels` (x fastest, then y, then z; `size` of them) into `texture`; returns the bytes.
 fn write(ctx: &GpuContext, texture: &wgpu::Texture, size: [u64; 3], texels: &[f32]) -> u64 {
-    let [w, h, d] = size.map(|n| n as u32);
-    ctx.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w * 4),
-            rows_per_image: Some(h),
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: d,
-        },
-    );
-    std::mem::size_of_val(texels) as u64
+    ctx.write_texels(texture, size.map(|n| n as u32), texels)
 }

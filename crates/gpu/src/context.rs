@@ -37,6 +37,36 @@ async fn adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, GpuError> {
 }
 
 impl GpuContext {
+    /// Writes `texels` over the whole of `texture`, `extent` = `[width, height, depth]` texels
+    /// (x fastest, then y, then z; one texel a `T`); returns the bytes uploaded.
+    pub(crate) fn write_texels<T: bytemuck::Pod>(
+        &self,
+        texture: &wgpu::Texture,
+        [width, height, depth]: [u32; 3],
+        texels: &[T],
+    ) -> u64 {
+        self.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(width * std::mem::size_of::<T>() as u32),
+                rows_per_image: Some(height),
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: depth,
+            },
+        );
+        std::mem::size_of_val(texels) as u64
+    }
+
     /// Opens the first suitable adapter's device (blocking).
     pub fn new() -> Result<Self, GpuError> {
         pollster::block_on(Self::new_async())

@@ -10,8 +10,6 @@ use crate::{GpuContext, GpuError};
 
 /// The texture format of a table: four f32 channels (RGB and 1).
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Bytes per texel.
-const TEXEL_BYTES: u32 = 16;
 
 /// An empty `width × height` table texture, checked against the device's texture limit first.
 pub(crate) fn table_texture(
@@ -56,26 +54,8 @@ pub(crate) fn write_table(
     if rows == 0 {
         return 0;
     }
-    ctx.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(width * TEXEL_BYTES),
-            rows_per_image: Some(rows),
-        },
-        wgpu::Extent3d {
-            width,
-            height: rows,
-            depth_or_array_layers: 1,
-        },
-    );
-    u64::from(width) * u64::from(rows) * u64::from(TEXEL_BYTES)
+    let whole_rows = &texels[..(width * rows) as usize];
+    ctx.write_texels(texture, [width, rows, 1], whole_rows)
 }
 
 /// A view of the whole table, for a bind group.
