@@ -343,8 +343,9 @@ fn mib(bytes: usize) -> String {
     }
 }
 
-/// Every `clouds_*.ron` data scene, sorted.
-fn cloud_scenes() -> Result<Vec<std::path::PathBuf>, String> {
+/// Every `clouds_*.ron` data scene, sorted: its file name, the scene at 320 px wide and its
+/// clouds.
+fn cloud_scenes() -> Result<Vec<(String, Scene, Arc<fray_scene::Clouds>)>, String> {
     let dir = workspace::root().join("data/scenes");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
         .map_err(|e| format!("{}: {e}", dir.display()))?
@@ -357,7 +358,21 @@ fn cloud_scenes() -> Result<Vec<std::path::PathBuf>, String> {
         })
         .collect();
     paths.sort();
-    Ok(paths)
+    let mut scenes = Vec::new();
+    for path in paths {
+        let scene = load_narrow(&path)?;
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        // A scene named clouds_ without clouds has nothing to measure.
+        let Some(clouds) = scene.clouds.clone() else {
+            continue;
+        };
+        scenes.push((name, scene, clouds));
+    }
+    Ok(scenes)
 }
 
 /// A scene loaded at 320 px wide (its aspect kept).
@@ -391,16 +406,7 @@ fn storage() -> Result<String, String> {
          frame's brightest pixel.\n\n\
          | scene | grid | f32 bytes | u8: max / RMS | f16: max / RMS |\n|---|---|---:|---:|---:|\n",
     );
-    for path in cloud_scenes()? {
-        let scene = load_narrow(&path)?;
-        let Some(clouds) = scene.clouds.clone() else {
-            continue;
-        };
-        let name = path
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .into_owned();
+    for (name, scene, clouds) in cloud_scenes()? {
         let (_, reference) = render_once(&scene)?;
         let top = brightest(&reference);
         let grid = &clouds.volume.grid;
@@ -436,7 +442,6 @@ fn storage() -> Result<String, String> {
 /// own march settings), renders alternated so that drifting load hits both alike; fails if an
 /// image changes (skipping must be lossless).
 fn skipping(repeats: usize) -> Result<String, String> {
-    let paths = cloud_scenes()?;
     let mut out = String::from(
         "\n## Empty-space skipping\n\n\
          Every cloud data scene at 320 px wide, CPU, with its max grid and without \
@@ -444,16 +449,7 @@ fn skipping(repeats: usize) -> Result<String, String> {
          | scene | plain ms | skipping ms | skipping / plain | samples / ray, plain | skipping | images |\n\
          |---|---:|---:|---:|---:|---:|---|\n",
     );
-    for path in paths {
-        let scene = load_narrow(&path)?;
-        let Some(clouds) = scene.clouds.clone() else {
-            continue;
-        };
-        let name = path
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .into_owned();
+    for (name, scene, clouds) in cloud_scenes()? {
         if clouds.volume.skip.is_none() {
             let _ = writeln!(out, "| {name} | | | skipping off in the scene | | | |");
             continue;
