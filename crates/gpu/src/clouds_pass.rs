@@ -8,7 +8,7 @@
 use crate::bindings::CLOUDS_BATCH;
 use crate::cloud_textures::CloudTextures;
 use crate::passes::PipelineCache;
-use crate::readback::run_batch;
+use crate::readback::{batch_buffers, run_batch};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_clouds::gpu_layout::GpuClouds;
@@ -91,25 +91,13 @@ impl CloudsPass {
             return Ok(Vec::new());
         }
         let device = &ctx.device;
-        let ray_bytes = std::mem::size_of_val(rays) as u64;
         let bytes = (rays.len() * 32) as u64;
-        for (what, size) in [
-            ("clouds batch rays", ray_bytes),
-            ("clouds batch results", bytes),
-        ] {
-            crate::bindings::check_buffer(ctx, what, size, wgpu::BufferUsages::STORAGE)?;
-        }
-        let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("cloud rays"),
-            contents: bytemuck::cast_slice(rays),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cloud results"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let (ray_buffer, output) = batch_buffers(
+            ctx,
+            ("clouds batch rays", "clouds batch results"),
+            rays,
+            bytes,
+        )?;
         let (density, max) = self.textures.views();
         let bind_group = CLOUDS_BATCH.bind(
             device,

@@ -7,7 +7,7 @@
 
 use crate::bindings::FOG_BATCH;
 use crate::passes::PipelineCache;
-use crate::readback::run_batch;
+use crate::readback::{batch_buffers, run_batch};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::GpuFog;
@@ -88,22 +88,9 @@ impl FogPass {
             return Ok(Vec::new());
         }
         let device = &ctx.device;
-        let ray_bytes = std::mem::size_of_val(rays) as u64;
         let bytes = (rays.len() * 32) as u64;
-        for (what, size) in [("fog batch rays", ray_bytes), ("fog batch results", bytes)] {
-            crate::bindings::check_buffer(ctx, what, size, wgpu::BufferUsages::STORAGE)?;
-        }
-        let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("fog rays"),
-            contents: bytemuck::cast_slice(rays),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("fog results"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let (ray_buffer, output) =
+            batch_buffers(ctx, ("fog batch rays", "fog batch results"), rays, bytes)?;
         let bind_group = FOG_BATCH.bind(
             device,
             &self.cache.layout(ctx, &FOG_BATCH),

@@ -68,6 +68,36 @@ pub(crate) fn read_back<T: Pod>(
     )
 }
 
+/// A batch pass's buffers: `inputs` uploaded as a storage buffer, and a storage buffer of
+/// `result_bytes` for the kernel to write and [`run_batch`] to copy back — each checked against
+/// the device's limits first under its name (`names`: inputs, results), which labels it too.
+pub(crate) fn batch_buffers<T: Pod>(
+    ctx: &crate::context::GpuContext,
+    (inputs_name, results_name): (&'static str, &'static str),
+    inputs: &[T],
+    result_bytes: u64,
+) -> Result<(wgpu::Buffer, wgpu::Buffer), GpuError> {
+    use wgpu::util::DeviceExt;
+    let input_bytes = std::mem::size_of_val(inputs) as u64;
+    for (what, size) in [(inputs_name, input_bytes), (results_name, result_bytes)] {
+        crate::bindings::check_buffer(ctx, what, size, wgpu::BufferUsages::STORAGE)?;
+    }
+    let input = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(inputs_name),
+            contents: bytemuck::cast_slice(inputs),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(results_name),
+        size: result_bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    Ok((input, output))
+}
+
 /// Runs a batch test pass: `pipeline` over `items` invocations in workgroups of `workgroup`
 /// (spread over two dimensions past the device's per-dimension limit) with `groups` bound in
 /// order, then copies `output[..bytes]` to a fresh readback buffer and reads it back as `T`s.

@@ -9,7 +9,7 @@
 
 use crate::bindings::SKY_BATCH;
 use crate::passes::PipelineCache;
-use crate::readback::run_batch;
+use crate::readback::{batch_buffers, run_batch};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::sky_tables::{table_texture, view, write_table};
 use crate::{GpuContext, GpuError};
@@ -89,14 +89,13 @@ impl SkyPass {
             return Ok(Vec::new());
         }
         let device = &ctx.device;
-        let query_bytes = std::mem::size_of_val(queries) as u64;
         let bytes = (queries.len() * ANSWER_VEC4S * 16) as u64;
-        for (what, size) in [
-            ("sky batch queries", query_bytes),
-            ("sky batch results", bytes),
-        ] {
-            crate::bindings::check_buffer(ctx, what, size, wgpu::BufferUsages::STORAGE)?;
-        }
+        let (query_buffer, output) = batch_buffers(
+            ctx,
+            ("sky batch queries", "sky batch results"),
+            queries,
+            bytes,
+        )?;
         let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sky batch parameters"),
             contents: bytemuck::bytes_of(sky.block),
@@ -121,17 +120,6 @@ impl SkyPass {
             v.height(),
             v.texels(),
         )?;
-        let query_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sky queries"),
-            contents: bytemuck::cast_slice(queries),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sky results"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
         let (tv, vv) = (view(&transmittance), view(&sky_view));
         let bind_group = SKY_BATCH.bind(
             device,

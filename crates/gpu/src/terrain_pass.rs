@@ -9,7 +9,7 @@
 
 use crate::bindings::{self, TERRAIN_BATCH, TERRAINS};
 use crate::passes::PipelineCache;
-use crate::readback::run_batch;
+use crate::readback::{batch_buffers, run_batch};
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use fray_core::PixelFootprint;
@@ -303,18 +303,13 @@ impl TerrainPass {
             contents: bytemuck::cast_slice(&batch),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("terrain rays"),
-            contents: bytemuck::cast_slice(rays),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
         let bytes = (rays.len() * 32) as u64;
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("terrain hits"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let (ray_buffer, output) = batch_buffers(
+            ctx,
+            ("terrain batch rays", "terrain batch hits"),
+            rays,
+            bytes,
+        )?;
         let bind_group = TERRAIN_BATCH.bind(
             device,
             &self.cache.layout(ctx, &TERRAIN_BATCH),
