@@ -328,13 +328,33 @@ fn render(args: &RenderArgs) -> Result<(), String> {
             ),
             None => String::new(),
         };
+        // Meshes and Whitted's secondary rays, where the scene has them.
+        let meshes = if scene.meshes.is_empty() {
+            String::new()
+        } else {
+            let triangles: usize = scene
+                .meshes
+                .iter()
+                .map(|m| m.instance.mesh.mesh().triangles.len())
+                .sum();
+            format!(
+                ", meshes: {} instances, {triangles} triangles, {} mesh casts",
+                scene.meshes.len(),
+                s.mesh_rays
+            )
+        };
+        let whitted = if s.secondary_rays > 0 {
+            format!(", {} secondary rays", s.secondary_rays)
+        } else {
+            String::new()
+        };
         // The GPU's kernel time, where the device measured it (timestamp queries).
         let kernel = s
             .kernel_time
             .map(|k| format!(", GPU kernels {:.1} ms", k.as_secs_f64() * 1e3))
             .unwrap_or_default();
         println!(
-            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}{grid}{clouds}, ε = {:.3e}; ran: {}",
+            "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}{grid}{clouds}{meshes}{whitted}, ε = {:.3e}; ran: {}",
             output.display(),
             frame.colour.width(),
             frame.colour.height(),

@@ -60,6 +60,10 @@ pub struct RenderStats {
     /// Density samples the cloud marches of camera rays took, empty-space skipping leaving out
     /// what it proved empty (0 without clouds).
     pub cloud_samples: u64,
+    /// Rays cast against mesh instances (one per ray and instance searched; 0 without meshes).
+    pub mesh_rays: u64,
+    /// Whitted secondary rays traced: reflections and refractions (0 without such materials).
+    pub secondary_rays: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).
     pub passes: Vec<String>,
     /// Wall time of the render call.

@@ -58,6 +58,7 @@ pub use params::View;
 pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
     SHADOW_OFFSET_EPSILONS, camera_distance, cloud_light, gpu_epsilon, gpu_epsilon_for, render,
+    unsupported_feature,
 };
 pub use sky_pass::{SkyBatch, SkyPass};
 pub use terrain_pass::TerrainPass;

@@ -175,6 +175,18 @@ impl GpuRenderer {
     }
 }
 
+/// What of `scene` this backend does not draw yet, if anything: triangle meshes and Whitted's
+/// secondary rays (the CPU backend draws them; `Auto` falls back to it).
+pub fn unsupported_feature(scene: &Scene) -> Option<&'static str> {
+    if scene.features.meshes {
+        Some("triangle meshes")
+    } else if scene.features.reflection || scene.features.transmission {
+        Some("reflection and refraction (Whitted secondary rays)")
+    } else {
+        None
+    }
+}
+
 /// Renders `scene` on a freshly opened GPU.
 pub fn render(scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> {
     GpuRenderer::new()?.render(scene, settings)
@@ -251,6 +263,10 @@ impl<'a> GpuScene<'a> {
     ) -> Result<Self, GpuError> {
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
+        }
+        // Refused before anything is uploaded, so `Auto` falls back to the CPU at once.
+        if let Some(feature) = unsupported_feature(scene) {
+            return Err(GpuError::Unsupported { feature });
         }
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;

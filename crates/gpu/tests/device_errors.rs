@@ -35,12 +35,44 @@ fn uncaptured_validation_error_is_recorded_not_raised() {
     assert_eq!(ctx.take_uncaptured_error(), None, "taken once");
 }
 
+/// A scene with a mesh, or with a reflecting or transmitting material, is refused before
+/// anything is uploaded — `Unsupported`, naming what — until the GPU's mesh and Whitted passes
+/// land, so that `Auto` renders it on the CPU.
+fn meshes_and_secondary_rays_are_refused_as_unsupported() {
+    let renderer = common::gpu("meshes_and_secondary_rays_are_refused_as_unsupported");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes");
+    let mesh = format!(
+        "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
+         objects: [(shape: Mesh(path: {:?}))])",
+        dir.join("bunny00.obj").display().to_string()
+    );
+    let mirror = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
+         materials: { \"m\": (reflect: (1, 1, 1)) }, \
+         objects: [(material: \"m\", shape: Sphere(radius: 1))])";
+    for (text, feature) in [(mesh.as_str(), "meshes"), (mirror, "reflection")] {
+        let scene = fray_scene::parse(text, "inline.ron").unwrap();
+        let settings = fray_gpu::GpuSettings::for_scene(&scene);
+        match renderer.upload(&scene, &settings) {
+            Err(fray_gpu::GpuError::Unsupported { feature: f }) => {
+                assert!(f.contains(&feature[..4]), "{f}")
+            }
+            other => panic!("{feature}: expected Unsupported, got {:?}", other.err()),
+        }
+    }
+}
+
 fn main() {
     common::run(
-        &[(
-            "uncaptured_validation_error_is_recorded_not_raised",
-            uncaptured_validation_error_is_recorded_not_raised,
-        )],
+        &[
+            (
+                "uncaptured_validation_error_is_recorded_not_raised",
+                uncaptured_validation_error_is_recorded_not_raised,
+            ),
+            (
+                "meshes_and_secondary_rays_are_refused_as_unsupported",
+                meshes_and_secondary_rays_are_refused_as_unsupported,
+            ),
+        ],
         &[],
     );
 }

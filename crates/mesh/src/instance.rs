@@ -57,6 +57,36 @@ impl Instance {
         self.mesh.any_hit(&self.local(ray), range)
     }
 
+    /// The world box around the instance: the mesh's box's eight corners mapped to the world
+    /// (their rounding covered by a relative margin of `1e-12`).
+    pub fn bounds(&self) -> fray_core::Aabb {
+        let b = self.mesh.bounds();
+        if b.is_empty() {
+            return b;
+        }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 { b.min.x } else { b.max.x },
+                if k & 2 == 0 { b.min.y } else { b.max.y },
+                if k & 4 == 0 { b.min.z } else { b.max.z },
+            );
+            let p = self.to_world.transform_point3(corner);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        let margin = 1e-12 * lo.abs().max(hi.abs()).max_element().max(f64::MIN_POSITIVE);
+        fray_core::Aabb::new(lo - margin, hi + margin)
+    }
+
+    /// Triangle `i`'s corners in the world.
+    pub fn world_corners(&self, i: usize) -> [DVec3; 3] {
+        self.mesh
+            .mesh()
+            .corners(i)
+            .map(|p| self.to_world.transform_point3(p))
+    }
+
     /// A mesh-space normal in the world (unit).
     pub fn world_normal(&self, n: DVec3) -> DVec3 {
         (self.normal_matrix * n).try_normalize().unwrap_or(n)

@@ -242,6 +242,21 @@ pub struct Material {
     /// Reflectance to the ambient radiance in `[0, 1]`; default: the diffuse albedo.
     #[serde(default)]
     pub ambient: Option<Vec3>,
+    /// Mirror reflectance `kr` in `[0, 1]`: the weight of the reflected ray's radiance;
+    /// default `(0, 0, 0)`.
+    #[serde(default)]
+    pub reflect: Option<Vec3>,
+    /// Transmittance `kt` in `[0, 1]`: the weight of the refracted ray's radiance, and what a
+    /// shadow ray keeps per surface of this material it crosses; default `(0, 0, 0)` (opaque).
+    #[serde(default)]
+    pub transmit: Option<Vec3>,
+    /// Index of refraction of the inside (the outside is vacuum, 1), `≥ 1`; default 1.5.
+    #[serde(default)]
+    pub ior: Option<f64>,
+    /// Weight reflection and transmission by the dielectric Fresnel reflectance `F(θ)`:
+    /// reflected `kr + F·kt`, transmitted `(1 − F)·kt`; default `false` (`kr` and `kt` as given).
+    #[serde(default)]
+    pub fresnel: bool,
 }
 
 /// One top-level object.
@@ -275,6 +290,21 @@ pub enum Shape {
     },
     /// A height-map terrain (only as an object's whole shape, never inside CSG).
     Terrain(Terrain),
+    /// A triangle mesh from an OBJ file (only as an object's whole shape, never inside CSG).
+    Mesh(Mesh),
+}
+
+/// A triangle mesh: the OBJ file and its placement. Objects naming the same file share one
+/// loaded mesh and BVH (instances).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    /// The `.obj` file, relative to the scene file.
+    pub path: String,
+    /// Scale, rotate, translate from the file's coordinates to the world.
+    pub transform: Transform,
+    /// Shade with the vertex normals interpolated (the file's, or computed angle-weighted);
+    /// `false`: each triangle's own normal (facets). Default `true`.
+    pub smooth: bool,
 }
 
 /// A height-map terrain: the file, its placement and how it is searched.
@@ -723,6 +753,14 @@ pub struct Settings {
     /// bad value gets a clear message); default 1 (the pixel centre).
     #[serde(default)]
     pub samples: Option<f64>,
+    /// Whitted recursion: the most reflections and refractions after the camera ray, a whole
+    /// number in `0..=64`; default 5.
+    #[serde(default)]
+    pub max_depth: Option<f64>,
+    /// Whitted recursion: a secondary ray whose weight (the product of `kr`/`kt` on its way,
+    /// largest channel) is below this is not traced, in `[0, 1)`; default `1e-3`.
+    #[serde(default)]
+    pub min_contribution: Option<f64>,
 }
 
 impl Default for Settings {
@@ -731,6 +769,8 @@ impl Default for Settings {
             epsilon: None,
             shadows: true,
             samples: None,
+            max_depth: None,
+            min_contribution: None,
         }
     }
 }
@@ -792,6 +832,13 @@ macro_rules! quadrics {
                 #[serde(default)]
                 threshold: Option<f64>,
             },
+            Mesh {
+                path: String,
+                #[serde(default)]
+                transform: Transform,
+                #[serde(default = "yes")]
+                smooth: bool,
+            },
             $( $name { $( $(#[$fm])* $field: $ty ),* } ),*
         }
 
@@ -808,6 +855,7 @@ macro_rules! quadrics {
                     ShapeRepr::Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold } => {
                         Shape::Terrain(Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold })
                     }
+                    ShapeRepr::Mesh { path, transform, smooth } => Shape::Mesh(Mesh { path, transform, smooth }),
                     $( ShapeRepr::$name { $( $field ),* } => Shape::Quadric(Quadric::$name { $( $field ),* }) ),*
                 }
             }

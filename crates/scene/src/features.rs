@@ -23,6 +23,13 @@ pub struct FeatureSet {
     pub sky: bool,
     /// A cloud volume.
     pub clouds: bool,
+    /// At least one triangle mesh.
+    pub meshes: bool,
+    /// A primitive's material reflects (`kr`, or Fresnel with `kt`): reflected rays are traced.
+    pub reflection: bool,
+    /// A primitive's material transmits (`kt`): refracted rays are traced and shadow rays pass
+    /// through it, dimmed.
+    pub transmission: bool,
 }
 
 impl FeatureSet {
@@ -39,6 +46,9 @@ impl FeatureSet {
             (self.fog, "fog"),
             (self.sky, "sky"),
             (self.clouds, "clouds"),
+            (self.meshes, "meshes"),
+            (self.reflection, "reflection"),
+            (self.transmission, "transmission"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

@@ -37,6 +37,7 @@ mod error;
 mod features;
 mod load;
 mod locate;
+mod mesh;
 mod path;
 mod primitive;
 mod resolve;
@@ -56,6 +57,6 @@ pub use load::{
     BuildOptions, BuildProgress, load, load_with, parse, parse_description, parse_with,
 };
 pub use primitive::{PrimitiveId, PrimitiveKind};
-pub use resolve::MAX_IMAGE_SIDE;
-pub use scene::{Light, Material, Object, Scene, Settings, TerrainObject};
+pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR};
+pub use scene::{Light, Material, MeshObject, Object, Scene, Settings, TerrainObject};
 pub use work::{work_list, work_list_view, work_list_within};

@@ -147,13 +147,14 @@ fn parse_at_depth(
     Ok((scene, d))
 }
 
-/// Makes the asset paths of an included file's objects (height maps, relative to that file's
+/// Makes the asset paths of an included file's objects (height maps and meshes, relative to that file's
 /// folder `folder`) absolute, so they resolve from the including file too.
 fn rebase_assets(d: &mut description::Scene, folder: &Path) {
     fn shape(s: &mut description::Shape, folder: &Path) {
         use description::Shape;
         match s {
             Shape::Terrain(t) => t.path = folder.join(&t.path).display().to_string(),
+            Shape::Mesh(m) => m.path = folder.join(&m.path).display().to_string(),
             Shape::Union(v) | Shape::Intersection(v) => v.iter_mut().for_each(|s| shape(s, folder)),
             Shape::Difference(a, b) => {
                 shape(a, folder);

@@ -12,12 +12,18 @@ pub enum PrimitiveKind {
     FreeForm = 0,
     /// A height-map terrain: [`crate::Scene::terrains`].
     Terrain = 1,
+    /// A triangle-mesh instance: [`crate::Scene::meshes`].
+    Mesh = 2,
 }
 
 impl PrimitiveKind {
     /// Every kind, in the order the backends intersect them (a tie between kinds keeps the
     /// earlier kind's hit).
-    pub const ALL: [PrimitiveKind; 2] = [PrimitiveKind::FreeForm, PrimitiveKind::Terrain];
+    pub const ALL: [PrimitiveKind; 3] = [
+        PrimitiveKind::FreeForm,
+        PrimitiveKind::Terrain,
+        PrimitiveKind::Mesh,
+    ];
 
     /// The kind's number in work lists and GPU buffers.
     pub const fn code(self) -> u32 {
@@ -29,6 +35,7 @@ impl PrimitiveKind {
         match code {
             0 => Some(PrimitiveKind::FreeForm),
             1 => Some(PrimitiveKind::Terrain),
+            2 => Some(PrimitiveKind::Mesh),
             _ => None,
         }
     }
@@ -38,6 +45,7 @@ impl PrimitiveKind {
         match self {
             PrimitiveKind::FreeForm => "free-form",
             PrimitiveKind::Terrain => "terrain",
+            PrimitiveKind::Mesh => "mesh",
         }
     }
 }
@@ -64,6 +72,11 @@ impl PrimitiveId {
         Self::new(PrimitiveKind::Terrain, index)
     }
 
+    /// Mesh `index` ([`crate::Scene::meshes`]).
+    pub const fn mesh(index: u32) -> Self {
+        Self::new(PrimitiveKind::Mesh, index)
+    }
+
     /// The id of a work-list candidate (`None` for a kind code no scene uses).
     pub fn of_candidate(c: &fray_quadtree::Candidate) -> Option<Self> {
         PrimitiveKind::from_code(c.kind).map(|kind| Self::new(kind, c.object))
@@ -85,7 +98,7 @@ mod tests {
         for kind in PrimitiveKind::ALL {
             assert_eq!(PrimitiveKind::from_code(kind.code()), Some(kind));
         }
-        assert_eq!(PrimitiveKind::from_code(2), None);
+        assert_eq!(PrimitiveKind::from_code(3), None);
         let c = fray_quadtree::Candidate::new(1, 7, 0, 0, 0.0, 1.0);
         assert_eq!(PrimitiveId::of_candidate(&c), Some(PrimitiveId::terrain(7)));
         assert_eq!(PrimitiveId::terrain(7).to_string(), "terrain 7");

@@ -4,7 +4,7 @@
 
 use crate::description::{self, Vec3};
 use crate::path::FieldPath;
-use crate::{FeatureSet, Light, Material, Object, Scene, Settings, TerrainObject};
+use crate::{FeatureSet, Light, Material, MeshObject, Object, Scene, Settings, TerrainObject};
 use fray_core::{
     Aabb, Parallel, Pinhole, PixelSamples, Projector, ProjectorError, Rgb, SphereSurface,
 };
@@ -33,6 +33,12 @@ pub(crate) fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result
 }
 
 /// Checks and resolves a whole description.
+/// The deepest Whitted recursion a scene may ask for.
+pub const MAX_DEPTH: u32 = 64;
+
+/// The largest index of refraction accepted (diamond is 2.42; beyond 10 is a typo).
+pub const MAX_IOR: f64 = 10.0;
+
 pub(crate) fn resolve(
     d: &description::Scene,
     base: &Path,
@@ -78,6 +84,8 @@ pub(crate) fn resolve(
     let objects_path = root.field("objects");
     let mut objects = Vec::with_capacity(d.objects.len());
     let mut terrains = Vec::new();
+    let mut meshes = Vec::new();
+    let mut mesh_cache = crate::mesh::MeshCache::default();
     for (i, o) in d.objects.iter().enumerate() {
         let path = objects_path.index(i);
         let name = || o.name.clone().unwrap_or_else(|| format!("object{i}"));
@@ -98,6 +106,26 @@ pub(crate) fn resolve(
                 terrain: std::sync::Arc::new(terrain),
                 material,
                 lod: t.lod,
+            });
+            continue;
+        }
+        if let description::Shape::Mesh(m) = &o.shape {
+            let material = match &o.material {
+                Some(name) => ShapeContext {
+                    materials: &material_index,
+                    leaf_materials: Vec::new(),
+                    features: &mut features,
+                }
+                .material(&path.field("material"), name)?,
+                None => 0,
+            };
+            let instance = mesh_cache.instance(&path.field("shape"), m, base, budget)?;
+            features.meshes = true;
+            meshes.push(MeshObject {
+                name: name(),
+                instance,
+                material,
+                smooth: m.smooth,
             });
             continue;
         }
@@ -147,11 +175,46 @@ pub(crate) fn resolve(
             }
         }
     };
+    let max_depth = match d.settings.max_depth {
+        None => Settings::default().max_depth,
+        Some(n) if n.fract() == 0.0 && (0.0..=f64::from(MAX_DEPTH)).contains(&n) => n as u32,
+        Some(n) => {
+            return invalid(
+                &settings_path.field("max_depth"),
+                format!("must be a whole number in 0..={MAX_DEPTH}, got {n}"),
+            );
+        }
+    };
+    let min_contribution = match d.settings.min_contribution {
+        None => Settings::default().min_contribution,
+        Some(c) if (0.0..1.0).contains(&c) => c,
+        Some(c) => {
+            return invalid(
+                &settings_path.field("min_contribution"),
+                format!("must be in [0, 1), got {c}"),
+            );
+        }
+    };
     let settings = Settings {
         epsilon,
         shadows: d.settings.shadows,
         samples,
+        max_depth,
+        min_contribution,
     };
+    // Secondary rays only where a primitive's material sends them (an unused material costs
+    // nothing).
+    let used = objects
+        .iter()
+        .flat_map(|o: &Object| o.leaf_materials.iter().copied())
+        .chain(terrains.iter().map(|t: &TerrainObject| t.material))
+        .chain(meshes.iter().map(|m: &MeshObject| m.material));
+    for m in used {
+        if let Some(m) = materials.get(m as usize) {
+            features.reflection |= m.reflects();
+            features.transmission |= m.transmits();
+        }
+    }
     features.shadows = settings.shadows && !lights.is_empty();
     let atmosphere =
         crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere, &lights, budget)?;
@@ -178,6 +241,7 @@ pub(crate) fn resolve(
         materials,
         objects,
         terrains,
+        meshes,
         atmosphere,
         clouds,
         settings,
@@ -397,17 +461,39 @@ fn material(path: &FieldPath, name: &str, m: &description::Material) -> Result<M
         Some(v) => reflectance(&path.field("ambient"), v)?,
         None => diffuse,
     };
+    let reflect = match m.reflect {
+        Some(v) => reflectance(&path.field("reflect"), v)?,
+        None => default.reflect,
+    };
+    let transmit = match m.transmit {
+        Some(v) => reflectance(&path.field("transmit"), v)?,
+        None => default.transmit,
+    };
+    let ior = match m.ior {
+        Some(n) if n.is_finite() && (1.0..=MAX_IOR).contains(&n) => n,
+        Some(n) => {
+            return invalid(
+                &path.field("ior"),
+                format!("must be in [1, {MAX_IOR}], got {n}"),
+            );
+        }
+        None => default.ior,
+    };
     Ok(Material {
         name: name.to_owned(),
         ambient,
         diffuse,
         specular,
         shininess,
+        reflect,
+        transmit,
+        ior,
+        fresnel: m.fresnel,
     })
 }
 
 /// An affine map from its description: scale, then rotate about x, y, z (degrees), then translate.
-fn transform(path: &FieldPath, t: &description::Transform) -> Result<DAffine3> {
+pub(crate) fn transform(path: &FieldPath, t: &description::Transform) -> Result<DAffine3> {
     let translate = point(&path.field("translate"), t.translate)?;
     let rotate = point(&path.field("rotate"), t.rotate)?;
     let scale = point(&path.field("scale"), t.scale)?;
@@ -531,6 +617,11 @@ impl ShapeContext<'_> {
                 path,
                 "a Terrain can only be an object's whole shape, not part of a CSG tree or a \
                  Transformed shape (place it with its `origin` and `rotate`)",
+            ),
+            S::Mesh(_) => invalid(
+                path,
+                "a Mesh can only be an object's whole shape, not part of a CSG tree or a \
+                 Transformed shape (place it with its `transform`)",
             ),
         }
     }

@@ -4,6 +4,7 @@ use crate::description::TerrainLod;
 use crate::{FeatureSet, PrimitiveId, PrimitiveKind};
 use fray_core::{PixelSamples, Projector, Rgb};
 use fray_geometry::Solid;
+use fray_mesh::Instance;
 use fray_terrain::Terrain;
 use glam::DVec3;
 use std::sync::Arc;
@@ -24,6 +25,8 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Height-map terrains, built once (pyramids included) and shared by the backends.
     pub terrains: Vec<TerrainObject>,
+    /// Triangle meshes: instances of meshes loaded and built (BVH) once per file.
+    pub meshes: Vec<MeshObject>,
     /// Fog (and later sky) between the camera and the surfaces; empty by default.
     pub atmosphere: crate::Atmosphere,
     /// A cloud volume, baked or loaded once and shared by the backends; `None` by default.
@@ -43,6 +46,11 @@ pub struct Settings {
     /// Anti-aliasing: stratified samples per pixel, box-filtered (depth and normals still come
     /// from the pixel centre). One sample is the pixel centre.
     pub samples: PixelSamples,
+    /// Whitted recursion: the most reflections/refractions after the camera ray.
+    pub max_depth: u32,
+    /// Whitted recursion: secondary rays whose weight (largest channel) is below this are not
+    /// traced.
+    pub min_contribution: f64,
 }
 
 impl Default for Settings {
@@ -51,6 +59,8 @@ impl Default for Settings {
             epsilon: None,
             shadows: true,
             samples: PixelSamples::ONE,
+            max_depth: 5,
+            min_contribution: 1e-3,
         }
     }
 }
@@ -65,9 +75,10 @@ pub enum Light {
     Point { position: DVec3, intensity: Rgb },
 }
 
-/// A Phong-style material. Outgoing radiance at a point lit by irradiance `E` from direction `L`:
+/// A Whitted material. Outgoing radiance at a point lit by irradiance `E` from direction `L`:
 /// `ambient · A + E · (diffuse / π + specular · (shininess + 2) / (2π) · max(0, R·V)^shininess)`,
-/// the normalised Phong lobe so that `diffuse + specular ≤ 1` conserves energy.
+/// the normalised Phong lobe so that `diffuse + specular ≤ 1` conserves energy; plus
+/// `kr · I_reflected + kt · I_transmitted` (the Whitted sum), Fresnel-weighted if asked.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
@@ -79,6 +90,26 @@ pub struct Material {
     pub specular: Rgb,
     /// Phong exponent (≥ 0).
     pub shininess: f64,
+    /// Mirror reflectance `kr` in `[0, 1]`.
+    pub reflect: Rgb,
+    /// Transmittance `kt` in `[0, 1]` (refraction; shadow rays keep `kt` per surface crossed).
+    pub transmit: Rgb,
+    /// The inside's index of refraction (the outside is 1).
+    pub ior: f64,
+    /// Reflection `kr + F·kt` and transmission `(1 − F)·kt` with the Fresnel reflectance `F`.
+    pub fresnel: bool,
+}
+
+impl Material {
+    /// Whether the material sends reflected rays.
+    pub fn reflects(&self) -> bool {
+        self.reflect != Rgb::ZERO || (self.fresnel && self.transmit != Rgb::ZERO)
+    }
+
+    /// Whether light passes through it (refracted rays, shadow rays dimmed rather than stopped).
+    pub fn transmits(&self) -> bool {
+        self.transmit != Rgb::ZERO
+    }
 }
 
 impl Default for Material {
@@ -89,6 +120,10 @@ impl Default for Material {
             diffuse: Rgb::splat(0.8),
             specular: Rgb::ZERO,
             shininess: 32.0,
+            reflect: Rgb::ZERO,
+            transmit: Rgb::ZERO,
+            ior: 1.5,
+            fresnel: false,
         }
     }
 }
@@ -115,23 +150,40 @@ pub struct TerrainObject {
     pub lod: TerrainLod,
 }
 
+/// A triangle-mesh object: an instance of a loaded mesh, one material for all of it.
+#[derive(Clone, Debug)]
+pub struct MeshObject {
+    pub name: String,
+    /// The mesh (shared with every object naming the same file) and its placement.
+    pub instance: Instance,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// Shade with interpolated vertex normals (`false`: facets).
+    pub smooth: bool,
+}
+
 impl Scene {
-    /// The box around all objects and terrains (empty if there are none).
+    /// The box around all objects, terrains and meshes (empty if there are none).
     pub fn bounds(&self) -> fray_core::Aabb {
         let objects = self
             .objects
             .iter()
             .fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()));
-        self.terrains
+        let terrains = self
+            .terrains
             .iter()
-            .fold(objects, |b, t| b.union(&t.terrain.bounds()))
+            .fold(objects, |b, t| b.union(&t.terrain.bounds()));
+        self.meshes
+            .iter()
+            .fold(terrains, |b, m| b.union(&m.instance.bounds()))
     }
 
     /// Every primitive, kind by kind in [`PrimitiveKind::ALL`] order.
     pub fn primitives(&self) -> impl Iterator<Item = PrimitiveId> + '_ {
         let free_forms = (0..self.objects.len() as u32).map(PrimitiveId::free_form);
         let terrains = (0..self.terrains.len() as u32).map(PrimitiveId::terrain);
-        free_forms.chain(terrains)
+        let meshes = (0..self.meshes.len() as u32).map(PrimitiveId::mesh);
+        free_forms.chain(terrains).chain(meshes)
     }
 
     /// How many primitives of `kind` the scene holds.
@@ -139,6 +191,7 @@ impl Scene {
         match kind {
             PrimitiveKind::FreeForm => self.objects.len(),
             PrimitiveKind::Terrain => self.terrains.len(),
+            PrimitiveKind::Mesh => self.meshes.len(),
         }
     }
 
@@ -153,6 +206,10 @@ impl Scene {
                 .terrains
                 .get(id.index as usize)
                 .map(|t| t.terrain.bounds()),
+            PrimitiveKind::Mesh => self
+                .meshes
+                .get(id.index as usize)
+                .map(|m| m.instance.bounds()),
         }
     }
 
@@ -165,6 +222,7 @@ impl Scene {
                 .get(id.index as usize)
                 .and_then(|o| o.leaf_materials.get(part as usize).copied()),
             PrimitiveKind::Terrain => self.terrains.get(id.index as usize).map(|t| t.material),
+            PrimitiveKind::Mesh => self.meshes.get(id.index as usize).map(|m| m.material),
         }
     }
 

@@ -78,8 +78,9 @@ fn terrain_boxes(scene: &Scene) -> Vec<TerrainBoxes> {
 ///
 /// Candidates carry their primitive kind ([`crate::PrimitiveId::of_candidate`]): free forms (with their
 /// active leaves and perturbations) first, in scene order, then terrains (no leaves, no
-/// perturbations). A cell keeps a terrain when its bundle meets the terrain's box and one of its
-/// coarse max columns.
+/// perturbations), then meshes (no leaves, no perturbations). A cell keeps a terrain when its
+/// bundle meets the terrain's box and one of its coarse max columns, a mesh when it meets the
+/// instance's world box.
 pub fn work_list(scene: &Scene, cell_size: u32) -> Result<WorkList, fray_quadtree::QuadtreeError> {
     work_list_within(scene, &QuadtreeConfig::new(cell_size))
 }
@@ -122,14 +123,30 @@ pub fn work_list_view(
     for k in 0..terrains.len() {
         root.begin(terrain, k as u32, 0.0, f64::INFINITY);
     }
+    let mesh = PrimitiveKind::Mesh.code();
+    let mesh_boxes: Vec<Aabb> = scene.meshes.iter().map(|m| m.instance.bounds()).collect();
+    for k in 0..mesh_boxes.len() {
+        root.begin(mesh, k as u32, 0.0, f64::INFINITY);
+    }
     // One test per worker of the parallel build_parallel, each with its own scratch set.
     let make_test =
         || {
             let mut active = ActiveSet::new();
             let boxes = &boxes;
             let terrains = &terrains;
+            let mesh_boxes = &mesh_boxes;
             move |bundle: &RayBundle, parent: &Candidates, out: &mut Candidates| {
                 for c in &parent.candidates {
+                    if c.kind == mesh {
+                        // The instance's world box (it holds every triangle, with a margin).
+                        if let Some(range) = mesh_boxes
+                            .get(c.object as usize)
+                            .and_then(|b| bundle.box_range(b))
+                        {
+                            out.begin(mesh, c.object, range.lo, range.hi);
+                        }
+                        continue;
+                    }
                     if c.kind == terrain {
                         let Some(t) = terrains.get(c.object as usize) else {
                             continue;

@@ -97,6 +97,8 @@ fn empty_scene_and_named_struct_and_extension_attribute() {
             epsilon: Some(1e-6),
             shadows: false,
             samples: fray_core::PixelSamples::ONE,
+            max_depth: 5,
+            min_contribution: 1e-3,
         }
     );
     assert_eq!(s.epsilon(), 1e-6);
@@ -244,6 +246,9 @@ fn every_variant_parses_and_resolves() {
             fog: false,
             sky: false,
             clouds: false,
+            meshes: false,
+            reflection: false,
+            transmission: false,
         }
     );
 }
@@ -668,6 +673,9 @@ fn the_documented_example_resolves() {
             fog: false,
             sky: false,
             clouds: false,
+            meshes: false,
+            reflection: false,
+            transmission: false,
         }
     );
 }

@@ -4,6 +4,7 @@
 
 use crate::freeform::FreeFormPrimitive;
 use crate::interaction::SurfaceInteraction;
+use crate::mesh::MeshPrimitive;
 use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
 use crate::terrain::TerrainPrimitive;
 use fray_core::{Aabb, CameraRay, Interval, PixelFootprint, Ray, Rgb};
@@ -27,6 +28,7 @@ pub type Candidates = [(PrimitiveId, ActiveSet)];
 pub enum AnyPrimitive<'a> {
     FreeForm(FreeFormPrimitive<'a>),
     Terrain(TerrainPrimitive<'a>),
+    Mesh(MeshPrimitive<'a>),
 }
 
 impl<'a> AnyPrimitive<'a> {
@@ -50,6 +52,10 @@ impl<'a> AnyPrimitive<'a> {
                 .terrains
                 .get(i)
                 .map(|t| Self::Terrain(TerrainPrimitive::for_camera(t, footprint))),
+            PrimitiveKind::Mesh => scene
+                .meshes
+                .get(i)
+                .map(|object| Self::Mesh(MeshPrimitive { object })),
         }
     }
 }
@@ -59,6 +65,7 @@ impl Primitive for AnyPrimitive<'_> {
         match self {
             Self::FreeForm(p) => p.bounds(),
             Self::Terrain(p) => p.bounds(),
+            Self::Mesh(p) => p.bounds(),
         }
     }
 
@@ -73,6 +80,7 @@ impl Primitive for AnyPrimitive<'_> {
         match self {
             Self::FreeForm(p) => p.nearest_hit(ray, range, eps, ctx),
             Self::Terrain(p) => p.nearest_hit(ray, range, eps, ctx),
+            Self::Mesh(p) => p.nearest_hit(ray, range, eps, ctx),
         }
     }
 
@@ -80,6 +88,7 @@ impl Primitive for AnyPrimitive<'_> {
         match self {
             Self::FreeForm(p) => p.transmittance(ray, range, eps, ctx),
             Self::Terrain(p) => p.transmittance(ray, range, eps, ctx),
+            Self::Mesh(p) => p.transmittance(ray, range, eps, ctx),
         }
     }
 
@@ -88,6 +97,7 @@ impl Primitive for AnyPrimitive<'_> {
         match self {
             Self::FreeForm(p) => p.surface(ray, hit),
             Self::Terrain(p) => p.surface(ray, hit),
+            Self::Mesh(p) => p.surface(ray, hit),
         }
     }
 }
@@ -349,6 +359,12 @@ fn transmittance_through<'a>(
     }
     for terrain in &scene.terrains {
         total *= TerrainPrimitive::exact(terrain).transmittance(ray, range, eps, ctx);
+        if total == Rgb::ZERO {
+            return total;
+        }
+    }
+    for object in &scene.meshes {
+        total *= MeshPrimitive { object }.transmittance(ray, range, eps, ctx);
         if total == Rgb::ZERO {
             return total;
         }

@@ -1,7 +1,9 @@
 //! The CPU integrator: the radiance a ray brings back — the nearest surface over every primitive
 //! kind, shaded by its material with each light's direct light times the RGB transmittance of a
-//! shadow ray toward it (and of the media on its way), or the background where nothing is hit;
-//! then the media along the ray (`T · L + L_in`). Camera rays enter at
+//! shadow ray toward it (and of the media on its way), plus Whitted's reflected and refracted
+//! rays (`kr · I_r + kt · I_t`, recursively to the scene's maximum depth, each traced only while
+//! its weight is above the contribution cut-off), or the background where nothing is hit; then
+//! the media along the ray (`T · L + L_in`). Camera rays enter at
 //! [`Integrator::surface_radiance`] and [`Integrator::through_media`] with hits the frame loop
 //! found a tile at a time; any other ray through [`Integrator::radiance`]. Shading happens here
 //! and nowhere else.
@@ -11,7 +13,9 @@ use crate::hit::{nearest_hit, transmittance, transmittance_among};
 use crate::interaction::SurfaceInteraction;
 use crate::media::Media;
 use crate::media_grid::{MediaGrid, camera_terms};
+use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::primitive::TraceContext;
+use crate::secondary::{Interiors, nearest_hit_from_surface, transmittance_through_surfaces};
 use crate::shade::Reflectance;
 use fray_core::{Interval, Ray};
 use fray_scene::{Light, Material, Scene};
@@ -30,6 +34,12 @@ pub struct Integrator<'a> {
     media: Option<Media>,
     /// The media's terms on a pixel grid, for camera rays (`None`: every ray exactly).
     grid: Option<MediaGrid>,
+    /// The transmissive free forms' complements (empty without transmission).
+    interiors: Interiors,
+    /// Whitted recursion: the deepest secondary ray, and the weight below which none is traced
+    /// (`max_depth` 0 when the scene's materials send none, or without shading).
+    max_depth: u32,
+    min_contribution: f64,
 }
 
 impl<'a> Integrator<'a> {
@@ -46,6 +56,19 @@ impl<'a> Integrator<'a> {
                 None
             },
             grid: None,
+            interiors: if settings.shading {
+                Interiors::of(scene)
+            } else {
+                Interiors::default()
+            },
+            max_depth: if settings.shading
+                && (scene.features.reflection || scene.features.transmission)
+            {
+                scene.settings.max_depth
+            } else {
+                0
+            },
+            min_contribution: scene.settings.min_contribution,
         }
     }
 
@@ -170,6 +193,130 @@ impl<'a> Integrator<'a> {
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
     ) -> DVec3 {
+        self.shade(ctx, si, wo, occluders, 0, DVec3::ONE)
+    }
+
+    /// [`Integrator::surface_radiance`] of a surface `depth` secondary rays from the camera,
+    /// reached with `weight` (the product of the `kr`/`kt` on the way).
+    fn shade(
+        &self,
+        ctx: &mut TraceContext,
+        si: &SurfaceInteraction,
+        wo: DVec3,
+        occluders: Option<&[Vec<u32>]>,
+        depth: u32,
+        weight: DVec3,
+    ) -> DVec3 {
+        let mut total = self.local_radiance(ctx, si, wo, occluders);
+        if depth < self.max_depth {
+            total += self.whitted(ctx, si, -wo, depth, weight);
+        }
+        total
+    }
+
+    /// Whitted's secondary terms at `si` for a ray arriving along `d` (unit): `kr · I_r + kt ·
+    /// I_t`, Fresnel-weighted if the material asks; past the critical angle the transmitted
+    /// weight is reflected (total internal reflection). The outside is vacuum (index 1); a ray
+    /// inside a transmissive solid leaves into it.
+    fn whitted(
+        &self,
+        ctx: &mut TraceContext,
+        si: &SurfaceInteraction,
+        d: DVec3,
+        depth: u32,
+        weight: DVec3,
+    ) -> DVec3 {
+        let material = self
+            .scene
+            .materials
+            .get(si.material as usize)
+            .unwrap_or(&self.default_material);
+        if !(material.reflects() || material.transmits()) {
+            return DVec3::ZERO;
+        }
+        // Both normals on the side the ray arrives from.
+        let side = if si.front_face { 1.0 } else { -1.0 };
+        let ng = si.geometric_normal * side;
+        let ns = si.shading_normal * side;
+        let ns = if ns.dot(ng) > 0.0 { ns } else { ng };
+        let (n_from, n_to) = if si.front_face {
+            (1.0, material.ior)
+        } else {
+            (material.ior, 1.0)
+        };
+        let mut kr = material.reflect.as_dvec3();
+        let mut kt = material.transmit.as_dvec3();
+        let mut refracted = None;
+        if material.transmits() {
+            // A shading normal may bend the refracted ray back to the arriving side: then the
+            // face's own normal decides.
+            refracted = refract(d, ns, n_from / n_to)
+                .filter(|t| t.dot(ng) < 0.0)
+                .or_else(|| refract(d, ng, n_from / n_to));
+            if material.fresnel {
+                let f = fresnel_dielectric(-d.dot(ns), n_from, n_to);
+                kr += kt * f;
+                kt *= 1.0 - f;
+            }
+            if refracted.is_none() {
+                // Total internal reflection: what would have been transmitted is reflected.
+                kr += kt;
+                kt = DVec3::ZERO;
+            }
+        }
+        let offset = self.shadow_offset_at(si.p);
+        let mut total = DVec3::ZERO;
+        if kr != DVec3::ZERO {
+            let r = reflect(d, ns);
+            // Reflected about a shading normal, a grazing ray may point into the surface.
+            let r = if r.dot(ng) > 0.0 { r } else { reflect(d, ng) };
+            total += kr * self.secondary(ctx, si.p + ng * offset, r, depth + 1, weight * kr);
+        }
+        if let Some(t) = refracted
+            && kt != DVec3::ZERO
+        {
+            total += kt * self.secondary(ctx, si.p - ng * offset, t, depth + 1, weight * kt);
+        }
+        total
+    }
+
+    /// The radiance a secondary ray from `origin` along `dir` brings back (0 when its weight is
+    /// below the cut-off).
+    fn secondary(
+        &self,
+        ctx: &mut TraceContext,
+        origin: DVec3,
+        dir: DVec3,
+        depth: u32,
+        weight: DVec3,
+    ) -> DVec3 {
+        if weight.max_element() < self.min_contribution {
+            return DVec3::ZERO;
+        }
+        let Some(ray) = Ray::new(origin, dir) else {
+            return DVec3::ZERO;
+        };
+        ctx.counts.secondary_rays += 1;
+        let range = Interval::new(0.0, f64::INFINITY);
+        let (scene, eps) = (self.scene, self.epsilon);
+        match nearest_hit_from_surface(scene, ctx, &ray, range, eps, &self.interiors) {
+            Some(si) => {
+                let surface = self.shade(ctx, &si, -ray.dir, None, depth, weight);
+                self.through_media(&ray, Interval::new(0.0, si.t), surface)
+            }
+            None => self.miss_radiance(&ray, 0.0),
+        }
+    }
+
+    /// The material's local terms at `si`: ambient plus each light's BRDF × irradiance ×
+    /// shadow-ray transmittance.
+    fn local_radiance(
+        &self,
+        ctx: &mut TraceContext,
+        si: &SurfaceInteraction,
+        wo: DVec3,
+        occluders: Option<&[Vec<u32>]>,
+    ) -> DVec3 {
         let material = self
             .scene
             .materials
@@ -255,6 +402,20 @@ impl<'a> Integrator<'a> {
         ctx.counts.shadow_rays += 1;
         let range = Interval::new(0.0, distance);
         let (scene, eps) = (self.scene, self.epsilon);
+        if scene.features.transmission {
+            // Through glass: every surface crossed keeps its `kt`.
+            let step = |p: DVec3| 2.0 * self.shadow_offset_at(p);
+            return transmittance_through_surfaces(
+                scene,
+                ctx,
+                &ray,
+                range,
+                eps,
+                &self.interiors,
+                step,
+            )
+            .as_dvec3();
+        }
         match occluders {
             Some(free_forms) => transmittance_among(scene, ctx, &ray, range, eps, free_forms),
             None => transmittance(scene, ctx, &ray, range, eps),

@@ -1,9 +1,10 @@
 //! `fray-trace`: the CPU backend and f64 reference renderer. Every primitive kind — free-form
-//! CSG solids (`fray-geometry`), height-map terrains (`fray-terrain`) — answers the same few
-//! queries ([`Primitive`]: bounds, nearest hit over a ray range, transmittance, the surface at a
-//! hit); the nearest hit over all of them becomes a [`SurfaceInteraction`], which the one
-//! [`Integrator`] shades: ambient + Lambert (albedo/π) + normalised Phong light, each light
-//! through the RGB transmittance of a shadow ray. Tiles render in parallel with rayon; the image
+//! CSG solids (`fray-geometry`), height-map terrains (`fray-terrain`), triangle meshes
+//! (`fray-mesh`) — answers the same few queries ([`Primitive`]: bounds, nearest hit over a ray
+//! range, transmittance, the surface at a hit); the nearest hit over all of them becomes a
+//! [`SurfaceInteraction`], which the one [`Integrator`] shades: ambient + Lambert (albedo/π) +
+//! normalised Phong light, each light through the RGB transmittance of a shadow ray, plus
+//! Whitted's mirror reflection and refraction ([`optics`]) to a maximum depth. Tiles render in parallel with rayon; the image
 //! does not depend on the thread count. With [`TraceSettings::culling`] (the default) the tiles
 //! come from the `fray-quadtree` scheduler: empty tiles are skipped and each tile casts only the
 //! primitives, CSG leaves and perturbations its rays may meet — the same image, less work.
@@ -33,8 +34,11 @@ mod integrator;
 mod interaction;
 mod media;
 mod media_grid;
+mod mesh;
+pub mod optics;
 mod primitive;
 mod render;
+mod secondary;
 mod settings;
 mod shade;
 mod shadow_cull;
@@ -53,8 +57,12 @@ pub use integrator::Integrator;
 pub use interaction::SurfaceInteraction;
 pub use media::{Media, MediaTerms};
 pub use media_grid::{DEPTH_TOLERANCE, MediaGrid, OPTICAL_TOLERANCE, TERMS_TOLERANCE};
+pub use mesh::MeshPrimitive;
 pub use primitive::{KindHit, PART_PENDING, Primitive, RayCounts, Surface, TraceContext};
 pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
+pub use secondary::{
+    Interiors, MAX_SHADOW_CROSSINGS, nearest_hit_from_surface, transmittance_through_surfaces,
+};
 pub use settings::{TraceError, TraceSettings};
 pub use shade::Reflectance;
 pub use terrain::TerrainPrimitive;

@@ -41,6 +41,10 @@ pub struct RayCounts {
     pub media_exact: u64,
     /// Density samples the cloud marches of camera rays took (0 without clouds).
     pub cloud_samples: u64,
+    /// Rays cast against mesh instances (nearest-hit queries, one per ray and instance).
+    pub mesh_rays: u64,
+    /// Reflected and refracted rays traced (Whitted secondary rays).
+    pub secondary_rays: u64,
 }
 
 impl TraceContext {

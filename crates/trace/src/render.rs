@@ -295,6 +295,8 @@ pub fn render_into(
         stats.media_interpolated += t.media_interpolated;
         stats.media_exact += t.media_exact;
         stats.cloud_samples += t.cloud_samples;
+        stats.mesh_rays += t.mesh_rays;
+        stats.secondary_rays += t.secondary_rays;
     }
     if list.is_some() {
         stats.passes.push("quadtree".into());

@@ -125,6 +125,28 @@ impl Solid {
         }
     }
 
+    /// The complement within the same box: the value `−F` (the program followed by a negation),
+    /// so `−F ≥ 0` is "inside" it. Cast from a point inside the solid, its first hit is where the
+    /// ray leaves the solid — the exit a refracted ray needs. The box stays the solid's: a ray
+    /// that leaves through a clipping box face finds no hit in it (the caller takes the box's
+    /// exit).
+    pub fn complement(&self) -> Self {
+        let mut program = self.program.clone();
+        program.push(CsgOp::Neg);
+        let leaf_negated = negated(&program, self.leaves.len());
+        let (widenings, perturbation_magnitudes) = magnitudes(&self.leaves, &leaf_negated);
+        Self {
+            widenings,
+            perturbation_magnitudes,
+            leaves: self.leaves.clone(),
+            program,
+            bounds: self.bounds,
+            max_stack: self.max_stack,
+            leaf_covers_solid: self.leaf_covers_solid.clone(),
+            leaf_negated,
+        }
+    }
+
     pub fn leaves(&self) -> &[FreeForm] {
         &self.leaves
     }

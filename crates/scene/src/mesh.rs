@@ -1,0 +1,46 @@
+//! Resolving a `Mesh(...)` shape: the OBJ file is loaded (relative to the scene file) and its BVH
+//! built once per file — objects naming the same file become instances of one mesh —, placed by
+//! the object's transform; a bad file is reported at the `path` field with the file's path, the
+//! line and the reason, and so is a mesh over the memory budget.
+
+use crate::description;
+use crate::path::FieldPath;
+use crate::resolve::{Result, invalid, transform};
+use fray_core::MemoryBudget;
+use fray_mesh::{Instance, MeshBvh, TriangleMesh};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The meshes loaded so far, by file (one BVH per file, however many objects use it).
+#[derive(Default)]
+pub(crate) struct MeshCache {
+    loaded: HashMap<PathBuf, Arc<MeshBvh>>,
+}
+
+impl MeshCache {
+    /// The instance `m` describes (`path` is the shape's field path).
+    pub(crate) fn instance(
+        &mut self,
+        path: &FieldPath,
+        m: &description::Mesh,
+        base: &Path,
+        budget: &MemoryBudget,
+    ) -> Result<Instance> {
+        let to_world = transform(&path.field("transform"), &m.transform)?;
+        let file = base.join(&m.path);
+        // The same file by another spelling (`./a.obj`, `../x/a.obj`) is still one mesh.
+        let key = std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
+        let bvh = match self.loaded.get(&key) {
+            Some(bvh) => bvh.clone(),
+            None => {
+                let mesh = TriangleMesh::load_obj(&file, budget)
+                    .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
+                let bvh = Arc::new(MeshBvh::build(mesh));
+                self.loaded.insert(key, bvh.clone());
+                bvh
+            }
+        };
+        Instance::new(bvh, to_world).or_else(|e| invalid(&path.field("transform"), e.to_string()))
+    }
+}

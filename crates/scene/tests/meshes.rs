@@ -1,0 +1,163 @@
+//! Mesh objects and Whitted materials in scene files: meshes load once per file (objects naming
+//! the same file are instances of one BVH), placed by their transform; the feature set lists
+//! meshes, reflection and transmission only for materials a primitive uses; and every bad value
+//! or asset is a located error naming the field, the file, its line and the reason.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+fn scenes() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes")
+}
+
+fn parse(src: &str) -> Result<fray_scene::Scene, String> {
+    // Relative paths resolve against the (virtual) scene file's folder.
+    let file = scenes().join("inline.ron");
+    fray_scene::parse(src, &file.display().to_string()).map_err(|e| e.to_string())
+}
+
+#[test]
+fn meshes_load_once_per_file_and_are_placed_by_their_transform() {
+    let s = parse(
+        "(materials: { \"glass\": (transmit: (0.9, 0.9, 0.9), ior: 1.5), \"unused\": (reflect: (1, 1, 1)) },
+          objects: [
+            (name: \"a\", material: \"glass\", shape: Mesh(path: \"../meshes/bunny00.obj\")),
+            (name: \"b\", shape: Mesh(path: \"../meshes/../meshes/bunny00.obj\",
+               transform: (scale: (2, 2, 2), translate: (10, 0, 0)), smooth: false)),
+          ])",
+    )
+    .unwrap();
+    assert_eq!(s.meshes.len(), 2);
+    let (a, b) = (&s.meshes[0], &s.meshes[1]);
+    assert!(Arc::ptr_eq(&a.instance.mesh, &b.instance.mesh), "one BVH");
+    assert_eq!(a.instance.mesh.mesh().triangles.len(), 75_408);
+    assert_eq!((a.material, b.material), (1, 0));
+    assert!(a.smooth && !b.smooth);
+    let (ba, bb) = (a.instance.bounds(), b.instance.bounds());
+    assert!(((bb.center() - ba.center() * 2.0) - glam::DVec3::new(10.0, 0.0, 0.0)).length() < 1e-9);
+    assert!((bb.diagonal() - 2.0 * ba.diagonal()).abs() < 1e-9);
+    assert!(s.bounds().contains(bb.max) && s.bounds().contains(ba.min));
+    let f = s.features;
+    assert!(f.meshes && f.transmission && !f.reflection, "{f:?}");
+    assert!(f.names().contains(&"meshes") && f.names().contains(&"transmission"));
+    assert_eq!(
+        s.primitives().map(|p| p.to_string()).collect::<Vec<_>>(),
+        ["mesh 0", "mesh 1"]
+    );
+    assert_eq!(
+        s.material_of(fray_scene::PrimitiveId::mesh(0), 123),
+        Some(1)
+    );
+}
+
+#[test]
+fn whitted_materials_and_settings_resolve_with_defaults() {
+    let s = parse(
+        "(materials: { \"m\": (reflect: (0.5, 0.5, 0.5)), \"g\": (transmit: (1, 1, 1), fresnel: true) },
+          objects: [(material: \"m\", shape: Sphere(radius: 1)), (material: \"g\", shape: Sphere(center: (3, 0, 0), radius: 1))],
+          settings: (max_depth: 9, min_contribution: 0.01))",
+    )
+    .unwrap();
+    let named = |n: &str| s.materials.iter().find(|m| m.name == n).unwrap();
+    let (m, g) = (named("m"), named("g"));
+    assert_eq!(m.reflect, fray_core::Rgb::splat(0.5));
+    assert!(m.reflects() && !m.transmits());
+    assert!(
+        g.transmits() && g.reflects(),
+        "Fresnel reflects what it transmits"
+    );
+    assert_eq!((g.ior, g.fresnel), (1.5, true));
+    assert_eq!(
+        (s.settings.max_depth, s.settings.min_contribution),
+        (9, 0.01)
+    );
+    assert!(s.features.reflection && s.features.transmission);
+    let d = parse("(objects: [(shape: Sphere(radius: 1))])").unwrap();
+    assert_eq!(
+        (d.settings.max_depth, d.settings.min_contribution),
+        (5, 1e-3)
+    );
+    assert!(!d.features.reflection && !d.features.transmission && !d.features.meshes);
+}
+
+#[test]
+fn bad_meshes_and_whitted_values_are_located_errors() {
+    let e = parse("(objects: [\n (shape: Mesh(path: \"nowhere.obj\")),\n])").unwrap_err();
+    assert!(
+        e.contains(":2:")
+            && e.contains("objects[0].shape.path:")
+            && e.contains("nowhere.obj")
+            && e.contains("cannot read"),
+        "{e}"
+    );
+    // A malformed OBJ: its path and line.
+    let dir = std::env::temp_dir().join(format!("fray-scene-meshes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 x 0\nf 1 2 3\n").unwrap();
+    let e = parse(&format!(
+        "(objects: [\n (shape: Mesh(path: {:?})),\n])",
+        bad.display().to_string()
+    ))
+    .unwrap_err();
+    assert!(
+        e.contains("objects[0].shape.path:") && e.contains("bad.obj:3"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+    let e = parse(
+        "(objects: [\n (shape: Mesh(path: \"../meshes/boeing.obj\", transform: (scale: (1, 0, 1)))),\n])",
+    )
+    .unwrap_err();
+    assert!(e.contains("objects[0].shape.transform.scale:"), "{e}");
+    let e = parse(
+        "(objects: [\n (shape: Union([Sphere(radius: 1), Mesh(path: \"../meshes/boeing.obj\")])),\n])",
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("a Mesh can only be an object's whole shape"),
+        "{e}"
+    );
+    let e = parse("(materials: {\n \"g\": (ior: 0.5) })").unwrap_err();
+    assert!(
+        e.contains(":2:") && e.contains("materials.g.ior: must be in [1, 10]"),
+        "{e}"
+    );
+    let e = parse("(materials: {\n \"g\": (reflect: (1.5, 0, 0)) })").unwrap_err();
+    assert!(e.contains("materials.g.reflect:"), "{e}");
+    let e = parse("(materials: {\n \"g\": (transmit: (0, -1, 0)) })").unwrap_err();
+    assert!(e.contains("materials.g.transmit:"), "{e}");
+    let e = parse("(settings: (max_depth: 2.5))").unwrap_err();
+    assert!(
+        e.contains("settings.max_depth: must be a whole number in 0..=64"),
+        "{e}"
+    );
+    let e = parse("(settings: (max_depth: 65))").unwrap_err();
+    assert!(e.contains("settings.max_depth"), "{e}");
+    let e = parse("(settings: (min_contribution: 1))").unwrap_err();
+    assert!(
+        e.contains("settings.min_contribution: must be in [0, 1)"),
+        "{e}"
+    );
+}
+
+/// A mesh over the memory budget is refused before it is read into memory.
+#[test]
+fn a_mesh_over_the_budget_is_refused() {
+    let options = fray_scene::BuildOptions {
+        budget: fray_core::MemoryBudget::new(1 << 20),
+        ..Default::default()
+    };
+    let file = scenes().join("inline.ron");
+    let e = fray_scene::parse_with(
+        "(objects: [(shape: Mesh(path: \"../meshes/bunny00.obj\"))])",
+        &file.display().to_string(),
+        &options,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("objects[0].shape.path:") && e.contains("bunny00.obj"),
+        "{e}"
+    );
+}

@@ -1,0 +1,92 @@
+//! Triangle meshes as a primitive kind: a scene's mesh instance, cast by `fray-mesh`'s BVH (the
+//! watertight f64 triangle test; any hit for shadow rays); the surface from the hit triangle —
+//! its own normal (geometric), the vertex normals interpolated by the barycentrics (shading,
+//! unless the object is faceted) and the interpolated UVs.
+
+use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
+use fray_core::{Aabb, Interval, Ray, Rgb};
+use fray_scene::MeshObject;
+use glam::{DVec2, DVec3};
+
+/// One mesh instance of the scene.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshPrimitive<'a> {
+    pub object: &'a MeshObject,
+}
+
+impl Primitive for MeshPrimitive<'_> {
+    fn bounds(&self) -> Aabb {
+        self.object.instance.bounds()
+    }
+
+    /// The nearest triangle hit strictly inside `range` (a mesh is a surface, not a solid: a ray
+    /// that starts inside a closed mesh hits its far side). `part` is the triangle, `detail` its
+    /// barycentric weights.
+    #[inline]
+    fn nearest_hit(
+        &self,
+        ray: &Ray,
+        range: Interval,
+        _eps: f64,
+        ctx: &mut TraceContext,
+    ) -> Option<KindHit> {
+        ctx.counts.mesh_rays += 1;
+        let hit = self.object.instance.nearest_hit(ray, range)?;
+        let [a, b, c] = hit.barycentric;
+        Some(KindHit {
+            t: hit.t,
+            part: hit.triangle,
+            detail: DVec3::new(a, b, c),
+        })
+    }
+
+    fn transmittance(&self, ray: &Ray, range: Interval, _eps: f64, _: &mut TraceContext) -> Rgb {
+        if self.object.instance.any_hit(ray, range) {
+            Rgb::ZERO
+        } else {
+            Rgb::ONE
+        }
+    }
+
+    fn surface(&self, ray: &Ray, hit: &KindHit) -> Surface {
+        let instance = &self.object.instance;
+        let triangle = hit.part as usize;
+        let mesh = instance.mesh.mesh();
+        let Some(&[i, j, k]) = mesh.triangles.get(triangle) else {
+            return Surface {
+                geometric_normal: -ray.dir,
+                shading_normal: -ray.dir,
+                part: hit.part,
+                uv: None,
+            };
+        };
+        let [a, b, c] = instance.world_corners(triangle);
+        // Counter-clockwise seen from outside: the face normal points out. A triangle the
+        // watertight test hit has a non-zero area, but a sliver may round to zero here.
+        let geometric_normal = (b - a).cross(c - a).try_normalize().unwrap_or(-ray.dir);
+        let w = hit.detail;
+        let shading_normal = if self.object.smooth {
+            let [ni, nj, nk] = [i, j, k].map(|v| mesh.normals[v as usize]);
+            let n = instance.world_normal(ni * w.x + nj * w.y + nk * w.z);
+            // An interpolated normal that turned away from its face (a folded mesh) would light
+            // the wrong side: keep the face's then.
+            if n.dot(geometric_normal) > 0.0 {
+                n
+            } else {
+                geometric_normal
+            }
+        } else {
+            geometric_normal
+        };
+        let uv = mesh.uvs.as_ref().map(|uvs| {
+            let [ti, tj, tk] = [i, j, k].map(|v| uvs[v as usize]);
+            ti * w.x + tj * w.y + tk * w.z
+        });
+        Surface {
+            geometric_normal,
+            shading_normal,
+            part: hit.part,
+            uv: uv.map(|uv: DVec2| uv),
+        }
+    }
+}
