@@ -445,3 +445,32 @@ fn depth_and_contribution_limits_cut_where_they_say() {
         "one reflection per hit pixel"
     );
 }
+
+/// Total internal reflection occurs exactly past the critical angle, end to end: a right-angle
+/// glass prism (black, `kt = 0.9`, no Fresnel) under a uniform background; a ray entering its
+/// long face square-on meets a short face at 45°. With `n = 1.4143` (critical angle 44.9985°) it
+/// reflects totally twice and leaves back through the long face: `kt⁴·B` (four weighted events);
+/// with `n = 1.4142` (critical 45.0003°) it refracts out, grazing: `kt²·B`.
+#[test]
+fn a_prism_reflects_totally_exactly_past_the_critical_angle() {
+    let b = fray_core::Rgb::new(0.25, 0.5, 1.0).as_dvec3();
+    let kt = f64::from(0.9f32);
+    for (ior, expected) in [(1.4143, b * kt.powi(4)), (1.4142, b * kt * kt)] {
+        let scene = parse(&format!(
+            "Scene(camera: Pinhole(eye: (0, -3, -3), look_at: (0, 0, 0)), \
+             background: (0.25, 0.5, 1.0), ambient: (0, 0, 0), \
+             materials: {{ \"glass\": ({BLACK}, transmit: (0.9, 0.9, 0.9), ior: {ior}) }}, \
+             objects: [(material: \"glass\", shape: Intersection([ \
+               FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, -1, 0)), bounds: (min: (-1.5, -0.5, -1), max: (1.5, 1.5, 1))), \
+               FreeForm(base: HalfSpace(point: (-1, 0, 0), normal: (-1, 1, 0)), bounds: (min: (-1.5, -0.5, -1), max: (1.5, 1.5, 1))), \
+               FreeForm(base: HalfSpace(point: (1, 0, 0), normal: (1, 1, 0)), bounds: (min: (-1.5, -0.5, -1), max: (1.5, 1.5, 1)))]))], \
+             settings: (max_depth: 8, min_contribution: 0))"
+        ));
+        let ray = Ray::new(DVec3::new(0.5, -2.0, 0.0), DVec3::Y).unwrap();
+        let got = radiance(&scene, &ray);
+        assert!(
+            (got - expected).abs().max_element() < 1e-6,
+            "n = {ior}: {got} vs {expected}"
+        );
+    }
+}
