@@ -302,8 +302,32 @@ pub const CLOUDS_BATCH: Group = Group {
     ],
 };
 
+/// The meshes (`fray_mesh::gpu_layout`, read by `mesh.wgsl`): the instance blocks (relative to
+/// the reference point, the only part a moved camera rewrites), and every mesh's BVH nodes,
+/// triangles (leaf order, anchor-relative) and vertex attributes, concatenated. The vertices are
+/// read only for surfaces (`mesh_surface`): an intersection pass binds them unused.
+pub const MESHES: Group = Group {
+    name: "meshes",
+    bindings: &[
+        binding(0, "mesh_instances", "array<GpuMeshInstance>", StorageRead),
+        binding(1, "mesh_nodes", "array<GpuMeshNode>", StorageRead),
+        binding(2, "mesh_triangles", "array<GpuMeshTriangle>", StorageRead),
+        binding(3, "mesh_vertices", "array<GpuMeshVertex>", StorageRead),
+    ],
+};
+
+/// The batch mesh pass (`MeshPass`): ray count and instance count, rays in, hits out.
+pub const MESH_BATCH: Group = Group {
+    name: "mesh_batch",
+    bindings: &[
+        binding(0, "mesh_batch", "vec4<u32>", Uniform),
+        binding(1, "mesh_rays", "array<vec4<f32>>", StorageRead),
+        binding(2, "mesh_hits", "array<vec4<u32>>", StorageReadWrite),
+    ],
+};
+
 /// Every group, for the include step.
-pub const GROUPS: [Group; 18] = [
+pub const GROUPS: [Group; 20] = [
     FRAME,
     FREE_FORMS,
     WORK,
@@ -322,6 +346,8 @@ pub const GROUPS: [Group; 18] = [
     TERRAIN_BATCH,
     FOG_BATCH,
     SKY_BATCH,
+    MESHES,
+    MESH_BATCH,
 ];
 
 impl Group {
@@ -540,6 +566,9 @@ mod tests {
             vec![FOG_BATCH],
             vec![SKY_BATCH],
             vec![CLOUDS_BATCH],
+            vec![MESH_BATCH, MESHES],
+            // What a mesh intersection pass will bind.
+            vec![FRAME, WORK, MESHES],
         ];
         for k in 0..8 {
             let (fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);

@@ -25,6 +25,10 @@ pub enum GpuError {
     Unsupported { feature: &'static str },
     #[error(transparent)]
     Budget(fray_core::BudgetError),
+    /// Meshes that cannot be laid out for the GPU (an instance naming no mesh, a transform that
+    /// is not invertible, coordinates past f32).
+    #[error("the meshes cannot be uploaded to the GPU: {0}")]
+    Mesh(String),
     #[error("the scene needs {what} = {needed}, more than this backend supports ({limit})")]
     TooLarge {
         what: &'static str,

@@ -38,6 +38,7 @@ mod context;
 pub mod counters;
 mod error;
 pub mod fog_pass;
+pub mod mesh_pass;
 pub mod params;
 pub mod passes;
 mod readback;
@@ -54,6 +55,7 @@ pub use clouds_pass::CloudsPass;
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use error::GpuError;
 pub use fog_pass::FogPass;
+pub use mesh_pass::MeshPass;
 pub use params::View;
 pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,

@@ -6,7 +6,10 @@
 //! **watertight** ray–triangle test (Woop, Benthin and Wald 2013: shear to the ray's frame, edge
 //! functions that agree on a shared edge, so rays through edges and vertices never leak) in f64;
 //! [`MeshBvh`], an `obvhs` BVH2 traversed here in f64 with a conservative slab test, for the
-//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms.
+//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms;
+//! [`gpu_layout`], the meshes and instances flattened for the GPU twin (`gpu_struct!`s, f32
+//! boxes rounded outward around anchor-relative f32 triangles, the traversal's stack depth
+//! checked).
 //!
 //! ```
 //! use fray_core::{Interval, Ray};
@@ -27,13 +30,16 @@
 //! ```
 
 mod bvh;
+mod bvh_node;
 mod error;
+pub mod gpu_layout;
 mod instance;
 mod mesh;
 mod obj;
 pub mod triangle;
 
 pub use bvh::{MeshBvh, MeshHit};
+pub use bvh_node::BvhNode;
 pub use error::MeshError;
 pub use instance::Instance;
 pub use mesh::TriangleMesh;

@@ -331,3 +331,51 @@ fn obj_files_load_with_their_attributes_and_bad_ones_name_path_line_and_reason()
     assert!(e.contains("bunny00.obj") && e.contains("budget"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The GPU layout of the real meshes: every f32 node box (rounded outward around the
+/// anchor-relative f32 corners) holds its children and its leaves' f32 corners, and both BVHs
+/// fit the GPU traversal's stack.
+#[test]
+fn the_gpu_layout_of_the_bunny_and_the_boeing_bounds_every_f32_triangle() {
+    use fray_mesh::gpu_layout::{GpuMeshes, MESH_STACK};
+    let bunny = MeshBvh::build(load("bunny00.obj"));
+    let boeing = MeshBvh::build(load("boeing.obj"));
+    let g = GpuMeshes::build(
+        &[&bunny, &boeing],
+        &[(0, DAffine3::IDENTITY), (1, DAffine3::IDENTITY)],
+        DVec3::new(0.0, 0.0, 5.0),
+        &MemoryBudget::default(),
+    )
+    .unwrap();
+    let mut checked = 0usize;
+    let mut pending = vec![g.meshes[0].first_node, g.meshes[1].first_node];
+    while let Some(index) = pending.pop() {
+        let n = g.nodes[index as usize];
+        let inside = |p: [f32; 4]| {
+            (n.min_x..=n.max_x).contains(&p[0])
+                && (n.min_y..=n.max_y).contains(&p[1])
+                && (n.min_z..=n.max_z).contains(&p[2])
+        };
+        if n.count > 0 {
+            for t in &g.triangles[n.first as usize..(n.first + n.count) as usize] {
+                assert!(
+                    inside(t.a) && inside(t.b) && inside(t.c),
+                    "{t:?} outside {n:?}"
+                );
+                checked += 1;
+            }
+        } else {
+            for c in [n.first, n.first + 1] {
+                let m = g.nodes[c as usize];
+                assert!(inside([m.min_x, m.min_y, m.min_z, 0.0]));
+                assert!(inside([m.max_x, m.max_y, m.max_z, 0.0]));
+                pending.push(c);
+            }
+        }
+    }
+    assert_eq!(checked, 75_408 + 2_564);
+    for (name, bvh) in [("bunny", &bunny), ("boeing", &boeing)] {
+        println!("{name}: BVH depth {}", bvh.max_depth());
+        assert!(bvh.max_depth() < MESH_STACK, "{name}");
+    }
+}

@@ -259,6 +259,10 @@ mod tests {
                 ("fog_batch.wgsl", &[FOG_BATCH][..]),
                 ("sky_batch.wgsl", &[SKY_BATCH][..]),
                 ("clouds_batch.wgsl", &[CLOUDS_BATCH][..]),
+                (
+                    "mesh_batch.wgsl",
+                    &[crate::bindings::MESH_BATCH, crate::bindings::MESHES][..],
+                ),
             ] {
                 let declared = shader::module_groups(entry, &options).unwrap();
                 assert_eq!(
