@@ -6,7 +6,9 @@
 //! **watertight** ray–triangle test (Woop, Benthin and Wald 2013: shear to the ray's frame, edge
 //! functions that agree on a shared edge, so rays through edges and vertices never leak) in f64;
 //! [`MeshBvh`], an `obvhs` BVH2 traversed here in f64 with a conservative slab test, for the
-//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms.
+//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms;
+//! [`texture`]: linear textures with mip chains (PNG, EXR), trilinear lookups from a pixel's
+//! footprint, projected mappings for surfaces without UVs, terrain colour ramps.
 //!
 //! ```
 //! use fray_core::{Interval, Ray};
@@ -31,9 +33,11 @@ mod error;
 mod instance;
 mod mesh;
 mod obj;
+pub mod texture;
 pub mod triangle;
 
 pub use bvh::{MeshBvh, MeshHit};
 pub use error::MeshError;
 pub use instance::Instance;
 pub use mesh::TriangleMesh;
+pub use texture::{Texture, TextureError};
