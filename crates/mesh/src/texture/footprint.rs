@@ -11,7 +11,10 @@
 //! three levels coarser than the across width), so a surface seen edge-on is not filtered to
 //! its 1 × 1 level at once. Past the cap (`|cos θ| < 1/8`, grazing beyond 82.8°) the longer axis
 //! is under-filtered by `1 / (8 |cos θ|)`; distance still coarsens the level, so far pixels near
-//! a horizon reach the coarse levels through `w` (measured in `tests/texture.rs`).
+//! a horizon reach the coarse levels through `w`. Measured on a receding plane against a
+//! supersampled reference (`tests/texture_aa.rs`): caps of 1, 2 and 4 alias on a checker seen
+//! from just above the plane; 8, 16 and no cap are within 0.003 RMS of each other there, and 8
+//! blurs the least.
 
 use glam::{DVec2, DVec3};
 
