@@ -42,9 +42,10 @@ impl MipLevel {
     }
 
     /// Texel `(x, y)` (column, row from the top) as RGBA: grey is replicated, a missing alpha is
-    /// 1. Indices must be inside the level.
+    /// 1. Indices past the level read its last column or row.
     #[inline]
     pub fn texel(&self, x: u32, y: u32) -> Vec4 {
+        let (x, y) = (x.min(self.width - 1), y.min(self.height - 1));
         let i = (y as usize * self.width as usize + x as usize) * self.channels;
         let t = &self.data[i..i + self.channels];
         match self.channels {

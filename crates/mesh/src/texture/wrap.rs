@@ -55,6 +55,9 @@ impl WrapMode {
     #[inline]
     pub fn index(self, i: i64, n: u32) -> u32 {
         let n = i64::from(n);
+        if (0..n).contains(&i) {
+            return i as u32; // inside: every mode agrees (and no division)
+        }
         let k = match self {
             WrapMode::Repeat => i.rem_euclid(n),
             WrapMode::Clamp => i.clamp(0, n - 1),
