@@ -10,14 +10,27 @@ use std::path::PathBuf;
 pub enum TextureError {
     /// The file is missing or unreadable.
     #[error("{}: cannot read the texture: {reason}", path.display())]
-    Io { path: PathBuf, reason: String },
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        reason: String,
+    },
     /// The file was read but is not an image fray can use (not a PNG / OpenEXR file, a
     /// truncated one, no colour channel, a non-finite texel…).
     #[error("{}: {reason}", path.display())]
-    Format { path: PathBuf, reason: String },
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The file name has no extension fray reads as a texture.
     #[error("{}: unsupported texture format (expected .png or .exr)", path.display())]
-    UnsupportedExtension { path: PathBuf },
+    UnsupportedExtension {
+        /// The file.
+        path: PathBuf,
+    },
     /// A width or a height of zero, or past [`crate::texture::MAX_SIDE`].
     #[error(
         "{}a texture of {width} × {height} texels: each side must be 1 to {}",
@@ -27,7 +40,9 @@ pub enum TextureError {
     Size {
         /// The file, when the texture came from one.
         path: Option<PathBuf>,
+        /// The width asked for, in texels.
         width: u64,
+        /// The height asked for, in texels.
         height: u64,
     },
     /// The texels given in memory are not `width × height × channels` finite values.
@@ -39,10 +54,16 @@ pub enum TextureError {
     Budget {
         /// The file, when the texture came from one.
         path: Option<PathBuf>,
+        /// What, how much and the limit.
         source: BudgetError,
     },
     /// A mapping's or a ramp's parameter is out of range (not finite, zero, parallel axes,
     /// unsorted stops…).
     #[error("{name}: {message}")]
-    Parameter { name: &'static str, message: String },
+    Parameter {
+        /// The parameter, as a scene file would name it (`u_axis`, `scale.y`, `ramp`…).
+        name: &'static str,
+        /// What is wrong with its value.
+        message: String,
+    },
 }

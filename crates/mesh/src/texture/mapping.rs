@@ -13,9 +13,13 @@ use std::f64::consts::{PI, TAU};
 /// A projected mapping (module documentation); build one with its variant's `new`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Mapping {
+    /// A projection onto a plane ([`Planar`]).
     Planar(Planar),
+    /// Latitude and longitude about a centre ([`Spherical`]).
     Spherical(Spherical),
+    /// Angle around an axis and height along it ([`Cylindrical`]).
     Cylindrical(Cylindrical),
+    /// Three axis-aligned planar projections blended by the normal ([`Triplanar`]).
     Triplanar(Triplanar),
 }
 
@@ -24,7 +28,9 @@ pub enum Mapping {
 /// [`Footprint::uv_width`](super::Footprint::uv_width).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Projected {
+    /// The lookups' uvs (for triplanar: the x, y and z faces' projections, in that order).
     pub uv: [DVec2; 3],
+    /// Their weights: non-negative, summing to 1.
     pub weight: [f64; 3],
     /// The largest uv length per world length at the point (conservative); finite, at most
     /// `f64::MAX` (where the map itself is singular: a sphere's poles, a cylinder's axis).

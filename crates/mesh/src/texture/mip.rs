@@ -11,7 +11,9 @@
 //! `2/3, 1/3` and `1/3, 2/3`). A side of 1 is kept. Because the coarse texels partition the
 //! square into equal areas, each level's mean is the finer level's mean (up to rounding), so
 //! every level has the base level's mean, and the texture does not darken or brighten with
-//! distance. The weights are exact rationals of the two sides; sums run in f64.
+//! distance. The weights are exact rationals of the two sides; sums run in f64. Every channel is
+//! filtered alike, alpha included (straight, not premultiplied: a cut-out texture's transparent
+//! texels' colours reach its coarse levels).
 
 use glam::Vec4;
 

@@ -14,9 +14,13 @@ pub const MAX_SIDE: u32 = 1 << 16;
 /// into R, G and B, a missing alpha reads 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Channels {
+    /// One value: grey (or a scalar map: roughness, height).
     Grey,
+    /// Grey and alpha.
     GreyAlpha,
+    /// Red, green, blue.
     Rgb,
+    /// Red, green, blue, alpha (straight, not premultiplied).
     Rgba,
 }
 

@@ -17,7 +17,9 @@ pub enum WrapMode {
 /// A wrap mode per axis: `u` (columns) and `v` (rows).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Wrap {
+    /// Along `u` (the image's columns).
     pub u: WrapMode,
+    /// Along `v` (the image's rows).
     pub v: WrapMode,
 }
 
