@@ -1,5 +1,6 @@
 //! The errors of `fray-mesh`: an unreadable or malformed OBJ file (path, line where one applies,
-//! reason), a mesh whose indices or values are bad, a mesh past its memory budget.
+//! reason), a mesh whose indices or values are bad, a mesh past its memory budget, a texture
+//! that cannot be loaded.
 
 use std::path::PathBuf;
 
@@ -24,4 +25,7 @@ pub enum MeshError {
     Mesh(String),
     #[error(transparent)]
     Budget(#[from] fray_core::BudgetError),
+    /// A texture that cannot be loaded or made (its path and the reason).
+    #[error(transparent)]
+    Texture(#[from] crate::texture::TextureError),
 }

@@ -9,7 +9,8 @@
 //! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms;
 //! [`gpu_layout`], the meshes and instances flattened for the GPU twin (`gpu_struct!`s, f32
 //! boxes rounded outward around anchor-relative f32 triangles, the traversal's stack depth
-//! checked).
+//! checked); [`texture`]: linear textures with mip chains (PNG, EXR), trilinear lookups from a
+//! pixel's footprint, projected mappings for surfaces without UVs, terrain colour ramps.
 //!
 //! ```
 //! use fray_core::{Interval, Ray};
@@ -36,6 +37,7 @@ pub mod gpu_layout;
 mod instance;
 mod mesh;
 mod obj;
+pub mod texture;
 pub mod triangle;
 
 pub use bvh::{MeshBvh, MeshHit};
@@ -43,3 +45,4 @@ pub use bvh_node::BvhNode;
 pub use error::MeshError;
 pub use instance::Instance;
 pub use mesh::TriangleMesh;
+pub use texture::{Texture, TextureError};
