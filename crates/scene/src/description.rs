@@ -257,6 +257,132 @@ pub struct Material {
     /// reflected `kr + F·kt`, transmitted `(1 − F)·kt`; default `false` (`kr` and `kt` as given).
     #[serde(default)]
     pub fresnel: bool,
+    /// An image whose colour multiplies `diffuse` and `ambient` (Whitted's `C`).
+    #[serde(default)]
+    pub texture: Option<MaterialTexture>,
+    /// A terrain colour by height (world y) and slope, multiplying `diffuse` and `ambient`.
+    #[serde(default)]
+    pub ramp: Option<ColourRamp>,
+}
+
+/// A material's texture: the image, how surfaces map to it and how it is read.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialTexture {
+    /// A `.png` (8/16-bit) or `.exr` image, relative to the scene file.
+    pub path: String,
+    /// How a surface point finds its texture coordinates; default `Uv` (the surface's own:
+    /// a mesh's file UVs, a terrain's map — the image draped over it).
+    #[serde(default)]
+    pub mapping: TextureMapping,
+    /// Outside `[0, 1]`: `Repeat` (default), `Clamp` or `Mirror`.
+    #[serde(default)]
+    pub wrap: TextureWrap,
+    /// `Trilinear` (default: mipmapped by the pixel's footprint), `Bilinear` or `Nearest`
+    /// (point samples of the full image: they alias when minified).
+    #[serde(default)]
+    pub filter: TextureFilter,
+    /// `false` (default): the PNG is sRGB colour, decoded to linear; `true`: linear data.
+    #[serde(default)]
+    pub linear: bool,
+}
+
+/// How a surface point maps to texture coordinates.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum TextureMapping {
+    /// The surface's own coordinates (meshes' UVs, terrains' map); surfaces without them (free
+    /// forms) take the image's mean colour.
+    #[default]
+    Uv,
+    /// Onto a plane: `u = (p − origin)·u_axis · scale.0`, `v = (p − origin)·v_axis · scale.1`.
+    Planar {
+        #[serde(default = "zeros")]
+        origin: Vec3,
+        #[serde(default = "x_axis")]
+        u_axis: Vec3,
+        #[serde(default = "z_axis")]
+        v_axis: Vec3,
+        /// uv per world unit along each axis (1 / the tile's size).
+        #[serde(default = "unit_spacing")]
+        scale: [f64; 2],
+    },
+    /// Longitude and latitude about `centre`, `repeat` times around and up.
+    Spherical {
+        #[serde(default = "zeros")]
+        centre: Vec3,
+        #[serde(default = "y_axis")]
+        pole: Vec3,
+        #[serde(default = "x_axis")]
+        seam: Vec3,
+        #[serde(default = "unit_spacing")]
+        repeat: [f64; 2],
+    },
+    /// The angle around `axis` (`repeat` times) and the height along it (`scale` uv per unit).
+    Cylindrical {
+        #[serde(default = "zeros")]
+        origin: Vec3,
+        #[serde(default = "y_axis")]
+        axis: Vec3,
+        #[serde(default = "x_axis")]
+        seam: Vec3,
+        #[serde(default = "one")]
+        repeat: f64,
+        #[serde(default = "one")]
+        scale: f64,
+    },
+    /// Three axis-aligned planar projections blended by the normal (`|n|^sharpness`).
+    Triplanar {
+        #[serde(default = "zeros")]
+        origin: Vec3,
+        /// uv per world unit.
+        #[serde(default = "one")]
+        scale: f64,
+        #[serde(default = "four")]
+        sharpness: f64,
+    },
+}
+
+/// Texture wrap modes (both axes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum TextureWrap {
+    #[default]
+    Repeat,
+    Clamp,
+    Mirror,
+}
+
+/// Texture filters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum TextureFilter {
+    #[default]
+    Trilinear,
+    Bilinear,
+    Nearest,
+}
+
+/// A colour ramp for terrain: piecewise-linear colours by world height, and optionally by slope
+/// (degrees from flat) laid over them by each stop's alpha.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColourRamp {
+    /// `(height, (r, g, b))` stops, heights increasing.
+    pub height: Vec<(f64, Vec3)>,
+    /// `(degrees, (r, g, b, alpha))` stops, slopes increasing in `[0, 90]`.
+    #[serde(default)]
+    pub slope: Vec<(f64, [f64; 4])>,
+}
+
+fn x_axis() -> Vec3 {
+    [1.0, 0.0, 0.0]
+}
+
+fn z_axis() -> Vec3 {
+    [0.0, 0.0, 1.0]
+}
+
+fn four() -> f64 {
+    4.0
 }
 
 /// One top-level object.

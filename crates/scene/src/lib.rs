@@ -43,6 +43,7 @@ mod primitive;
 mod resolve;
 mod scene;
 mod terrain;
+mod texture;
 mod work;
 
 pub use atmosphere::{
@@ -59,4 +60,5 @@ pub use load::{
 pub use primitive::{PrimitiveId, PrimitiveKind};
 pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR};
 pub use scene::{Light, Material, MeshObject, Object, Scene, Settings, TerrainObject};
+pub use texture::TextureSlot;
 pub use work::{work_list, work_list_view, work_list_within};

@@ -69,6 +69,7 @@ pub(crate) fn resolve(
     let materials_path = root.field("materials");
     let mut materials = vec![Material::default()];
     let mut material_index = BTreeMap::new();
+    let mut texture_cache = crate::texture::TextureCache::default();
     for (name, m) in &d.materials {
         let path = materials_path.field(name);
         if name == "default" {
@@ -78,7 +79,14 @@ pub(crate) fn resolve(
             );
         }
         material_index.insert(name.as_str(), materials.len() as u32);
-        materials.push(material(&path, name, m)?);
+        let mut m = material(&path, name, m)?;
+        if let Some(t) = &d.materials[name].texture {
+            m.texture = Some(texture_cache.slot(&path.field("texture"), t, base, budget)?);
+        }
+        if let Some(r) = &d.materials[name].ramp {
+            m.ramp = Some(crate::texture::ramp(&path.field("ramp"), r)?);
+        }
+        materials.push(m);
     }
 
     let objects_path = root.field("objects");
@@ -489,6 +497,8 @@ fn material(path: &FieldPath, name: &str, m: &description::Material) -> Result<M
         transmit,
         ior,
         fresnel: m.fresnel,
+        texture: None,
+        ramp: None,
     })
 }
 

@@ -98,6 +98,10 @@ pub struct Material {
     pub ior: f64,
     /// Reflection `kr + F·kt` and transmission `(1 − F)·kt` with the Fresnel reflectance `F`.
     pub fresnel: bool,
+    /// An image whose colour `C` multiplies `diffuse` and `ambient`.
+    pub texture: Option<crate::TextureSlot>,
+    /// A colour by height and slope (terrains) multiplying `diffuse` and `ambient`.
+    pub ramp: Option<fray_mesh::texture::TerrainRamp>,
 }
 
 impl Material {
@@ -124,6 +128,8 @@ impl Default for Material {
             transmit: Rgb::ZERO,
             ior: 1.5,
             fresnel: false,
+            texture: None,
+            ramp: None,
         }
     }
 }

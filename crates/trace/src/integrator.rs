@@ -17,6 +17,7 @@ use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::primitive::TraceContext;
 use crate::secondary::{Interiors, nearest_hit_from_surface, transmittance_through_surfaces};
 use crate::shade::Reflectance;
+use crate::texture::surface_colour;
 use fray_core::{Interval, Ray};
 use fray_scene::{Light, Material, Scene};
 use glam::DVec3;
@@ -40,6 +41,8 @@ pub struct Integrator<'a> {
     /// (`max_depth` 0 when the scene's materials send none, or without shading).
     max_depth: u32,
     min_contribution: f64,
+    /// The camera pixel's footprint (texture lookups' width).
+    footprint: fray_core::PixelFootprint,
 }
 
 impl<'a> Integrator<'a> {
@@ -69,6 +72,7 @@ impl<'a> Integrator<'a> {
                 0
             },
             min_contribution: scene.settings.min_contribution,
+            footprint: scene.camera.pixel_footprint(scene.width, scene.height),
         }
     }
 
@@ -193,11 +197,13 @@ impl<'a> Integrator<'a> {
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
     ) -> DVec3 {
-        self.shade(ctx, si, wo, occluders, 0, DVec3::ONE)
+        self.shade(ctx, si, wo, occluders, 0, DVec3::ONE, si.t)
     }
 
     /// [`Integrator::surface_radiance`] of a surface `depth` secondary rays from the camera,
-    /// reached with `weight` (the product of the `kr`/`kt` on the way).
+    /// reached with `weight` (the product of the `kr`/`kt` on the way) after a path of
+    /// `distance` (what a texture's footprint grows with).
+    #[allow(clippy::too_many_arguments)]
     fn shade(
         &self,
         ctx: &mut TraceContext,
@@ -206,10 +212,11 @@ impl<'a> Integrator<'a> {
         occluders: Option<&[Vec<u32>]>,
         depth: u32,
         weight: DVec3,
+        distance: f64,
     ) -> DVec3 {
-        let mut total = self.local_radiance(ctx, si, wo, occluders);
+        let mut total = self.local_radiance(ctx, si, wo, occluders, distance);
         if depth < self.max_depth {
-            total += self.whitted(ctx, si, -wo, depth, weight);
+            total += self.whitted(ctx, si, -wo, depth, weight, distance);
         }
         total
     }
@@ -225,6 +232,7 @@ impl<'a> Integrator<'a> {
         d: DVec3,
         depth: u32,
         weight: DVec3,
+        distance: f64,
     ) -> DVec3 {
         let material = self
             .scene
@@ -270,18 +278,20 @@ impl<'a> Integrator<'a> {
             let r = reflect(d, ns);
             // Reflected about a shading normal, a grazing ray may point into the surface.
             let r = if r.dot(ng) > 0.0 { r } else { reflect(d, ng) };
-            total += kr * self.secondary(ctx, si.p + ng * offset, r, depth + 1, weight * kr);
+            let from = si.p + ng * offset;
+            total += kr * self.secondary(ctx, from, r, depth + 1, weight * kr, distance);
         }
         if let Some(t) = refracted
             && kt != DVec3::ZERO
         {
-            total += kt * self.secondary(ctx, si.p - ng * offset, t, depth + 1, weight * kt);
+            let from = si.p - ng * offset;
+            total += kt * self.secondary(ctx, from, t, depth + 1, weight * kt, distance);
         }
         total
     }
 
     /// The radiance a secondary ray from `origin` along `dir` brings back (0 when its weight is
-    /// below the cut-off).
+    /// below the cut-off), `distance` the path's length from the camera so far.
     fn secondary(
         &self,
         ctx: &mut TraceContext,
@@ -289,6 +299,7 @@ impl<'a> Integrator<'a> {
         dir: DVec3,
         depth: u32,
         weight: DVec3,
+        distance: f64,
     ) -> DVec3 {
         if weight.max_element() < self.min_contribution {
             return DVec3::ZERO;
@@ -301,7 +312,8 @@ impl<'a> Integrator<'a> {
         let (scene, eps) = (self.scene, self.epsilon);
         match nearest_hit_from_surface(scene, ctx, &ray, range, eps, &self.interiors) {
             Some(si) => {
-                let surface = self.shade(ctx, &si, -ray.dir, None, depth, weight);
+                let path = distance + si.t;
+                let surface = self.shade(ctx, &si, -ray.dir, None, depth, weight, path);
                 self.through_media(&ray, Interval::new(0.0, si.t), surface)
             }
             None => self.miss_radiance(&ray, 0.0),
@@ -316,13 +328,19 @@ impl<'a> Integrator<'a> {
         si: &SurfaceInteraction,
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
+        distance: f64,
     ) -> DVec3 {
         let material = self
             .scene
             .materials
             .get(si.material as usize)
             .unwrap_or(&self.default_material);
-        let reflectance = Reflectance::of(material);
+        let reflectance = if material.texture.is_some() || material.ramp.is_some() {
+            let c = surface_colour(self.scene, self.footprint, material, si, -wo, distance);
+            Reflectance::coloured(material, c)
+        } else {
+            Reflectance::of(material)
+        };
         let n = si.shading_normal_toward(wo);
         let mut total = reflectance.ambient(self.scene.ambient.as_dvec3());
         for (index, light) in self.scene.lights.iter().enumerate() {

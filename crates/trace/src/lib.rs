@@ -43,6 +43,7 @@ mod settings;
 mod shade;
 mod shadow_cull;
 mod terrain;
+mod texture;
 
 /// How the caster answers plain rays ([`TraceSettings::method`]), re-exported.
 pub use fray_geometry::CastMethod;

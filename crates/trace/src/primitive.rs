@@ -87,7 +87,8 @@ pub struct Surface {
     pub shading_normal: DVec3,
     /// The part hit: a free form's leaf, 0 for a terrain.
     pub part: u32,
-    /// Texture coordinates where the kind has them (a terrain's map position in `[0, 1]²`);
+    /// Texture coordinates where the kind has them (a mesh's file UVs; a terrain's drape uv:
+    /// texel centres on the samples, the image's top row on map row 0, `v` up);
     /// free forms have none (they are textured by projection).
     pub uv: Option<DVec2>,
 }

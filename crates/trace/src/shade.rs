@@ -27,6 +27,15 @@ impl Reflectance {
         }
     }
 
+    /// The reflectance with a surface colour `c` (a texture's or ramp's) multiplying the ambient
+    /// and diffuse terms: Whitted's `ka·C` and `kd·C`.
+    pub fn coloured(material: &Material, c: DVec3) -> Self {
+        let mut r = Self::of(material);
+        r.ambient *= c;
+        r.diffuse *= c;
+        r
+    }
+
     /// Outgoing radiance from a uniform ambient radiance.
     #[inline]
     pub fn ambient(&self, ambient: DVec3) -> DVec3 {

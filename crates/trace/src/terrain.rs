@@ -82,13 +82,31 @@ impl Primitive for TerrainPrimitive<'_> {
         // `part` is the hit's level above the finest: a LOD hit is on a flat max-column face,
         // shaded with the surface's normal beneath (inside the column at a wall).
         let shading_normal = terrain.shading_normal(ray, hit.t, hit.part, hit.detail);
-        let (columns, rows) = terrain.map().cells();
         let q = terrain.placement().to_map(p);
         Surface {
             geometric_normal: hit.detail,
             shading_normal,
             part: 0,
-            uv: Some(DVec2::new(q.x / columns as f64, q.y / rows as f64)),
+            uv: Some(drape_uv(terrain, q.x, q.y)),
         }
     }
+}
+
+/// The texture coordinates of map point `(u, v)` (column, row) for an image draped over the
+/// map: texel centres on the samples, the image's top row on the map's row 0
+/// (`fray_mesh::texture::Drape`).
+pub(crate) fn drape_uv(terrain: &fray_terrain::Terrain, u: f64, v: f64) -> DVec2 {
+    let map = terrain.map();
+    DVec2::new(
+        (u + 0.5) / map.width().max(1) as f64,
+        1.0 - (v + 0.5) / map.height().max(1) as f64,
+    )
+}
+
+/// The drape's uv per world unit: the larger of the two axes' (one image per map).
+pub(crate) fn drape_uv_per_world(terrain: &fray_terrain::Terrain) -> f64 {
+    let map = terrain.map();
+    let spacing = terrain.placement().spacing();
+    (1.0 / (map.width().max(1) as f64 * spacing.x))
+        .max(1.0 / (map.height().max(1) as f64 * spacing.y))
 }
