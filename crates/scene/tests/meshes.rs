@@ -161,3 +161,43 @@ fn a_mesh_over_the_budget_is_refused() {
         "{e}"
     );
 }
+
+#[test]
+fn textures_load_once_and_bad_ones_are_located_errors() {
+    let s = parse(
+        "(materials: {
+            \"a\": (texture: (path: \"../textures/brick.png\")),
+            \"b\": (texture: (path: \"../textures/../textures/brick.png\", mapping: Triplanar(scale: 2), wrap: Mirror)),
+            \"r\": (ramp: (height: [(0, (0, 0, 1)), (100, (1, 1, 1))], slope: [(30, (0.5, 0.4, 0.3, 1))])),
+          })",
+    )
+    .unwrap();
+    let named = |n: &str| s.materials.iter().find(|m| m.name == n).unwrap();
+    let (a, b) = (
+        named("a").texture.as_ref().unwrap(),
+        named("b").texture.as_ref().unwrap(),
+    );
+    assert!(Arc::ptr_eq(&a.texture, &b.texture), "one image per file");
+    assert_eq!((a.texture.width(), a.texture.height()), (512, 512));
+    assert!(a.mapping.is_none() && b.mapping.is_some());
+    assert!(named("r").ramp.is_some());
+    let e = parse("(materials: {\n \"a\": (texture: (path: \"nowhere.png\")) })").unwrap_err();
+    assert!(
+        e.contains(":2:") && e.contains("materials.a.texture.path:") && e.contains("nowhere.png"),
+        "{e}"
+    );
+    let e = parse(
+        "(materials: {\n \"a\": (texture: (path: \"../textures/brick.png\", mapping: Planar(u_axis: (1, 0, 0), v_axis: (2, 0, 0)))) })",
+    )
+    .unwrap_err();
+    assert!(e.contains("materials.a.texture.mapping.v_axis:"), "{e}");
+    let e = parse("(materials: {\n \"a\": (ramp: (height: [(5, (1, 1, 1)), (1, (0, 0, 0))])) })")
+        .unwrap_err();
+    assert!(e.contains("materials.a.ramp.height:"), "{e}");
+    let e = parse("(materials: {\n \"a\": (ramp: (height: [(0, (1, 1, 1))], slope: [(120, (0, 0, 0, 1))])) })")
+        .unwrap_err();
+    assert!(
+        e.contains("materials.a.ramp.slope: slopes are degrees in [0, 90]"),
+        "{e}"
+    );
+}
