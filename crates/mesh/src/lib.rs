@@ -31,9 +31,11 @@ mod error;
 mod instance;
 mod mesh;
 mod obj;
+mod packet;
 pub mod triangle;
 
 pub use bvh::{MeshBvh, MeshHit};
 pub use error::MeshError;
 pub use instance::Instance;
 pub use mesh::TriangleMesh;
+pub use packet::{LANES, PacketBvh};
