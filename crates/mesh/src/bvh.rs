@@ -236,6 +236,19 @@ pub(crate) fn is_better(t: f64, triangle: u32, best_t: f64, best: Option<u32>) -
 /// terms), and `fl(x · (1 − 2⁻⁵⁰)) ≤ x (1 − 6u)`.
 const BOUND_SHRINK: f64 = 1.0 - 1.0 / (1u64 << 50) as f64;
 
+/// The axis of `d`'s largest component, as [`RayFrame::new`] chooses it (ties to the first).
+#[inline]
+pub(crate) fn major_axis(d: DVec3) -> usize {
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    }
+}
+
 /// A ray's box test in f64 (Ize's conservative slab over a range), the one both traversals
 /// judge reachability by.
 #[derive(Clone, Copy, Debug)]
@@ -250,19 +263,10 @@ pub(crate) struct Slab {
 
 impl Slab {
     pub(crate) fn new(ray: &Ray, range: Interval) -> Self {
-        let a = ray.dir.abs();
-        // The same choice as `RayFrame::new`.
-        let kz = if a.x >= a.y && a.x >= a.z {
-            0
-        } else if a.y >= a.z {
-            1
-        } else {
-            2
-        };
         Self {
             origin: ray.origin,
             inv: ray.dir.recip(),
-            kz,
+            kz: major_axis(ray.dir),
             lo: range.lo,
             hi: range.hi,
         }

@@ -20,7 +20,7 @@
 //! - Lanes the f32 bounds cannot cover (a direction component that is zero or below ~3e-39, a
 //!   range that starts below 0, non-finite values) are answered by the reference itself.
 
-use crate::bvh::{Slab, is_better};
+use crate::bvh::{Slab, is_better, major_axis};
 use crate::triangle::{RayFrame, intersect};
 use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
@@ -28,7 +28,20 @@ use glam::DVec3;
 
 /// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
 /// (a 4×2 block in Morton order) should be consecutive.
-pub const LANES: usize = 8;
+pub const LANES: usize = 32;
+
+/// Lanes tested together (one AVX register of f32, two SSE ones); chunks with no lane left in a
+/// packet's mask are skipped.
+const CHUNK: usize = 8;
+const CHUNK_MASK: u32 = (1 << CHUNK) - 1;
+const NCHUNK: usize = LANES / CHUNK;
+const LANES_MASK: u32 = if LANES == 32 {
+    u32::MAX
+} else {
+    (1 << LANES) - 1
+};
+/// One chunk's values of one quantity.
+type V = [f32; CHUNK];
 
 /// The f32 unit roundoff.
 const U32: f64 = f32::EPSILON as f64 * 0.5;
@@ -88,6 +101,18 @@ fn max(a: f32, b: f32) -> f32 {
 #[inline(always)]
 fn min(a: f32, b: f32) -> f32 {
     if a < b { a } else { b }
+}
+
+/// The bits of `b` (lane `j` → bit `j`): the bools as bytes, gathered by one multiplication
+/// (each byte's low bit lands in the top byte), which compiles to a compare, packs and a
+/// multiply instead of a shift and an or per lane.
+#[inline(always)]
+fn bitmask(b: [bool; CHUNK]) -> u32 {
+    let mut bytes = [0u8; CHUNK];
+    for j in 0..CHUNK {
+        bytes[j] = u8::from(b[j]);
+    }
+    ((u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56) as u32
 }
 
 /// `x` rounded to an f32 no greater than it.
@@ -192,12 +217,13 @@ impl PacketBvh {
             hits.len()
         );
         let mut stack = Vec::with_capacity(64);
+        let mut packet = Packet::empty();
         for ((rays, ranges), hits) in rays
             .chunks(LANES)
             .zip(ranges.chunks(LANES))
             .zip(hits.chunks_mut(LANES))
         {
-            self.nearest_packet(rays, ranges, hits, &mut stack);
+            self.nearest_packet(rays, ranges, hits, &mut stack, &mut packet);
         }
     }
 
@@ -214,12 +240,13 @@ impl PacketBvh {
             occluded.len()
         );
         let mut stack = Vec::with_capacity(64);
+        let mut packet = Packet::empty();
         for ((rays, ranges), out) in rays
             .chunks(LANES)
             .zip(ranges.chunks(LANES))
             .zip(occluded.chunks_mut(LANES))
         {
-            self.any_packet(rays, ranges, out, &mut stack);
+            self.any_packet(rays, ranges, out, &mut stack, &mut packet);
         }
     }
 
@@ -229,8 +256,9 @@ impl PacketBvh {
         ranges: &[Interval],
         hits: &mut [Option<MeshHit>],
         stack: &mut Vec<(u32, u32)>,
+        p: &mut Packet,
     ) {
-        let mut p = Packet::new(self, rays, ranges);
+        p.load(self, rays, ranges);
         for (l, hit) in hits.iter_mut().enumerate() {
             *hit = None;
             if p.valid & (1 << l) == 0 {
@@ -247,21 +275,21 @@ impl PacketBvh {
         stack.push((0, p.valid));
         while let Some((index, mask)) = stack.pop() {
             let node = &self.nodes[index as usize];
-            let mask = mask & p.enters(node, true);
+            let mask = p.enters(node, mask, true);
             if mask == 0 {
                 continue;
             }
             if node.count == 0 {
-                self.push_children(&p, node, mask, stack);
+                self.push_children(p, node, mask, stack);
                 continue;
             }
             let (first, count) = (node.first as usize, node.count as usize);
             for pos in first..first + count {
-                let mut candidates = mask & p.may_hit(&self.tris[pos]);
+                let mut candidates = p.may_hit(&self.tris[pos], mask);
                 while candidates != 0 {
                     let l = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    let Some(h) = intersect(&p.frames[l], self.corners[pos], ranges[l]) else {
+                    let Some(h) = intersect(p.frame(l), self.corners[pos], ranges[l]) else {
                         continue;
                     };
                     let triangle = self.order[pos];
@@ -293,8 +321,9 @@ impl PacketBvh {
         ranges: &[Interval],
         out: &mut [bool],
         stack: &mut Vec<(u32, u32)>,
+        p: &mut Packet,
     ) {
-        let p = Packet::new(self, rays, ranges);
+        p.load(self, rays, ranges);
         for (l, o) in out.iter_mut().enumerate() {
             *o = p.valid & (1 << l) == 0 && self.reference.any_hit(&rays[l], ranges[l]);
         }
@@ -309,21 +338,21 @@ impl PacketBvh {
             if mask == 0 {
                 continue;
             }
-            let mut mask = mask & p.enters(node, false);
+            let mut mask = p.enters(node, mask, false);
             if mask == 0 {
                 continue;
             }
             if node.count == 0 {
-                self.push_children(&p, node, mask, stack);
+                self.push_children(p, node, mask, stack);
                 continue;
             }
             let (first, count) = (node.first as usize, node.count as usize);
             for pos in first..first + count {
-                let mut candidates = mask & p.may_hit(&self.tris[pos]);
+                let mut candidates = p.may_hit(&self.tris[pos], mask);
                 while candidates != 0 {
                     let l = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    if intersect(&p.frames[l], self.corners[pos], ranges[l]).is_some()
+                    if intersect(p.frame(l), self.corners[pos], ranges[l]).is_some()
                         && p.reaches(l, &self.boxes, index)
                     {
                         out[l] = true;
@@ -373,19 +402,19 @@ struct Packet {
     /// Lanes the f32 tests cover (the others are answered by the reference).
     valid: u32,
     /// Origins relative to the centre, rounded up (used with box minima) and down (maxima).
-    oa: [[f32; LANES]; 3],
-    ob: [[f32; LANES]; 3],
+    oa: [[V; NCHUNK]; 3],
+    ob: [[V; NCHUNK]; 3],
     /// Inverse directions scaled for the minimum and the maximum planes (see [`KAPPA`]).
-    imin: [[f32; LANES]; 3],
-    imax: [[f32; LANES]; 3],
-    lo: [f32; LANES],
-    hi: [f32; LANES],
+    imin: [[V; NCHUNK]; 3],
+    imax: [[V; NCHUNK]; 3],
+    lo: [V; NCHUNK],
+    hi: [V; NCHUNK],
     /// The best hit so far, rounded up, on the lane's major axis; `+∞` on the others and
     /// before a hit.
-    bound: [[f32; LANES]; 3],
+    bound: [[V; NCHUNK]; 3],
     /// Directions and moments `d × o` (relative to the centre) for the triangle pre-test.
-    d: [[f32; LANES]; 3],
-    m: [[f32; LANES]; 3],
+    d: [[V; NCHUNK]; 3],
+    m: [[V; NCHUNK]; 3],
     /// The pre-test's error bound is `alpha·|n|₁ + beta·|e|₁ + gamma` per edge.
     alpha: f32,
     beta: f32,
@@ -393,42 +422,160 @@ struct Packet {
     mean_dir: [f32; 3],
     /// Per axis, whether every valid lane's direction is positive, negative, or neither.
     sign: [Sign; 3],
-    frames: [RayFrame; LANES],
-    slabs: [Slab; LANES],
+    /// The valid lanes' major axis when they share one.
+    major: Option<usize>,
+    /// Each lane's f64 frame and slab, made when first needed (most lanes need them once at
+    /// most: a candidate, a new best hit).
+    frames: [Option<RayFrame>; LANES],
+    slabs: [Option<Slab>; LANES],
+    rays: [Ray; LANES],
+    ranges: [Interval; LANES],
+    /// Each lane's major axis.
+    kz: [u8; LANES],
+    /// Interval bounds over the lanes, to decide a box for all of them at once.
+    whole: Whole,
+}
+
+/// The packet's lanes as intervals (Wald, Boulos and Shirley 2007's interval test): each
+/// lane's f32 values lie inside, and rounding is monotone, so a box the intervals' entry and
+/// exit bounds put outside (inside) every lane's f32 test is outside (inside) each of them.
+#[derive(Clone, Copy, Debug)]
+struct Whole {
+    /// Whether the bounds apply: every axis's directions share a sign and some lane is valid.
+    usable: bool,
+    /// Per axis, the lanes' range of `oa`, `ob`, `imin` and `imax` (lowest, highest).
+    oa: [[f32; 2]; 3],
+    ob: [[f32; 2]; 3],
+    imin: [[f32; 2]; 3],
+    imax: [[f32; 2]; 3],
+    lo: [f32; 2],
+    hi: [f32; 2],
+    /// The shared major axis (for the nearest hit's cull), when there is one.
+    major: Option<usize>,
+    bound_min: f32,
+    bound_max: f32,
+}
+
+/// The range of `(x − o) · i` over `x − o ∈ [x − o_hi, x − o_lo]` and `i ∈ i`, as f32 computes
+/// it lane by lane (the extremes of a product over a box are at its corners).
+#[inline(always)]
+fn product_range(x: f32, o: [f32; 2], i: [f32; 2]) -> [f32; 2] {
+    let (a, b) = (x - o[1], x - o[0]);
+    let p = [a * i[0], a * i[1], b * i[0], b * i[1]];
+    [
+        min(min(p[0], p[1]), min(p[2], p[3])),
+        max(max(p[0], p[1]), max(p[2], p[3])),
+    ]
+}
+
+impl Whole {
+    /// Every lane in, every lane out, or undecided.
+    #[inline(always)]
+    fn decide(&self, node: &FNode, nearest: bool) -> Option<bool> {
+        if !self.usable {
+            return None;
+        }
+        // Entry and exit bounds: `[lowest, highest]` over the lanes.
+        let (mut enter, mut leave) = (self.lo, self.hi);
+        let mut major = [f32::NEG_INFINITY, f32::INFINITY];
+        for k in 0..3 {
+            let t0 = product_range(node.min[k], self.oa[k], self.imin[k]);
+            let t1 = product_range(node.max[k], self.ob[k], self.imax[k]);
+            // `usable` means one sign per axis: a positive direction enters at the minimum.
+            let (near, far) = if self.imin[k][0] > 0.0 {
+                (t0, t1)
+            } else {
+                (t1, t0)
+            };
+            enter = [max(enter[0], near[0]), max(enter[1], near[1])];
+            leave = [min(leave[0], far[0]), min(leave[1], far[1])];
+            if self.major == Some(k) {
+                major = near;
+            }
+        }
+        let tiny = f32::MIN_POSITIVE;
+        if enter[0] > leave[1] + tiny || (nearest && major[0] > self.bound_max) {
+            return Some(false);
+        }
+        let major_in = !nearest || (self.major.is_some() && major[1] <= self.bound_min);
+        (enter[1] <= leave[0] + tiny && major_in).then_some(true)
+    }
 }
 
 impl Packet {
-    fn new(bvh: &PacketBvh, rays: &[Ray], ranges: &[Interval]) -> Self {
+    /// A packet with no valid lane, to [`Packet::load`] into (it is large: one per call, not
+    /// one per packet).
+    fn empty() -> Self {
         let unit = Ray {
             origin: DVec3::ZERO,
             dir: DVec3::Z,
         };
-        let mut p = Packet {
+        Packet {
             valid: 0,
-            oa: [[0.0; LANES]; 3],
-            ob: [[0.0; LANES]; 3],
-            imin: [[0.0; LANES]; 3],
-            imax: [[0.0; LANES]; 3],
+            oa: [[[0.0; CHUNK]; NCHUNK]; 3],
+            ob: [[[0.0; CHUNK]; NCHUNK]; 3],
+            imin: [[[0.0; CHUNK]; NCHUNK]; 3],
+            imax: [[[0.0; CHUNK]; NCHUNK]; 3],
             // A lane that is not valid never enters a box.
-            lo: [f32::INFINITY; LANES],
-            hi: [f32::NEG_INFINITY; LANES],
-            bound: [[f32::INFINITY; LANES]; 3],
-            d: [[0.0; LANES]; 3],
-            m: [[0.0; LANES]; 3],
+            lo: [[f32::INFINITY; CHUNK]; NCHUNK],
+            hi: [[f32::NEG_INFINITY; CHUNK]; NCHUNK],
+            bound: [[[f32::INFINITY; CHUNK]; NCHUNK]; 3],
+            d: [[[0.0; CHUNK]; NCHUNK]; 3],
+            m: [[[0.0; CHUNK]; NCHUNK]; 3],
             alpha: 0.0,
             beta: 0.0,
             gamma: 0.0,
             mean_dir: [0.0; 3],
             sign: [Sign::Mixed; 3],
-            frames: [RayFrame::new(&unit); LANES],
-            slabs: [Slab::new(&unit, Interval::new(0.0, 0.0)); LANES],
+            major: None,
+            frames: [None; LANES],
+            slabs: [None; LANES],
+            rays: [unit; LANES],
+            ranges: [Interval::new(0.0, 0.0); LANES],
+            kz: [0; LANES],
+            whole: Whole {
+                usable: false,
+                oa: [[0.0; 2]; 3],
+                ob: [[0.0; 2]; 3],
+                imin: [[0.0; 2]; 3],
+                imax: [[0.0; 2]; 3],
+                lo: [0.0; 2],
+                hi: [0.0; 2],
+                major: None,
+                bound_min: f32::INFINITY,
+                bound_max: f32::INFINITY,
+            },
+        }
+    }
+
+    /// Sets the lanes to `rays` over `ranges` (at most [`LANES`]).
+    fn load(&mut self, bvh: &PacketBvh, rays: &[Ray], ranges: &[Interval]) {
+        let p = self;
+        p.valid = 0;
+        p.lo = [[f32::INFINITY; CHUNK]; NCHUNK];
+        p.hi = [[f32::NEG_INFINITY; CHUNK]; NCHUNK];
+        p.bound = [[[f32::INFINITY; CHUNK]; NCHUNK]; 3];
+        p.major = None;
+        let empty = [f32::INFINITY, f32::NEG_INFINITY];
+        p.whole = Whole {
+            usable: false,
+            oa: [empty; 3],
+            ob: [empty; 3],
+            imin: [empty; 3],
+            imax: [empty; 3],
+            lo: empty,
+            hi: empty,
+            major: None,
+            bound_min: f32::INFINITY,
+            bound_max: f32::INFINITY,
         };
         if bvh.nodes.is_empty() {
-            return p;
+            return;
         }
         let (mut d_max, mut m_max, mut r_max) = (0.0f64, 0.0f64, 0.0f64);
         let mut mean = DVec3::ZERO;
         let (mut positive, mut negative) = ([true; 3], [true; 3]);
+        let mut majors = [false; 3];
         for (l, (ray, range)) in rays.iter().zip(ranges).enumerate() {
             // Negative starts would need the bounds' other sign cases; NaN fails too.
             if !(range.lo >= 0.0 && range.lo <= range.hi && range.lo.is_finite())
@@ -445,36 +592,54 @@ impl Packet {
                 // rounding to nearest is within 2⁻²⁴ of what it rounds (and `TINY` covers
                 // subnormal spacing).
                 let slack = o[k].abs() * (2.0 * U64 + 2.0 * U32) + TINY;
-                p.oa[k][l] = (o[k] + slack) as f32;
-                p.ob[k][l] = (o[k] - slack) as f32;
+                p.oa[k][l / CHUNK][l % CHUNK] = (o[k] + slack) as f32;
+                p.ob[k][l / CHUNK][l % CHUNK] = (o[k] - slack) as f32;
                 let shrunk = (inv[k] * (1.0 - KAPPA - 2.0 * U32)) as f32;
                 let grown = (inv[k] * (1.0 + KAPPA + 2.0 * U32)) as f32;
-                ok &= inv[k].is_finite() && grown.is_finite() && p.oa[k][l].is_finite();
-                ok &= p.ob[k][l].is_finite();
+                ok &= inv[k].is_finite()
+                    && grown.is_finite()
+                    && p.oa[k][l / CHUNK][l % CHUNK].is_finite();
+                ok &= p.ob[k][l / CHUNK][l % CHUNK].is_finite();
                 // A positive component meets the minimum plane first, a negative one the
                 // maximum.
-                (p.imin[k][l], p.imax[k][l]) = if inv[k] > 0.0 {
+                (
+                    p.imin[k][l / CHUNK][l % CHUNK],
+                    p.imax[k][l / CHUNK][l % CHUNK],
+                ) = if inv[k] > 0.0 {
                     (shrunk, grown)
                 } else {
                     (grown, shrunk)
                 };
-                p.d[k][l] = ray.dir[k] as f32;
-                p.m[k][l] = m[k] as f32;
-                ok &= p.m[k][l].is_finite();
+                p.d[k][l / CHUNK][l % CHUNK] = ray.dir[k] as f32;
+                p.m[k][l / CHUNK][l % CHUNK] = m[k] as f32;
+                ok &= p.m[k][l / CHUNK][l % CHUNK].is_finite();
             }
             if !ok {
-                // Back to a lane that never enters a box.
-                for k in 0..3 {
-                    p.imin[k][l] = 0.0;
-                    p.imax[k][l] = 0.0;
-                }
                 continue;
             }
             p.valid |= 1 << l;
-            p.lo[l] = (range.lo * (1.0 - 2.0 * U32) - TINY) as f32;
-            p.hi[l] = (range.hi * (1.0 + 2.0 * U32) + TINY) as f32;
-            p.slabs[l] = Slab::new(ray, *range);
-            p.frames[l] = RayFrame::new(ray);
+            let w = &mut p.whole;
+            let widen = |r: &mut [f32; 2], x: f32| *r = [min(r[0], x), max(r[1], x)];
+            for k in 0..3 {
+                let (c, j) = (l / CHUNK, l % CHUNK);
+                widen(&mut w.oa[k], p.oa[k][c][j]);
+                widen(&mut w.ob[k], p.ob[k][c][j]);
+                widen(&mut w.imin[k], p.imin[k][c][j]);
+                widen(&mut w.imax[k], p.imax[k][c][j]);
+            }
+            p.lo[l / CHUNK][l % CHUNK] = (range.lo * (1.0 - 2.0 * U32) - TINY) as f32;
+            p.hi[l / CHUNK][l % CHUNK] = (range.hi * (1.0 + 2.0 * U32) + TINY) as f32;
+            let w = &mut p.whole;
+            let (lo, hi) = (p.lo[l / CHUNK][l % CHUNK], p.hi[l / CHUNK][l % CHUNK]);
+            w.lo = [min(w.lo[0], lo), max(w.lo[1], lo)];
+            w.hi = [min(w.hi[0], hi), max(w.hi[1], hi)];
+            let kz = major_axis(ray.dir);
+            majors[kz] = true;
+            p.kz[l] = kz as u8;
+            p.rays[l] = *ray;
+            p.ranges[l] = *range;
+            p.frames[l] = None;
+            p.slabs[l] = None;
             d_max = d_max.max(ray.dir.abs().max_element());
             m_max = m_max.max(m.abs().max_element());
             r_max = r_max.max(o.abs().max_element());
@@ -483,6 +648,9 @@ impl Packet {
                 positive[k] &= inv[k] > 0.0;
                 negative[k] &= inv[k] < 0.0;
             }
+        }
+        if majors.iter().filter(|m| **m).count() == 1 {
+            p.major = majors.iter().position(|m| *m);
         }
         for k in 0..3 {
             p.sign[k] = match (positive[k], negative[k]) {
@@ -499,103 +667,163 @@ impl Packet {
         let reach = (bvh.radius + r_max) * (1.0 + 8.0 * U64);
         p.gamma = up(256.0 * U64 * reach * reach * d_max);
         p.mean_dir = f32s(mean);
-        p
-    }
-
-    /// The lanes whose ray enters `node`'s f32 box within their range (and, for the nearest
-    /// hit, whose major-axis entry is not past their best hit): every lane the f64 slab lets in.
-    /// Written lane-innermost so that it compiles to vector code over the lanes; on an axis
-    /// where every lane's direction has one sign the near and far planes are known up front.
-    #[inline(always)]
-    fn enters(&self, node: &FNode, nearest: bool) -> u32 {
-        let mut enter = self.lo;
-        let mut leave = self.hi;
-        // The largest `near − bound` over the axes: positive when the major-axis entry is past
-        // the best hit (`bound` is `+∞` on the other axes, so they never count).
-        let mut excess = [f32::NEG_INFINITY; LANES];
-        for k in 0..3 {
-            let (lo, hi) = (node.min[k], node.max[k]);
-            match self.sign[k] {
-                Sign::Mixed => {
-                    for l in 0..LANES {
-                        let t0 = (lo - self.oa[k][l]) * self.imin[k][l];
-                        let t1 = (hi - self.ob[k][l]) * self.imax[k][l];
-                        let near = min(t0, t1);
-                        enter[l] = max(enter[l], near);
-                        leave[l] = min(leave[l], max(t0, t1));
-                        excess[l] = max(excess[l], near - self.bound[k][l]);
-                    }
-                }
-                Sign::Positive => {
-                    for l in 0..LANES {
-                        let near = (lo - self.oa[k][l]) * self.imin[k][l];
-                        let far = (hi - self.ob[k][l]) * self.imax[k][l];
-                        enter[l] = max(enter[l], near);
-                        leave[l] = min(leave[l], far);
-                        excess[l] = max(excess[l], near - self.bound[k][l]);
-                    }
-                }
-                Sign::Negative => {
-                    for l in 0..LANES {
-                        let far = (lo - self.oa[k][l]) * self.imin[k][l];
-                        let near = (hi - self.ob[k][l]) * self.imax[k][l];
-                        enter[l] = max(enter[l], near);
-                        leave[l] = min(leave[l], far);
-                        excess[l] = max(excess[l], near - self.bound[k][l]);
-                    }
+        let w = &mut p.whole;
+        w.usable = p.valid != 0 && p.sign.iter().all(|s| *s != Sign::Mixed);
+        w.major = p.major;
+        w.bound_min = f32::INFINITY;
+        w.bound_max = if p.valid == 0 { 0.0 } else { f32::INFINITY };
+        if p.valid != LANES_MASK {
+            // See `set_best`: lanes that are not valid do not hold the largest bound up.
+            for k in 0..3 {
+                for l in (0..LANES).filter(|l| p.valid & (1 << l) == 0) {
+                    p.bound[k][l / CHUNK][l % CHUNK] = f32::NEG_INFINITY;
                 }
             }
+        }
+    }
+
+    /// Which of the lanes in `mask` enter `node`'s f32 box within their range (and, for the
+    /// nearest hit, whose major-axis entry is not past their best hit): every lane the f64
+    /// slab lets in. Lanes go [`CHUNK`] at a time, lane-innermost so that each chunk compiles
+    /// to vector code, and chunks with no lane in `mask` are skipped.
+    #[inline(always)]
+    fn enters(&self, node: &FNode, mask: u32, nearest: bool) -> u32 {
+        match self.whole.decide(node, nearest) {
+            Some(true) => return mask,
+            Some(false) => return 0,
+            None => {}
         }
         let mut bits = 0u32;
-        for l in 0..LANES {
-            // `MIN_POSITIVE`: an underflowed product may be off by a subnormal's spacing. A
-            // difference of two floats is ≤ 0 exactly when the first is not the larger.
-            let mut gap = enter[l] - (leave[l] + f32::MIN_POSITIVE);
-            if nearest {
-                gap = max(gap, excess[l]);
+        for c in 0..LANES / CHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                bits |= self.enters_chunk(node, c, nearest) << base;
             }
-            bits |= u32::from(gap <= 0.0) << l;
         }
-        bits
+        bits & mask
     }
 
-    /// The lanes whose ray may hit `tri`: not those where two edge functions have opposite
-    /// signs beyond the error bound.
     #[inline(always)]
-    fn may_hit(&self, tri: &FTri) -> u32 {
-        // The least `s + bound` (negative: an edge certainly negative) and the largest
-        // `s − bound` (positive: one certainly positive).
-        let mut low = [f32::INFINITY; LANES];
-        let mut high = [f32::NEG_INFINITY; LANES];
+    fn enters_chunk(&self, node: &FNode, c: usize, nearest: bool) -> u32 {
+        let mut enter = self.lo[c];
+        let mut leave = self.hi[c];
+        // `near − bound` on the major axis: positive when the entry is past the best hit.
+        let mut excess = [f32::NEG_INFINITY; CHUNK];
         for k in 0..3 {
-            let (n, e) = (tri.n[k], tri.e[k]);
-            let bound = self.alpha * tri.n1[k] + self.beta * tri.e1[k] + self.gamma;
-            for l in 0..LANES {
-                let dn = self.d[0][l] * n[0] + self.d[1][l] * n[1] + self.d[2][l] * n[2];
-                let me = self.m[0][l] * e[0] + self.m[1][l] * e[1] + self.m[2][l] * e[2];
-                let s = dn + me;
-                low[l] = min(low[l], s + bound);
-                high[l] = max(high[l], s - bound);
+            let (lo, hi) = (node.min[k], node.max[k]);
+            let (oa, ob) = (&self.oa[k][c], &self.ob[k][c]);
+            let (ia, ib) = (&self.imin[k][c], &self.imax[k][c]);
+            let mut t0 = [0.0f32; CHUNK];
+            let mut t1 = [0.0f32; CHUNK];
+            for j in 0..CHUNK {
+                t0[j] = (lo - oa[j]) * ia[j];
+                t1[j] = (hi - ob[j]) * ib[j];
+            }
+            // On an axis where every lane's direction has one sign, the near plane is known
+            // up front.
+            let (near, far) = match self.sign[k] {
+                Sign::Positive => (t0, t1),
+                Sign::Negative => (t1, t0),
+                Sign::Mixed => {
+                    let mut near = [0.0f32; CHUNK];
+                    let mut far = [0.0f32; CHUNK];
+                    for j in 0..CHUNK {
+                        near[j] = min(t0[j], t1[j]);
+                        far[j] = max(t0[j], t1[j]);
+                    }
+                    (near, far)
+                }
+            };
+            for j in 0..CHUNK {
+                enter[j] = max(enter[j], near[j]);
+                leave[j] = min(leave[j], far[j]);
+            }
+            if nearest && self.major.is_none_or(|m| m == k) {
+                let bound = &self.bound[k][c];
+                for j in 0..CHUNK {
+                    excess[j] = max(excess[j], near[j] - bound[j]);
+                }
             }
         }
-        let (mut negative, mut positive) = (0u32, 0u32);
-        for l in 0..LANES {
-            negative |= u32::from(low[l] < 0.0) << l;
+        let mut inside = [false; CHUNK];
+        for j in 0..CHUNK {
+            // `MIN_POSITIVE`: an underflowed product may be off by a subnormal's spacing. A
+            // difference of two floats is ≤ 0 exactly when the first is not the larger.
+            let gap = max(enter[j] - (leave[j] + f32::MIN_POSITIVE), excess[j]);
+            inside[j] = gap <= 0.0;
         }
-        for l in 0..LANES {
-            positive |= u32::from(high[l] > 0.0) << l;
+        bitmask(inside)
+    }
+
+    /// Which of the lanes in `mask` may hit `tri`: not those where two edge functions have
+    /// opposite signs beyond the error bound.
+    #[inline(always)]
+    fn may_hit(&self, tri: &FTri, mask: u32) -> u32 {
+        let bound: [f32; 3] =
+            std::array::from_fn(|k| self.alpha * tri.n1[k] + self.beta * tri.e1[k] + self.gamma);
+        let mut bits = 0u32;
+        for c in 0..LANES / CHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                bits |= self.may_hit_chunk(tri, &bound, c) << base;
+            }
         }
-        !(negative & positive)
+        bits & mask
+    }
+
+    #[inline(always)]
+    fn may_hit_chunk(&self, tri: &FTri, bound: &[f32; 3], c: usize) -> u32 {
+        // The least `s + bound` (negative: an edge certainly negative) and the largest
+        // `s − bound` (positive: one certainly positive).
+        let mut low = [f32::INFINITY; CHUNK];
+        let mut high = [f32::NEG_INFINITY; CHUNK];
+        let (d, m) = (&self.d, &self.m);
+        let (d0, d1, d2) = (&d[0][c], &d[1][c], &d[2][c]);
+        let (m0, m1, m2) = (&m[0][c], &m[1][c], &m[2][c]);
+        for k in 0..3 {
+            let (n, e, b) = (tri.n[k], tri.e[k], bound[k]);
+            for j in 0..CHUNK {
+                let dn = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
+                let me = m0[j] * e[0] + m1[j] * e[1] + m2[j] * e[2];
+                let s = dn + me;
+                low[j] = min(low[j], s + b);
+                high[j] = max(high[j], s - b);
+            }
+        }
+        let mut keep = [false; CHUNK];
+        for j in 0..CHUNK {
+            keep[j] = !(low[j] < 0.0 && high[j] > 0.0);
+        }
+        bitmask(keep)
     }
 
     /// Records lane `l`'s new best hit for the major-axis cull.
     fn set_best(&mut self, l: usize, t: f64) {
-        self.bound[self.slabs[l].kz][l] = up(t);
+        let kz = usize::from(self.kz[l]);
+        self.bound[kz][l / CHUNK][l % CHUNK] = up(t);
+        if self.major == Some(kz) {
+            // Bounds only fall: the least is the last least or this one. Lanes that are not
+            // valid hold `−∞` here (they never enter a box anyway), so the row's largest is the
+            // valid lanes' largest.
+            self.whole.bound_min = min(self.whole.bound_min, up(t));
+            self.whole.bound_max = self.bound[kz]
+                .as_flattened()
+                .iter()
+                .fold(f32::NEG_INFINITY, |a, &b| max(a, b));
+        }
     }
 
     /// Whether the f64 slab of lane `l` reaches node `index` (a hit in its leaf counts).
-    fn reaches(&self, l: usize, boxes: &[[DVec3; 2]], index: u32) -> bool {
+    fn reaches(&mut self, l: usize, boxes: &[[DVec3; 2]], index: u32) -> bool {
         let [min, max] = boxes[index as usize];
-        self.slabs[l].test(min, max).is_some()
+        let (ray, range) = (&self.rays[l], self.ranges[l]);
+        let slab = self.slabs[l].get_or_insert_with(|| Slab::new(ray, range));
+        slab.test(min, max).is_some()
+    }
+
+    /// Lane `l`'s watertight frame.
+    fn frame(&mut self, l: usize) -> &RayFrame {
+        let ray = &self.rays[l];
+        self.frames[l].get_or_insert_with(|| RayFrame::new(ray))
     }
 }
