@@ -115,15 +115,20 @@ impl MeshBvh {
     /// What it returns is defined without reference to the traversal order, so that any other
     /// traversal (the packet path, [`crate::PacketBvh`]) can return the same bits: among the
     /// triangles of the leaves whose boxes the ray enters within `range` (the conservative slab
-    /// of [`Slab`]), those that [`intersect`] hits over the whole of `range`, the one of smallest
-    /// `t`, and of those the smallest triangle index (two triangles through a shared edge meet
-    /// the ray at the same `t`). Subtrees are skipped only when no triangle in them can compute a
-    /// `t` at or below the best so far, judged along the ray's major axis alone
-    /// ([`Slab::lower_bound`]): the computed `t` of a triangle is a convex combination of its
-    /// corners' major-axis distances, whereas a grazing ray's computed `t` may fall well before
-    /// the box's entry on another axis.
+    /// of Ize's slab), those that [`intersect`] hits over the whole of `range`, the one of
+    /// smallest `t`, and of those the smallest triangle index (two triangles through a shared
+    /// edge can meet the ray at the same `t`). Subtrees are skipped only when no triangle in
+    /// them can compute a `t` at or below the best so far, judged along the ray's major axis
+    /// alone: the computed `t` of a triangle is a convex combination of its corners' major-axis
+    /// distances, whereas a grazing ray's computed `t` may fall well before the box's entry on
+    /// another axis.
     pub fn nearest_hit(&self, ray: &Ray, range: Interval) -> Option<MeshHit> {
-        if self.nodes.is_empty() || !(range.lo <= range.hi) {
+        if self.nodes.is_empty()
+            || matches!(
+                range.lo.partial_cmp(&range.hi),
+                None | Some(std::cmp::Ordering::Greater)
+            )
+        {
             return None;
         }
         let frame = RayFrame::new(ray);
@@ -183,7 +188,12 @@ impl MeshBvh {
     /// at the first hit it finds. True exactly when the triangles [`MeshBvh::nearest_hit`]
     /// chooses among are not none, whatever the order.
     pub fn any_hit(&self, ray: &Ray, range: Interval) -> bool {
-        if self.nodes.is_empty() || !(range.lo <= range.hi) {
+        if self.nodes.is_empty()
+            || matches!(
+                range.lo.partial_cmp(&range.hi),
+                None | Some(std::cmp::Ordering::Greater)
+            )
+        {
             return false;
         }
         let frame = RayFrame::new(ray);

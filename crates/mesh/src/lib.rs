@@ -6,7 +6,10 @@
 //! **watertight** ray–triangle test (Woop, Benthin and Wald 2013: shear to the ray's frame, edge
 //! functions that agree on a shared edge, so rays through edges and vertices never leak) in f64;
 //! [`MeshBvh`], an `obvhs` BVH2 traversed here in f64 with a conservative slab test, for the
-//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms.
+//! nearest hit and any hit (shadow rays) — an order-independent answer, ties to the smallest
+//! triangle index; [`PacketBvh`], the same answers bit for bit for many rays at once (a
+//! renderer's tile: f32 packet traversal that only decides what the f64 code looks at);
+//! [`Instance`], one mesh under several transforms.
 //!
 //! ```
 //! use fray_core::{Interval, Ray};

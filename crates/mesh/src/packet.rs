@@ -20,6 +20,9 @@
 //! - Lanes the f32 bounds cannot cover (a direction component that is zero or below ~3e-39, a
 //!   range that starts below 0, non-finite values) are answered by the reference itself.
 
+// Lane loops index several arrays by the lane (structure of arrays): that is what vectorises.
+#![allow(clippy::needless_range_loop)]
+
 use crate::bvh::{Slab, is_better, major_axis};
 use crate::triangle::{RayFrame, intersect};
 use crate::{MeshBvh, MeshHit, TriangleMesh};
@@ -578,9 +581,8 @@ impl Packet {
         let mut majors = [false; 3];
         for (l, (ray, range)) in rays.iter().zip(ranges).enumerate() {
             // Negative starts would need the bounds' other sign cases; NaN fails too.
-            if !(range.lo >= 0.0 && range.lo <= range.hi && range.lo.is_finite())
-                || !(ray.origin.is_finite() && ray.dir.is_finite())
-            {
+            let covered = range.lo >= 0.0 && range.lo <= range.hi && range.lo.is_finite();
+            if !(covered && ray.origin.is_finite() && ray.dir.is_finite()) {
                 continue;
             }
             let o = ray.origin - bvh.centre;
