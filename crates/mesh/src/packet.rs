@@ -31,15 +31,18 @@ use glam::DVec3;
 
 /// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
 /// (a 4×2 block in Morton order) should be consecutive.
-pub const LANES: usize = 32;
+pub const LANES: usize = 64;
+
+/// A set of lanes, one bit each.
+type Mask = u64;
 
 /// Lanes tested together (one AVX register of f32, two SSE ones); chunks with no lane left in a
 /// packet's mask are skipped.
 const CHUNK: usize = 8;
-const CHUNK_MASK: u32 = (1 << CHUNK) - 1;
+const CHUNK_MASK: Mask = (1 << CHUNK) - 1;
 const NCHUNK: usize = LANES / CHUNK;
-const LANES_MASK: u32 = if LANES == 32 {
-    u32::MAX
+const LANES_MASK: Mask = if LANES == Mask::BITS as usize {
+    Mask::MAX
 } else {
     (1 << LANES) - 1
 };
@@ -110,12 +113,12 @@ fn min(a: f32, b: f32) -> f32 {
 /// (each byte's low bit lands in the top byte), which compiles to a compare, packs and a
 /// multiply instead of a shift and an or per lane.
 #[inline(always)]
-fn bitmask(b: [bool; CHUNK]) -> u32 {
+fn bitmask(b: [bool; CHUNK]) -> Mask {
     let mut bytes = [0u8; CHUNK];
     for j in 0..CHUNK {
         bytes[j] = u8::from(b[j]);
     }
-    ((u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56) as u32
+    ((u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56) as Mask
 }
 
 /// `x` rounded to an f32 no greater than it.
@@ -258,7 +261,7 @@ impl PacketBvh {
         rays: &[Ray],
         ranges: &[Interval],
         hits: &mut [Option<MeshHit>],
-        stack: &mut Vec<(u32, u32)>,
+        stack: &mut Vec<(u32, Mask)>,
         p: &mut Packet,
     ) {
         p.load(self, rays, ranges);
@@ -323,7 +326,7 @@ impl PacketBvh {
         rays: &[Ray],
         ranges: &[Interval],
         out: &mut [bool],
-        stack: &mut Vec<(u32, u32)>,
+        stack: &mut Vec<(u32, Mask)>,
         p: &mut Packet,
     ) {
         p.load(self, rays, ranges);
@@ -376,7 +379,7 @@ impl PacketBvh {
     /// Pushes an inner node's children, the one nearer along the packet's mean direction last
     /// (popped first).
     #[inline]
-    fn push_children(&self, p: &Packet, node: &FNode, mask: u32, stack: &mut Vec<(u32, u32)>) {
+    fn push_children(&self, p: &Packet, node: &FNode, mask: Mask, stack: &mut Vec<(u32, Mask)>) {
         let (a, b) = (node.first, node.first + 1);
         let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
         let mut s = 0.0;
@@ -403,7 +406,7 @@ enum Sign {
 /// frame and slab for the exact ones.
 struct Packet {
     /// Lanes the f32 tests cover (the others are answered by the reference).
-    valid: u32,
+    valid: Mask,
     /// Origins relative to the centre, rounded up (used with box minima) and down (maxima).
     oa: [[V; NCHUNK]; 3],
     ob: [[V; NCHUNK]; 3],
@@ -427,6 +430,11 @@ struct Packet {
     sign: [Sign; 3],
     /// The valid lanes' major axis when they share one.
     major: Option<usize>,
+    /// Whether the valid lanes share one origin (a camera's packet): then `oa` and `ob` are
+    /// the same in every lane and the box test subtracts once per plane, not once per lane.
+    shared: bool,
+    /// The shared `oa` and `ob` per axis.
+    shared_o: [[f32; 2]; 3],
     /// Each lane's f64 frame and slab, made when first needed (most lanes need them once at
     /// most: a candidate, a new best hit).
     frames: [Option<RayFrame>; LANES],
@@ -531,6 +539,8 @@ impl Packet {
             mean_dir: [0.0; 3],
             sign: [Sign::Mixed; 3],
             major: None,
+            shared: false,
+            shared_o: [[0.0; 2]; 3],
             frames: [None; LANES],
             slabs: [None; LANES],
             rays: [unit; LANES],
@@ -551,15 +561,15 @@ impl Packet {
         }
     }
 
-    /// Sets the lanes to `rays` over `ranges` (at most [`LANES`]).
+    /// Sets the lanes to `rays` over `ranges` (at most [`LANES`]): a scalar pass that checks
+    /// and stages each ray in f64, then passes over all lanes at once (they vectorise), then
+    /// the bounds over the valid lanes.
     fn load(&mut self, bvh: &PacketBvh, rays: &[Ray], ranges: &[Interval]) {
         let p = self;
-        p.valid = 0;
-        p.lo = [[f32::INFINITY; CHUNK]; NCHUNK];
-        p.hi = [[f32::NEG_INFINITY; CHUNK]; NCHUNK];
-        p.bound = [[[f32::INFINITY; CHUNK]; NCHUNK]; 3];
-        p.major = None;
         let empty = [f32::INFINITY, f32::NEG_INFINITY];
+        p.valid = 0;
+        p.major = None;
+        p.shared = false;
         p.whole = Whole {
             usable: false,
             oa: [empty; 3],
@@ -572,112 +582,165 @@ impl Packet {
             bound_min: f32::INFINITY,
             bound_max: f32::INFINITY,
         };
+        p.lo = [[f32::INFINITY; CHUNK]; NCHUNK];
+        p.hi = [[f32::NEG_INFINITY; CHUNK]; NCHUNK];
+        p.bound = [[[f32::INFINITY; CHUNK]; NCHUNK]; 3];
         if bvh.nodes.is_empty() {
             return;
         }
-        let (mut d_max, mut m_max, mut r_max) = (0.0f64, 0.0f64, 0.0f64);
-        let mut mean = DVec3::ZERO;
-        let (mut positive, mut negative) = ([true; 3], [true; 3]);
+        // Staging in f64: origins relative to the centre, directions, ranges; lanes that are not
+        // valid get harmless values (they are masked out below).
+        let mut o = [[0.0f64; LANES]; 3];
+        let mut d = [[1.0f64; LANES]; 3];
+        let mut lo = [0.0f64; LANES];
+        let mut hi = [0.0f64; LANES];
+        let mut staged: Mask = 0;
         let mut majors = [false; 3];
         for (l, (ray, range)) in rays.iter().zip(ranges).enumerate() {
+            p.frames[l] = None;
+            p.slabs[l] = None;
             // Negative starts would need the bounds' other sign cases; NaN fails too.
             let covered = range.lo >= 0.0 && range.lo <= range.hi && range.lo.is_finite();
             if !(covered && ray.origin.is_finite() && ray.dir.is_finite()) {
                 continue;
             }
-            let o = ray.origin - bvh.centre;
-            let inv = ray.dir.recip();
-            let m = ray.dir.cross(o);
-            let mut ok = true;
+            staged |= 1 << l;
+            let rel = ray.origin - bvh.centre;
             for k in 0..3 {
-                // `o − centre` is within one f64 rounding of the exact difference; one f32
-                // rounding to nearest is within 2⁻²⁴ of what it rounds (and `TINY` covers
-                // subnormal spacing).
-                let slack = o[k].abs() * (2.0 * U64 + 2.0 * U32) + TINY;
-                p.oa[k][l / CHUNK][l % CHUNK] = (o[k] + slack) as f32;
-                p.ob[k][l / CHUNK][l % CHUNK] = (o[k] - slack) as f32;
-                let shrunk = (inv[k] * (1.0 - KAPPA - 2.0 * U32)) as f32;
-                let grown = (inv[k] * (1.0 + KAPPA + 2.0 * U32)) as f32;
-                ok &= inv[k].is_finite()
-                    && grown.is_finite()
-                    && p.oa[k][l / CHUNK][l % CHUNK].is_finite();
-                ok &= p.ob[k][l / CHUNK][l % CHUNK].is_finite();
-                // A positive component meets the minimum plane first, a negative one the
-                // maximum.
-                (
-                    p.imin[k][l / CHUNK][l % CHUNK],
-                    p.imax[k][l / CHUNK][l % CHUNK],
-                ) = if inv[k] > 0.0 {
-                    (shrunk, grown)
-                } else {
-                    (grown, shrunk)
-                };
-                p.d[k][l / CHUNK][l % CHUNK] = ray.dir[k] as f32;
-                p.m[k][l / CHUNK][l % CHUNK] = m[k] as f32;
-                ok &= p.m[k][l / CHUNK][l % CHUNK].is_finite();
+                o[k][l] = rel[k];
+                d[k][l] = ray.dir[k];
             }
-            if !ok {
-                continue;
-            }
-            p.valid |= 1 << l;
-            let w = &mut p.whole;
-            let widen = |r: &mut [f32; 2], x: f32| *r = [min(r[0], x), max(r[1], x)];
-            for k in 0..3 {
-                let (c, j) = (l / CHUNK, l % CHUNK);
-                widen(&mut w.oa[k], p.oa[k][c][j]);
-                widen(&mut w.ob[k], p.ob[k][c][j]);
-                widen(&mut w.imin[k], p.imin[k][c][j]);
-                widen(&mut w.imax[k], p.imax[k][c][j]);
-            }
-            p.lo[l / CHUNK][l % CHUNK] = (range.lo * (1.0 - 2.0 * U32) - TINY) as f32;
-            p.hi[l / CHUNK][l % CHUNK] = (range.hi * (1.0 + 2.0 * U32) + TINY) as f32;
-            let w = &mut p.whole;
-            let (lo, hi) = (p.lo[l / CHUNK][l % CHUNK], p.hi[l / CHUNK][l % CHUNK]);
-            w.lo = [min(w.lo[0], lo), max(w.lo[1], lo)];
-            w.hi = [min(w.hi[0], hi), max(w.hi[1], hi)];
+            (lo[l], hi[l]) = (range.lo, range.hi);
             let kz = major_axis(ray.dir);
             majors[kz] = true;
             p.kz[l] = kz as u8;
             p.rays[l] = *ray;
             p.ranges[l] = *range;
-            p.frames[l] = None;
-            p.slabs[l] = None;
-            d_max = d_max.max(ray.dir.abs().max_element());
-            m_max = m_max.max(m.abs().max_element());
-            r_max = r_max.max(o.abs().max_element());
-            mean += ray.dir;
-            for k in 0..3 {
-                positive[k] &= inv[k] > 0.0;
-                negative[k] &= inv[k] < 0.0;
+        }
+        // Per axis over all lanes: outward origins, inverse directions shrunk and grown (see
+        // `KAPPA`), the f32 directions; `bad` turns NaN where an f32 value is not finite
+        // (`x − x` is 0 for finite `x`, NaN otherwise).
+        let mut bad = [[0.0f32; CHUNK]; NCHUNK];
+        for k in 0..3 {
+            for c in 0..NCHUNK {
+                for j in 0..CHUNK {
+                    let l = c * CHUNK + j;
+                    // `o − centre` is within one f64 rounding of the exact difference; one f32
+                    // rounding to nearest is within 2⁻²⁴ of what it rounds (and `TINY` covers
+                    // subnormal spacing).
+                    let ok = o[k][l];
+                    let slack = ok.abs() * (2.0 * U64 + 2.0 * U32) + TINY;
+                    let oa = (ok + slack) as f32;
+                    let ob = (ok - slack) as f32;
+                    let inv = 1.0 / d[k][l];
+                    let shrunk = (inv * (1.0 - KAPPA - 2.0 * U32)) as f32;
+                    let grown = (inv * (1.0 + KAPPA + 2.0 * U32)) as f32;
+                    // A positive component meets the minimum plane first, a negative one the
+                    // maximum.
+                    let positive = inv > 0.0;
+                    p.imin[k][c][j] = if positive { shrunk } else { grown };
+                    p.imax[k][c][j] = if positive { grown } else { shrunk };
+                    // An infinite inverse (a zero component) rounds to an infinite `grown`.
+                    bad[c][j] += (oa - oa) + (ob - ob) + (grown - grown);
+                    p.oa[k][c][j] = oa;
+                    p.ob[k][c][j] = ob;
+                    p.d[k][c][j] = d[k][l] as f32;
+                }
             }
         }
-        if majors.iter().filter(|m| **m).count() == 1 {
-            p.major = majors.iter().position(|m| *m);
-        }
+        // Moments `d × o` for the triangle pre-test.
+        let mut m_max = [0.0f64; LANES];
         for k in 0..3 {
-            p.sign[k] = match (positive[k], negative[k]) {
+            let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+            for c in 0..NCHUNK {
+                for j in 0..CHUNK {
+                    let l = c * CHUNK + j;
+                    let m = d[a][l] * o[b][l] - d[b][l] * o[a][l];
+                    let m32 = m as f32;
+                    bad[c][j] += m32 - m32;
+                    p.m[k][c][j] = m32;
+                    m_max[l] = if m.abs() > m_max[l] {
+                        m.abs()
+                    } else {
+                        m_max[l]
+                    };
+                }
+            }
+        }
+        let mut valid = staged;
+        for l in 0..LANES {
+            if bad[l / CHUNK][l % CHUNK] != 0.0 {
+                valid &= !(1 << l);
+            }
+        }
+        p.valid = valid;
+        if valid == 0 {
+            return;
+        }
+        let is_valid = |l: usize| valid & (1 << l) != 0;
+        for l in (0..LANES).filter(|&l| is_valid(l)) {
+            let (c, j) = (l / CHUNK, l % CHUNK);
+            p.lo[c][j] = (lo[l] * (1.0 - 2.0 * U32) - TINY) as f32;
+            p.hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
+        }
+        // Bounds over the valid lanes.
+        let (mut d_max, mut mm_max, mut r_max) = (0.0f64, 0.0f64, 0.0f64);
+        let mut mean = [0.0f64; 3];
+        let mut all_positive = [true; 3];
+        let mut all_negative = [true; 3];
+        let first = valid.trailing_zeros() as usize;
+        let mut shared = true;
+        let w = &mut p.whole;
+        let widen = |r: &mut [f32; 2], x: f32| *r = [min(r[0], x), max(r[1], x)];
+        for l in (0..LANES).filter(|&l| is_valid(l)) {
+            let (c, j) = (l / CHUNK, l % CHUNK);
+            for k in 0..3 {
+                d_max = d_max.max(d[k][l].abs());
+                r_max = r_max.max(o[k][l].abs());
+                mean[k] += d[k][l];
+                let positive = p.imin[k][c][j] > 0.0;
+                all_positive[k] &= positive;
+                all_negative[k] &= !positive;
+                shared &= o[k][l].to_bits() == o[k][first].to_bits();
+                widen(&mut w.oa[k], p.oa[k][c][j]);
+                widen(&mut w.ob[k], p.ob[k][c][j]);
+                widen(&mut w.imin[k], p.imin[k][c][j]);
+                widen(&mut w.imax[k], p.imax[k][c][j]);
+            }
+            mm_max = mm_max.max(m_max[l]);
+            widen(&mut w.lo, p.lo[c][j]);
+            widen(&mut w.hi, p.hi[c][j]);
+        }
+        p.shared = shared;
+        let (c, j) = (first / CHUNK, first % CHUNK);
+        p.shared_o = std::array::from_fn(|k| [p.oa[k][c][j], p.ob[k][c][j]]);
+        for k in 0..3 {
+            p.sign[k] = match (all_positive[k], all_negative[k]) {
                 (true, false) => Sign::Positive,
                 (false, true) => Sign::Negative,
                 _ => Sign::Mixed,
             };
         }
+        if majors.iter().filter(|m| **m).count() == 1 {
+            p.major = majors.iter().position(|m| *m);
+        }
         // f32 pre-test error (the inputs' rounding to f32, the two dot products and their sum:
         // under 7·2⁻²⁴ of |d|∞|n|₁ + |m|∞|e|₁) and the f64 watertight test's own error with the
         // rounding of the mesh-centred f64 inputs (under 256·2⁻⁵³·(R + r)²|d|∞).
         p.alpha = up(8.0 * U32 * d_max);
-        p.beta = up(8.0 * U32 * m_max * (1.0 + 8.0 * U64));
+        p.beta = up(8.0 * U32 * mm_max * (1.0 + 8.0 * U64));
         let reach = (bvh.radius + r_max) * (1.0 + 8.0 * U64);
         p.gamma = up(256.0 * U64 * reach * reach * d_max);
-        p.mean_dir = f32s(mean);
+        p.mean_dir = mean.map(|x| x as f32);
         let w = &mut p.whole;
-        w.usable = p.valid != 0 && p.sign.iter().all(|s| *s != Sign::Mixed);
+        w.usable = p.sign.iter().all(|s| *s != Sign::Mixed);
         w.major = p.major;
         w.bound_min = f32::INFINITY;
-        w.bound_max = if p.valid == 0 { 0.0 } else { f32::INFINITY };
-        if p.valid != LANES_MASK {
+        w.bound_max = f32::INFINITY;
+        if valid != LANES_MASK {
             // See `set_best`: lanes that are not valid do not hold the largest bound up.
             for k in 0..3 {
-                for l in (0..LANES).filter(|l| p.valid & (1 << l) == 0) {
+                for l in (0..LANES).filter(|&l| !is_valid(l)) {
                     p.bound[k][l / CHUNK][l % CHUNK] = f32::NEG_INFINITY;
                 }
             }
@@ -689,13 +752,13 @@ impl Packet {
     /// slab lets in. Lanes go [`CHUNK`] at a time, lane-innermost so that each chunk compiles
     /// to vector code, and chunks with no lane in `mask` are skipped.
     #[inline(always)]
-    fn enters(&self, node: &FNode, mask: u32, nearest: bool) -> u32 {
+    fn enters(&self, node: &FNode, mask: Mask, nearest: bool) -> Mask {
         match self.whole.decide(node, nearest) {
             Some(true) => return mask,
             Some(false) => return 0,
             None => {}
         }
-        let mut bits = 0u32;
+        let mut bits: Mask = 0;
         for c in 0..LANES / CHUNK {
             let base = c * CHUNK;
             if (mask >> base) & CHUNK_MASK != 0 {
@@ -706,7 +769,7 @@ impl Packet {
     }
 
     #[inline(always)]
-    fn enters_chunk(&self, node: &FNode, c: usize, nearest: bool) -> u32 {
+    fn enters_chunk(&self, node: &FNode, c: usize, nearest: bool) -> Mask {
         let mut enter = self.lo[c];
         let mut leave = self.hi[c];
         // `near − bound` on the major axis: positive when the entry is past the best hit.
@@ -717,9 +780,18 @@ impl Packet {
             let (ia, ib) = (&self.imin[k][c], &self.imax[k][c]);
             let mut t0 = [0.0f32; CHUNK];
             let mut t1 = [0.0f32; CHUNK];
-            for j in 0..CHUNK {
-                t0[j] = (lo - oa[j]) * ia[j];
-                t1[j] = (hi - ob[j]) * ib[j];
+            if self.shared {
+                // The same subtraction as below, done once.
+                let (a, b) = (lo - self.shared_o[k][0], hi - self.shared_o[k][1]);
+                for j in 0..CHUNK {
+                    t0[j] = a * ia[j];
+                    t1[j] = b * ib[j];
+                }
+            } else {
+                for j in 0..CHUNK {
+                    t0[j] = (lo - oa[j]) * ia[j];
+                    t1[j] = (hi - ob[j]) * ib[j];
+                }
             }
             // On an axis where every lane's direction has one sign, the near plane is known
             // up front.
@@ -760,10 +832,10 @@ impl Packet {
     /// Which of the lanes in `mask` may hit `tri`: not those where two edge functions have
     /// opposite signs beyond the error bound.
     #[inline(always)]
-    fn may_hit(&self, tri: &FTri, mask: u32) -> u32 {
+    fn may_hit(&self, tri: &FTri, mask: Mask) -> Mask {
         let bound: [f32; 3] =
             std::array::from_fn(|k| self.alpha * tri.n1[k] + self.beta * tri.e1[k] + self.gamma);
-        let mut bits = 0u32;
+        let mut bits: Mask = 0;
         for c in 0..LANES / CHUNK {
             let base = c * CHUNK;
             if (mask >> base) & CHUNK_MASK != 0 {
@@ -774,7 +846,7 @@ impl Packet {
     }
 
     #[inline(always)]
-    fn may_hit_chunk(&self, tri: &FTri, bound: &[f32; 3], c: usize) -> u32 {
+    fn may_hit_chunk(&self, tri: &FTri, bound: &[f32; 3], c: usize) -> Mask {
         // The least `s + bound` (negative: an edge certainly negative) and the largest
         // `s − bound` (positive: one certainly positive).
         let mut low = [f32::INFINITY; CHUNK];
