@@ -121,6 +121,12 @@ fn bitmask(b: [bool; CHUNK]) -> Mask {
     ((u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56) as Mask
 }
 
+/// 0 for a finite `x`, NaN for an infinite or NaN one (branch-free, so lane loops vectorise).
+#[inline(always)]
+fn zero_if_finite(x: f32) -> f32 {
+    x * 0.0
+}
+
 /// `x` rounded to an f32 no greater than it.
 fn down(x: f64) -> f32 {
     let f = x as f32;
@@ -618,8 +624,7 @@ impl Packet {
             p.ranges[l] = *range;
         }
         // Per axis over all lanes: outward origins, inverse directions shrunk and grown (see
-        // `KAPPA`), the f32 directions; `bad` turns NaN where an f32 value is not finite
-        // (`x − x` is 0 for finite `x`, NaN otherwise).
+        // `KAPPA`), the f32 directions; `bad` turns NaN where an f32 value is not finite.
         let mut bad = [[0.0f32; CHUNK]; NCHUNK];
         for k in 0..3 {
             for c in 0..NCHUNK {
@@ -641,7 +646,7 @@ impl Packet {
                     p.imin[k][c][j] = if positive { shrunk } else { grown };
                     p.imax[k][c][j] = if positive { grown } else { shrunk };
                     // An infinite inverse (a zero component) rounds to an infinite `grown`.
-                    bad[c][j] += (oa - oa) + (ob - ob) + (grown - grown);
+                    bad[c][j] += zero_if_finite(oa) + zero_if_finite(ob) + zero_if_finite(grown);
                     p.oa[k][c][j] = oa;
                     p.ob[k][c][j] = ob;
                     p.d[k][c][j] = d[k][l] as f32;
@@ -657,7 +662,7 @@ impl Packet {
                     let l = c * CHUNK + j;
                     let m = d[a][l] * o[b][l] - d[b][l] * o[a][l];
                     let m32 = m as f32;
-                    bad[c][j] += m32 - m32;
+                    bad[c][j] += zero_if_finite(m32);
                     p.m[k][c][j] = m32;
                     m_max[l] = if m.abs() > m_max[l] {
                         m.abs()
