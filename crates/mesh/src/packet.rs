@@ -114,7 +114,7 @@ fn min(a: f32, b: f32) -> f32 {
 /// multiply instead of a shift and an or per lane.
 #[inline(always)]
 fn bitmask(b: [bool; CHUNK]) -> Mask {
-    let mut bytes = [0u8; CHUNK];
+    let mut bytes = [0u8; 8];
     for j in 0..CHUNK {
         bytes[j] = u8::from(b[j]);
     }
@@ -441,6 +441,10 @@ struct Packet {
     shared: bool,
     /// The shared `oa` and `ob` per axis.
     shared_o: [[f32; 2]; 3],
+    /// The shared origin relative to the centre (rounded to nearest), and the pre-test's
+    /// `|e|₁` coefficient that goes with it.
+    shared_origin: [f32; 3],
+    shared_beta: f32,
     /// Each lane's f64 frame and slab, made when first needed (most lanes need them once at
     /// most: a candidate, a new best hit).
     frames: [Option<RayFrame>; LANES],
@@ -547,6 +551,8 @@ impl Packet {
             major: None,
             shared: false,
             shared_o: [[0.0; 2]; 3],
+            shared_origin: [0.0; 3],
+            shared_beta: 0.0,
             frames: [None; LANES],
             slabs: [None; LANES],
             rays: [unit; LANES],
@@ -595,7 +601,12 @@ impl Packet {
             return;
         }
         // Staging in f64: origins relative to the centre, directions, ranges; lanes that are not
-        // valid get harmless values (they are masked out below).
+        // valid get harmless values (they are masked out below). The previous packet's lanes
+        // past the new rays must not count.
+        for l in rays.len()..LANES {
+            p.frames[l] = None;
+            p.slabs[l] = None;
+        }
         let mut o = [[0.0f64; LANES]; 3];
         let mut d = [[1.0f64; LANES]; 3];
         let mut lo = [0.0f64; LANES];
@@ -683,49 +694,87 @@ impl Packet {
             return;
         }
         let is_valid = |l: usize| valid & (1 << l) != 0;
-        for l in (0..LANES).filter(|&l| is_valid(l)) {
-            let (c, j) = (l / CHUNK, l % CHUNK);
-            p.lo[c][j] = (lo[l] * (1.0 - 2.0 * U32) - TINY) as f32;
-            p.hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
-        }
-        // Bounds over the valid lanes.
-        let (mut d_max, mut mm_max, mut r_max) = (0.0f64, 0.0f64, 0.0f64);
-        let mut mean = [0.0f64; 3];
-        let mut all_positive = [true; 3];
-        let mut all_negative = [true; 3];
         let first = valid.trailing_zeros() as usize;
-        let mut shared = true;
-        let w = &mut p.whole;
-        let widen = |r: &mut [f32; 2], x: f32| *r = [min(r[0], x), max(r[1], x)];
-        for l in (0..LANES).filter(|&l| is_valid(l)) {
+        let (c0, j0) = (first / CHUNK, first % CHUNK);
+        // Lanes that are not valid take the first valid lane's values, so that bounds over all
+        // lanes are bounds over the valid ones (their `lo`/`hi` keep them out of every box).
+        for l in (0..LANES).filter(|&l| !is_valid(l)) {
             let (c, j) = (l / CHUNK, l % CHUNK);
             for k in 0..3 {
-                d_max = d_max.max(d[k][l].abs());
-                r_max = r_max.max(o[k][l].abs());
-                mean[k] += d[k][l];
-                let positive = p.imin[k][c][j] > 0.0;
-                all_positive[k] &= positive;
-                all_negative[k] &= !positive;
-                shared &= o[k][l].to_bits() == o[k][first].to_bits();
-                widen(&mut w.oa[k], p.oa[k][c][j]);
-                widen(&mut w.ob[k], p.ob[k][c][j]);
-                widen(&mut w.imin[k], p.imin[k][c][j]);
-                widen(&mut w.imax[k], p.imax[k][c][j]);
+                p.oa[k][c][j] = p.oa[k][c0][j0];
+                p.ob[k][c][j] = p.ob[k][c0][j0];
+                p.imin[k][c][j] = p.imin[k][c0][j0];
+                p.imax[k][c][j] = p.imax[k][c0][j0];
+                p.d[k][c][j] = p.d[k][c0][j0];
+                p.m[k][c][j] = p.m[k][c0][j0];
+                o[k][l] = o[k][first];
+                d[k][l] = d[k][first];
             }
-            mm_max = mm_max.max(m_max[l]);
-            widen(&mut w.lo, p.lo[c][j]);
-            widen(&mut w.hi, p.hi[c][j]);
+            m_max[l] = m_max[first];
+            (lo[l], hi[l]) = (lo[first], hi[first]);
         }
-        p.shared = shared;
-        let (c, j) = (first / CHUNK, first % CHUNK);
-        p.shared_o = std::array::from_fn(|k| [p.oa[k][c][j], p.ob[k][c][j]]);
+        let (mut whole_lo, mut whole_hi) = ([[0.0; CHUNK]; NCHUNK], [[0.0; CHUNK]; NCHUNK]);
+        for c in 0..NCHUNK {
+            for j in 0..CHUNK {
+                let l = c * CHUNK + j;
+                whole_lo[c][j] = (lo[l] * (1.0 - 2.0 * U32) - TINY) as f32;
+                whole_hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
+            }
+        }
+        for l in (0..LANES).filter(|&l| is_valid(l)) {
+            let (c, j) = (l / CHUNK, l % CHUNK);
+            (p.lo[c][j], p.hi[c][j]) = (whole_lo[c][j], whole_hi[c][j]);
+        }
+        // Bounds over the lanes, lane-innermost.
+        let range = |v: &[V; NCHUNK]| {
+            let (mut a, mut b) = (v[0], v[0]);
+            for c in 1..NCHUNK {
+                for j in 0..CHUNK {
+                    a[j] = min(a[j], v[c][j]);
+                    b[j] = max(b[j], v[c][j]);
+                }
+            }
+            [a.into_iter().fold(a[0], min), b.into_iter().fold(b[0], max)]
+        };
+        let largest = |v: &[f64; LANES]| {
+            let mut a = [0.0f64; 4];
+            for l in 0..LANES {
+                let x = v[l].abs();
+                a[l % 4] = if x > a[l % 4] { x } else { a[l % 4] };
+            }
+            a.into_iter().fold(0.0, |m, x| if x > m { x } else { m })
+        };
+        let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
+        let mut mean = [0.0f64; 3];
+        let mut shared = true;
         for k in 0..3 {
-            p.sign[k] = match (all_positive[k], all_negative[k]) {
-                (true, false) => Sign::Positive,
-                (false, true) => Sign::Negative,
+            d_max = d_max.max(largest(&d[k]));
+            r_max = r_max.max(largest(&o[k]));
+            let o0 = o[k][first].to_bits();
+            let mut differ = 0u64;
+            for l in 0..LANES {
+                mean[k] += d[k][l];
+                differ |= o[k][l].to_bits() ^ o0;
+            }
+            shared &= differ == 0;
+            let w = &mut p.whole;
+            w.oa[k] = range(&p.oa[k]);
+            w.ob[k] = range(&p.ob[k]);
+            w.imin[k] = range(&p.imin[k]);
+            w.imax[k] = range(&p.imax[k]);
+            // `imin` is positive exactly for a positive direction.
+            p.sign[k] = match (w.imin[k][0] > 0.0, w.imin[k][1] < 0.0) {
+                (true, _) => Sign::Positive,
+                (_, true) => Sign::Negative,
                 _ => Sign::Mixed,
             };
         }
+        let mm_max = largest(&m_max);
+        p.whole.lo = range(&whole_lo);
+        p.whole.hi = range(&whole_hi);
+        p.shared = shared;
+        let (c, j) = (first / CHUNK, first % CHUNK);
+        p.shared_o = std::array::from_fn(|k| [p.oa[k][c][j], p.ob[k][c][j]]);
         if majors.iter().filter(|m| **m).count() == 1 {
             p.major = majors.iter().position(|m| *m);
         }
@@ -734,6 +783,8 @@ impl Packet {
         // rounding of the mesh-centred f64 inputs (under 256·2⁻⁵³·(R + r)²|d|∞).
         p.alpha = up(8.0 * U32 * d_max);
         p.beta = up(8.0 * U32 * mm_max * (1.0 + 8.0 * U64));
+        p.shared_origin = std::array::from_fn(|k| o[k][first] as f32);
+        p.shared_beta = up(24.0 * U32 * d_max * r_max * (1.0 + 8.0 * U64));
         let reach = (bvh.radius + r_max) * (1.0 + 8.0 * U64);
         p.gamma = up(256.0 * U64 * reach * reach * d_max);
         p.mean_dir = mean.map(|x| x as f32);
@@ -838,6 +889,9 @@ impl Packet {
     /// opposite signs beyond the error bound.
     #[inline(always)]
     fn may_hit(&self, tri: &FTri, mask: Mask) -> Mask {
+        if self.shared {
+            return self.may_hit_shared(tri, mask);
+        }
         let bound: [f32; 3] =
             std::array::from_fn(|k| self.alpha * tri.n1[k] + self.beta * tri.e1[k] + self.gamma);
         let mut bits: Mask = 0;
@@ -845,6 +899,50 @@ impl Packet {
             let base = c * CHUNK;
             if (mask >> base) & CHUNK_MASK != 0 {
                 bits |= self.may_hit_chunk(tri, &bound, c) << base;
+            }
+        }
+        bits & mask
+    }
+
+    /// [`Packet::may_hit`] for lanes that share one origin `o`: `d·n + (d × o)·e` is
+    /// `d·(n + o × e)`, and `n + o × e` is computed once for the packet. In f32, with the
+    /// rounding of `o`, `n`, `e` and `d`, the cross product, the sum and the dot product, the
+    /// result is within 2⁻²⁴·(6|n|₁ + 20|o|∞|e|₁)·|d|∞ of `d·n + (d × o)·e`, which `alpha` and
+    /// `shared_beta` cover (8 and 24).
+    #[inline(always)]
+    fn may_hit_shared(&self, tri: &FTri, mask: Mask) -> Mask {
+        let o = self.shared_origin;
+        let normals: [[f32; 3]; 3] = std::array::from_fn(|k| {
+            let (n, e) = (tri.n[k], tri.e[k]);
+            [
+                n[0] + (o[1] * e[2] - o[2] * e[1]),
+                n[1] + (o[2] * e[0] - o[0] * e[2]),
+                n[2] + (o[0] * e[1] - o[1] * e[0]),
+            ]
+        });
+        let bound: [f32; 3] = std::array::from_fn(|k| {
+            self.alpha * tri.n1[k] + self.shared_beta * tri.e1[k] + self.gamma
+        });
+        let mut bits: Mask = 0;
+        for c in 0..LANES / CHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                let mut low = [f32::INFINITY; CHUNK];
+                let mut high = [f32::NEG_INFINITY; CHUNK];
+                let (d0, d1, d2) = (&self.d[0][c], &self.d[1][c], &self.d[2][c]);
+                for k in 0..3 {
+                    let (n, b) = (normals[k], bound[k]);
+                    for j in 0..CHUNK {
+                        let s = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
+                        low[j] = min(low[j], s + b);
+                        high[j] = max(high[j], s - b);
+                    }
+                }
+                let mut keep = [false; CHUNK];
+                for j in 0..CHUNK {
+                    keep[j] = !(low[j] < 0.0 && high[j] > 0.0);
+                }
+                bits |= bitmask(keep) << base;
             }
         }
         bits & mask
