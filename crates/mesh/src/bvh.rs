@@ -287,8 +287,9 @@ impl Slab {
     /// major axis alone; `−∞` when the box reaches behind the origin on that axis).
     #[inline]
     pub(crate) fn test(&self, min: DVec3, max: DVec3) -> Option<(f64, f64)> {
-        let t0 = (min - self.origin) * self.inv;
-        let t1 = (max - self.origin) * self.inv;
+        // Arrays, not `DVec3`'s `Index` (a `match` per access); the same products.
+        let t0 = ((min - self.origin) * self.inv).to_array();
+        let t1 = ((max - self.origin) * self.inv).to_array();
         let (mut enter, mut leave) = (self.lo, self.hi);
         let mut bound = f64::NEG_INFINITY;
         for a in 0..3 {

@@ -127,6 +127,37 @@ fn zero_if_finite(x: f32) -> f32 {
     x * 0.0
 }
 
+/// The least and largest of a lane array (lane-innermost: it vectorises).
+#[inline(always)]
+fn range(v: &[V; NCHUNK]) -> [f32; 2] {
+    let (mut a, mut b) = (v[0], v[0]);
+    for c in 1..NCHUNK {
+        for j in 0..CHUNK {
+            a[j] = min(a[j], v[c][j]);
+            b[j] = max(b[j], v[c][j]);
+        }
+    }
+    let (mut lo, mut hi) = (a[0], b[0]);
+    for j in 1..CHUNK {
+        lo = min(lo, a[j]);
+        hi = max(hi, b[j]);
+    }
+    [lo, hi]
+}
+
+/// The largest magnitude in a lane array of f64.
+#[inline(always)]
+fn largest(v: &[f64; LANES]) -> f64 {
+    let mut a = [0.0f64; CHUNK];
+    for c in 0..NCHUNK {
+        for j in 0..CHUNK {
+            let x = v[c * CHUNK + j].abs();
+            a[j] = if x > a[j] { x } else { a[j] };
+        }
+    }
+    a.into_iter().fold(0.0, |m, x| if x > m { x } else { m })
+}
+
 /// `x` rounded to an f32 no greater than it.
 fn down(x: f64) -> f32 {
     let f = x as f32;
@@ -473,6 +504,8 @@ struct Whole {
     hi: [f32; 2],
     /// The shared major axis (for the nearest hit's cull), when there is one.
     major: Option<usize>,
+    /// Whether the lanes share one origin (`oa` and `ob` are then points).
+    shared: bool,
     bound_min: f32,
     bound_max: f32,
 }
@@ -489,6 +522,13 @@ fn product_range(x: f32, o: [f32; 2], i: [f32; 2]) -> [f32; 2] {
     ]
 }
 
+/// The range of `a · i` over `i ∈ i` (one origin: `a` is the same in every lane).
+#[inline(always)]
+fn scaled_range(a: f32, i: [f32; 2]) -> [f32; 2] {
+    let (p, q) = (a * i[0], a * i[1]);
+    [min(p, q), max(p, q)]
+}
+
 impl Whole {
     /// Every lane in, every lane out, or undecided.
     #[inline(always)]
@@ -500,8 +540,17 @@ impl Whole {
         let (mut enter, mut leave) = (self.lo, self.hi);
         let mut major = [f32::NEG_INFINITY, f32::INFINITY];
         for k in 0..3 {
-            let t0 = product_range(node.min[k], self.oa[k], self.imin[k]);
-            let t1 = product_range(node.max[k], self.ob[k], self.imax[k]);
+            let (t0, t1) = if self.shared {
+                (
+                    scaled_range(node.min[k] - self.oa[k][0], self.imin[k]),
+                    scaled_range(node.max[k] - self.ob[k][0], self.imax[k]),
+                )
+            } else {
+                (
+                    product_range(node.min[k], self.oa[k], self.imin[k]),
+                    product_range(node.max[k], self.ob[k], self.imax[k]),
+                )
+            };
             // `usable` means one sign per axis: a positive direction enters at the minimum.
             let (near, far) = if self.imin[k][0] > 0.0 {
                 (t0, t1)
@@ -567,6 +616,7 @@ impl Packet {
                 lo: [0.0; 2],
                 hi: [0.0; 2],
                 major: None,
+                shared: false,
                 bound_min: f32::INFINITY,
                 bound_max: f32::INFINITY,
             },
@@ -591,6 +641,7 @@ impl Packet {
             lo: empty,
             hi: empty,
             major: None,
+            shared: false,
             bound_min: f32::INFINITY,
             bound_max: f32::INFINITY,
         };
@@ -725,25 +776,6 @@ impl Packet {
             let (c, j) = (l / CHUNK, l % CHUNK);
             (p.lo[c][j], p.hi[c][j]) = (whole_lo[c][j], whole_hi[c][j]);
         }
-        // Bounds over the lanes, lane-innermost.
-        let range = |v: &[V; NCHUNK]| {
-            let (mut a, mut b) = (v[0], v[0]);
-            for c in 1..NCHUNK {
-                for j in 0..CHUNK {
-                    a[j] = min(a[j], v[c][j]);
-                    b[j] = max(b[j], v[c][j]);
-                }
-            }
-            [a.into_iter().fold(a[0], min), b.into_iter().fold(b[0], max)]
-        };
-        let largest = |v: &[f64; LANES]| {
-            let mut a = [0.0f64; 4];
-            for l in 0..LANES {
-                let x = v[l].abs();
-                a[l % 4] = if x > a[l % 4] { x } else { a[l % 4] };
-            }
-            a.into_iter().fold(0.0, |m, x| if x > m { x } else { m })
-        };
         let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
         let mut mean = [0.0f64; 3];
         let mut shared = true;
@@ -791,6 +823,7 @@ impl Packet {
         let w = &mut p.whole;
         w.usable = p.sign.iter().all(|s| *s != Sign::Mixed);
         w.major = p.major;
+        w.shared = p.shared;
         w.bound_min = f32::INFINITY;
         w.bound_max = f32::INFINITY;
         if valid != LANES_MASK {
