@@ -663,6 +663,8 @@ impl Packet {
         let mut lo = [0.0f64; LANES];
         let mut hi = [0.0f64; LANES];
         let mut staged: Mask = 0;
+        // Whether every staged lane has the first one's origin (bit for bit).
+        let (mut shared, mut origin0) = (true, [0u64; 3]);
         let mut majors = [false; 3];
         for (l, (ray, range)) in rays.iter().zip(ranges).enumerate() {
             p.frames[l] = None;
@@ -672,6 +674,10 @@ impl Packet {
             if !(covered && ray.origin.is_finite() && ray.dir.is_finite()) {
                 continue;
             }
+            if staged == 0 {
+                origin0 = ray.origin.to_array().map(f64::to_bits);
+            }
+            shared &= ray.origin.to_array().map(f64::to_bits) == origin0;
             staged |= 1 << l;
             let rel = ray.origin - bvh.centre;
             for k in 0..3 {
@@ -715,9 +721,9 @@ impl Packet {
                 }
             }
         }
-        // Moments `d × o` for the triangle pre-test.
+        // Moments `d × o` for the triangle pre-test (not needed with one origin).
         let mut m_max = [0.0f64; LANES];
-        for k in 0..3 {
+        for k in (0..3).filter(|_| !shared) {
             let (a, b) = ((k + 1) % 3, (k + 2) % 3);
             for c in 0..NCHUNK {
                 for j in 0..CHUNK {
@@ -778,17 +784,12 @@ impl Packet {
         }
         let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
         let mut mean = [0.0f64; 3];
-        let mut shared = true;
         for k in 0..3 {
             d_max = d_max.max(largest(&d[k]));
             r_max = r_max.max(largest(&o[k]));
-            let o0 = o[k][first].to_bits();
-            let mut differ = 0u64;
             for l in 0..LANES {
                 mean[k] += d[k][l];
-                differ |= o[k][l].to_bits() ^ o0;
             }
-            shared &= differ == 0;
             let w = &mut p.whole;
             w.oa[k] = range(&p.oa[k]);
             w.ob[k] = range(&p.ob[k]);
