@@ -3,7 +3,9 @@
 //!
 //! Rays go through in packets of [`LANES`] consecutive rays, traversing one BVH2 (the
 //! reference's topology) together with a shared stack whose entries carry the mask of lanes
-//! still in them. Everything that only *decides what to look at* is f32 and conservative;
+//! still in them. A box is first judged for the whole packet by interval bounds over its lanes
+//! (all in, all out), then, if undecided, lane by lane in chunks of 8 (chunks with no lane left
+//! skipped). Everything that only *decides what to look at* is f32 and conservative;
 //! everything that *answers* is the reference's f64 code:
 //!
 //! - Boxes are the reference's f64 boxes relative to the mesh's centre, rounded outward to f32.
@@ -17,6 +19,8 @@
 //!   the f64 watertight test's own; what survives (the real hits and rays within ~1e-7 of an
 //!   edge) is decided by [`crate::triangle::intersect`] itself, and a leaf's hit counts only when
 //!   the f64 slab reaches that leaf, as in the reference.
+//! - A camera's packet (one origin for every lane) subtracts the origin once per box plane, not
+//!   once per lane, and pre-tests triangles by `d·(n + o × e)` with the sum made once per packet.
 //! - Lanes the f32 bounds cannot cover (a direction component that is zero or below ~3e-39, a
 //!   range that starts below 0, non-finite values) are answered by the reference itself.
 
@@ -30,7 +34,7 @@ use fray_core::{Interval, Ray};
 use glam::DVec3;
 
 /// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
-/// (a 4×2 block in Morton order) should be consecutive.
+/// (an 8×8 block: 64 consecutive rays of a tile in Morton order) should be consecutive.
 pub const LANES: usize = 64;
 
 /// A set of lanes, one bit each.

@@ -180,6 +180,20 @@ fn rays_through_vertices_and_edges_match_the_reference() {
         let ranges = vec![ALL; rays.len()];
         let hits = check(bvh, &rays, &ranges);
         assert!(hits > rays.len() / 2, "{hits} of {}", rays.len());
+        // The same targets from one camera (the one-origin path), in packets.
+        for eye in [c + DVec3::new(0.2, 0.4, -1.1) * r, c] {
+            let rays: Vec<Ray> = m
+                .triangles
+                .iter()
+                .step_by(3)
+                .flat_map(|t| {
+                    let p = t.map(|v| m.positions[v as usize]);
+                    [p[0], (p[0] + p[1]) * 0.5, (p[1] + p[2]) * 0.5]
+                })
+                .filter_map(|target| Ray::new(eye, target - eye))
+                .collect();
+            check(bvh, &rays, &vec![ALL; rays.len()]);
+        }
     }
 }
 
@@ -380,6 +394,22 @@ proptest! {
     fn random_incoherent_rays_match_the_reference(seed in any::<u64>(), count in 1..3 * LANES) {
         for bvh in [bunny(), boeing(), far_bunny()] {
             let (rays, ranges) = random_rays(seed, count * 8, bvh.reference());
+            check(bvh, &rays, &ranges);
+        }
+    }
+
+    /// One origin per packet (a camera's packets take their own path), directions anywhere.
+    #[test]
+    fn random_rays_from_one_origin_match_the_reference(seed in any::<u64>(), count in 1..3 * LANES) {
+        for bvh in [bunny(), boeing(), far_bunny()] {
+            let (mut rays, ranges) = random_rays(seed, count * 4, bvh.reference());
+            let origin = rays[0].origin;
+            for (i, ray) in rays.iter_mut().enumerate() {
+                // Every packet but a few lanes of the last shares `origin`.
+                if i + 3 < count * 4 {
+                    ray.origin = origin;
+                }
+            }
             check(bvh, &rays, &ranges);
         }
     }
