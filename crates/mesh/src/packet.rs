@@ -37,6 +37,10 @@ use glam::DVec3;
 /// (an 8×8 block: 64 consecutive rays of a tile in Morton order) should be consecutive.
 pub const LANES: usize = 64;
 
+/// Fewer rays than this go to the reference one by one: setting a packet up costs more than
+/// it saves for them (the answers are the same either way).
+const MIN_PACKET: usize = 4;
+
 /// A set of lanes, one bit each.
 type Mask = u64;
 
@@ -305,6 +309,12 @@ impl PacketBvh {
         stack: &mut Vec<(u32, Mask)>,
         p: &mut Packet,
     ) {
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), hit) in rays.iter().zip(ranges).zip(hits) {
+                *hit = self.reference.nearest_hit(ray, *range);
+            }
+            return;
+        }
         p.load(self, rays, ranges);
         for (l, hit) in hits.iter_mut().enumerate() {
             *hit = None;
@@ -370,6 +380,12 @@ impl PacketBvh {
         stack: &mut Vec<(u32, Mask)>,
         p: &mut Packet,
     ) {
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), o) in rays.iter().zip(ranges).zip(out) {
+                *o = self.reference.any_hit(ray, *range);
+            }
+            return;
+        }
         p.load(self, rays, ranges);
         for (l, o) in out.iter_mut().enumerate() {
             *o = p.valid & (1 << l) == 0 && self.reference.any_hit(&rays[l], ranges[l]);
