@@ -27,7 +27,7 @@
 // Lane loops index several arrays by the lane (structure of arrays): that is what vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::bvh::{Slab, is_better, major_axis};
+use crate::bvh::{Slab, is_better};
 use crate::triangle::{RayFrame, intersect};
 use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
@@ -671,45 +671,68 @@ impl Packet {
         if bvh.nodes.is_empty() {
             return;
         }
-        // Staging in f64: origins relative to the centre, directions, ranges; lanes that are not
-        // valid get harmless values (they are masked out below). The previous packet's lanes
-        // past the new rays must not count.
-        for l in rays.len()..LANES {
+        // Staging in f64: origins relative to the centre, directions, ranges, copied as they
+        // are; lanes past the rays get values that fail the checks below.
+        let n = rays.len().min(LANES);
+        let mut o = [[0.0f64; LANES]; 3];
+        let mut d = [[1.0f64; LANES]; 3];
+        let mut lo = [f64::NAN; LANES];
+        let mut hi = [0.0f64; LANES];
+        for l in 0..LANES {
             p.frames[l] = None;
             p.slabs[l] = None;
         }
-        let mut o = [[0.0f64; LANES]; 3];
-        let mut d = [[1.0f64; LANES]; 3];
-        let mut lo = [0.0f64; LANES];
-        let mut hi = [0.0f64; LANES];
-        let mut staged: Mask = 0;
-        // Whether every staged lane has the first one's origin (bit for bit).
-        let (mut shared, mut origin0) = (true, [0u64; 3]);
-        let mut majors = [false; 3];
-        for (l, (ray, range)) in rays.iter().zip(ranges).enumerate() {
-            p.frames[l] = None;
-            p.slabs[l] = None;
-            // Negative starts would need the bounds' other sign cases; NaN fails too.
-            let covered = range.lo >= 0.0 && range.lo <= range.hi && range.lo.is_finite();
-            if !(covered && ray.origin.is_finite() && ray.dir.is_finite()) {
-                continue;
-            }
-            if staged == 0 {
-                origin0 = ray.origin.to_array().map(f64::to_bits);
-            }
-            shared &= ray.origin.to_array().map(f64::to_bits) == origin0;
-            staged |= 1 << l;
-            let rel = ray.origin - bvh.centre;
+        for l in 0..n {
+            let (ray, range) = (&rays[l], &ranges[l]);
+            let rel = (ray.origin - bvh.centre).to_array();
+            let dir = ray.dir.to_array();
             for k in 0..3 {
                 o[k][l] = rel[k];
-                d[k][l] = ray.dir[k];
+                d[k][l] = dir[k];
             }
             (lo[l], hi[l]) = (range.lo, range.hi);
-            let kz = major_axis(ray.dir);
-            majors[kz] = true;
-            p.kz[l] = kz as u8;
             p.rays[l] = *ray;
             p.ranges[l] = *range;
+        }
+        // Which lanes the bounds cover: finite origins and directions, a range from a finite
+        // `lo ≥ 0` (negative starts would need the bounds' other sign cases) to `hi ≥ lo`;
+        // NaN anywhere fails. And each lane's major axis, as `RayFrame::new` picks it.
+        let mut staged: Mask = 0;
+        let mut kz = [0u8; LANES];
+        for l in 0..LANES {
+            let mut z = 0.0f64;
+            for k in 0..3 {
+                z += o[k][l] * 0.0 + d[k][l] * 0.0;
+            }
+            let covered = lo[l] >= 0.0 && lo[l] <= hi[l] && lo[l] * 0.0 == 0.0 && z == 0.0;
+            staged |= Mask::from(covered) << l;
+            let (x, y, w) = (d[0][l].abs(), d[1][l].abs(), d[2][l].abs());
+            kz[l] = if x >= y && x >= w {
+                0
+            } else if y >= w {
+                1
+            } else {
+                2
+            };
+        }
+        p.kz = kz;
+        let mut majors = [false; 3];
+        // Whether every staged lane has the first one's origin (bit for bit).
+        let mut shared = staged != 0;
+        if shared {
+            let first = staged.trailing_zeros() as usize;
+            for k in 0..3 {
+                let o0 = o[k][first].to_bits();
+                let mut differ = 0u64;
+                for l in 0..LANES {
+                    let on = (staged >> l) & 1;
+                    differ |= (o[k][l].to_bits() ^ o0) * on;
+                }
+                shared &= differ == 0;
+            }
+            for l in (0..LANES).filter(|l| (staged >> l) & 1 != 0) {
+                majors[usize::from(kz[l])] = true;
+            }
         }
         // Per axis over all lanes: outward origins, inverse directions shrunk and grown (see
         // `KAPPA`), the f32 directions; `bad` turns NaN where an f32 value is not finite.
