@@ -267,6 +267,12 @@ impl PacketBvh {
             ranges.len(),
             hits.len()
         );
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), hit) in rays.iter().zip(ranges).zip(hits) {
+                *hit = self.reference.nearest_hit(ray, *range);
+            }
+            return;
+        }
         let mut stack = Vec::with_capacity(64);
         let mut packet = Packet::empty();
         for ((rays, ranges), hits) in rays
@@ -290,6 +296,12 @@ impl PacketBvh {
             ranges.len(),
             occluded.len()
         );
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), o) in rays.iter().zip(ranges).zip(occluded) {
+                *o = self.reference.any_hit(ray, *range);
+            }
+            return;
+        }
         let mut stack = Vec::with_capacity(64);
         let mut packet = Packet::empty();
         for ((rays, ranges), out) in rays
