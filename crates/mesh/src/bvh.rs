@@ -213,11 +213,21 @@ impl MeshBvh {
                 }
                 continue;
             }
-            for child in [node.first, node.first + 1] {
-                let c = &self.nodes[child as usize];
-                if slab.test(c.min, c.max).is_some() {
-                    stack.push(child);
+            // The nearer child first: a hit, if any, is found sooner.
+            let (left, right) = (node.first, node.first + 1);
+            let l = &self.nodes[left as usize];
+            let r = &self.nodes[right as usize];
+            match (slab.test(l.min, l.max), slab.test(r.min, r.max)) {
+                (Some((ea, _)), Some((eb, _))) => {
+                    if ea <= eb {
+                        stack.extend([right, left]);
+                    } else {
+                        stack.extend([left, right]);
+                    }
                 }
+                (Some(_), None) => stack.push(left),
+                (None, Some(_)) => stack.push(right),
+                (None, None) => {}
             }
         }
         false
@@ -291,20 +301,28 @@ impl Slab {
         let t0 = ((min - self.origin) * self.inv).to_array();
         let t1 = ((max - self.origin) * self.inv).to_array();
         let (mut enter, mut leave) = (self.lo, self.hi);
-        let mut bound = f64::NEG_INFINITY;
         for a in 0..3 {
+            let (x, y) = (t0[a], t1[a]);
             // NaN (0 · ∞: a ray parallel to the slab, in the plane of one of its faces) means
             // the ray is inside that (closed) slab all along: the axis does not constrain.
-            if t0[a].is_nan() || t1[a].is_nan() {
-                continue;
-            }
-            let (near, far) = (t0[a].min(t1[a]), t0[a].max(t1[a]));
-            enter = enter.max(near);
-            leave = leave.min(far * SLAB_WIDEN);
-            if a == self.kz && near > 0.0 {
-                bound = near * BOUND_SHRINK;
-            }
+            // Selects, not branches (`|`, not `||`).
+            let constrains = !(x.is_nan() | y.is_nan());
+            let (near, far) = if x < y { (x, y) } else { (y, x) };
+            enter = if constrains { enter.max(near) } else { enter };
+            leave = if constrains {
+                leave.min(far * SLAB_WIDEN)
+            } else {
+                leave
+            };
         }
+        // The major axis's direction component is not 0: no NaN there.
+        let (x, y) = (t0[self.kz], t1[self.kz]);
+        let near = if x < y { x } else { y };
+        let bound = if near > 0.0 {
+            near * BOUND_SHRINK
+        } else {
+            f64::NEG_INFINITY
+        };
         (enter <= leave).then_some((enter, bound))
     }
 }
