@@ -12,12 +12,12 @@ use glam::DVec3;
 /// A node: its f64 box; a leaf's triangles are `order[first..first + count]`, an inner node's
 /// children are nodes `first` and `first + 1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Node {
-    min: DVec3,
-    max: DVec3,
-    first: u32,
+pub(crate) struct Node {
+    pub(crate) min: DVec3,
+    pub(crate) max: DVec3,
+    pub(crate) first: u32,
     /// 0 for an inner node.
-    count: u32,
+    pub(crate) count: u32,
 }
 
 /// The nearest hit on a mesh.
@@ -111,99 +111,115 @@ impl MeshBvh {
     }
 
     /// The nearest hit of `ray` with `t` in `range` (open at both ends).
+    ///
+    /// What it returns is defined without reference to the traversal order, so that any other
+    /// traversal (the packet path, [`crate::PacketBvh`]) can return the same bits: among the
+    /// triangles of the leaves whose boxes the ray enters within `range` (the conservative slab
+    /// of Ize's slab), those that [`intersect`] hits over the whole of `range`, the one of
+    /// smallest `t`, and of those the smallest triangle index (two triangles through a shared
+    /// edge can meet the ray at the same `t`). Subtrees are skipped only when no triangle in
+    /// them can compute a `t` at or below the best so far, judged along the ray's major axis
+    /// alone: the computed `t` of a triangle is a convex combination of its corners' major-axis
+    /// distances, whereas a grazing ray's computed `t` may fall well before the box's entry on
+    /// another axis.
     pub fn nearest_hit(&self, ray: &Ray, range: Interval) -> Option<MeshHit> {
-        let mut best: Option<MeshHit> = None;
-        let mut hi = range.hi;
-        self.traverse(ray, range.lo, &mut hi, |frame, triangle, lo, hi| {
-            let hit = intersect(
-                frame,
-                self.mesh.corners(triangle as usize),
-                Interval::new(lo, *hi),
-            )?;
-            *hi = hit.t;
-            best = Some(MeshHit {
-                t: hit.t,
-                triangle,
-                barycentric: hit.barycentric,
-            });
-            Some(false)
-        });
-        best
-    }
-
-    /// Whether `ray` hits anything with `t` in `range` (open): the shadow-ray query, which stops
-    /// at the first hit it finds.
-    pub fn any_hit(&self, ray: &Ray, range: Interval) -> bool {
-        let mut hi = range.hi;
-        let mut found = false;
-        self.traverse(ray, range.lo, &mut hi, |frame, triangle, lo, hi| {
-            intersect(
-                frame,
-                self.mesh.corners(triangle as usize),
-                Interval::new(lo, *hi),
-            )?;
-            found = true;
-            Some(true)
-        });
-        found
-    }
-
-    /// Visits the triangles of the leaves whose boxes `ray` enters within `[lo, hi]`, nearer
-    /// child first; `visit` may shrink `hi` and returns `Some(true)` to stop.
-    fn traverse(
-        &self,
-        ray: &Ray,
-        lo: f64,
-        hi: &mut f64,
-        mut visit: impl FnMut(&RayFrame, u32, f64, &mut f64) -> Option<bool>,
-    ) {
         if self.nodes.is_empty()
-            || matches!(lo.partial_cmp(hi), None | Some(std::cmp::Ordering::Greater))
+            || matches!(
+                range.lo.partial_cmp(&range.hi),
+                None | Some(std::cmp::Ordering::Greater)
+            )
         {
-            return;
+            return None;
         }
         let frame = RayFrame::new(ray);
-        let inv = ray.dir.recip();
-        let slab = |n: &Node, hi: f64| -> Option<f64> {
-            let t0 = (n.min - ray.origin) * inv;
-            let t1 = (n.max - ray.origin) * inv;
-            // NaN (0 · ∞: a ray in a slab's plane) counts as inside that slab.
-            let near = t0.min(t1);
-            let far = t0.max(t1);
-            let (mut enter, mut leave) = (lo, hi);
-            for a in 0..3 {
-                if !near[a].is_nan() {
-                    enter = enter.max(near[a]);
-                }
-                if !far[a].is_nan() {
-                    leave = leave.min(far[a] * SLAB_WIDEN);
-                }
-            }
-            (enter <= leave).then_some(enter)
-        };
-        let mut stack: Vec<u32> = Vec::with_capacity(64);
-        if slab(&self.nodes[0], *hi).is_none() {
-            return;
+        let slab = Slab::new(ray, range);
+        let mut best: Option<MeshHit> = None;
+        let mut best_t = f64::INFINITY;
+        let mut stack: Vec<(u32, f64)> = Vec::with_capacity(64);
+        if let Some((_, bound)) = slab.test(self.nodes[0].min, self.nodes[0].max) {
+            stack.push((0, bound));
         }
-        stack.push(0);
-        while let Some(index) = stack.pop() {
+        while let Some((index, bound)) = stack.pop() {
+            if bound > best_t {
+                continue;
+            }
             let node = &self.nodes[index as usize];
             if node.count > 0 {
                 let (first, count) = (node.first as usize, node.count as usize);
                 for &triangle in &self.order[first..first + count] {
-                    if visit(&frame, triangle, lo, hi) == Some(true) {
-                        return;
+                    let Some(hit) = intersect(&frame, self.mesh.corners(triangle as usize), range)
+                    else {
+                        continue;
+                    };
+                    if is_better(hit.t, triangle, best_t, best.map(|b| b.triangle)) {
+                        best_t = hit.t;
+                        best = Some(MeshHit {
+                            t: hit.t,
+                            triangle,
+                            barycentric: hit.barycentric,
+                        });
                     }
                 }
                 continue;
             }
             let (left, right) = (node.first, node.first + 1);
-            let a = slab(&self.nodes[left as usize], *hi);
-            let b = slab(&self.nodes[right as usize], *hi);
+            let l = &self.nodes[left as usize];
+            let r = &self.nodes[right as usize];
+            let a = slab.test(l.min, l.max);
+            let b = slab.test(r.min, r.max);
             match (a, b) {
-                (Some(ta), Some(tb)) => {
+                (Some((ea, ba)), Some((eb, bb))) => {
                     // The nearer child is popped first.
-                    if ta <= tb {
+                    if ea <= eb {
+                        stack.extend([(right, bb), (left, ba)]);
+                    } else {
+                        stack.extend([(left, ba), (right, bb)]);
+                    }
+                }
+                (Some((_, ba)), None) => stack.push((left, ba)),
+                (None, Some((_, bb))) => stack.push((right, bb)),
+                (None, None) => {}
+            }
+        }
+        best
+    }
+
+    /// Whether `ray` hits anything with `t` in `range` (open): the shadow-ray query, which stops
+    /// at the first hit it finds. True exactly when the triangles [`MeshBvh::nearest_hit`]
+    /// chooses among are not none, whatever the order.
+    pub fn any_hit(&self, ray: &Ray, range: Interval) -> bool {
+        if self.nodes.is_empty()
+            || matches!(
+                range.lo.partial_cmp(&range.hi),
+                None | Some(std::cmp::Ordering::Greater)
+            )
+        {
+            return false;
+        }
+        let frame = RayFrame::new(ray);
+        let slab = Slab::new(ray, range);
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if slab.test(self.nodes[0].min, self.nodes[0].max).is_some() {
+            stack.push(0);
+        }
+        while let Some(index) = stack.pop() {
+            let node = &self.nodes[index as usize];
+            if node.count > 0 {
+                let (first, count) = (node.first as usize, node.count as usize);
+                if self.order[first..first + count].iter().any(|&triangle| {
+                    intersect(&frame, self.mesh.corners(triangle as usize), range).is_some()
+                }) {
+                    return true;
+                }
+                continue;
+            }
+            // The nearer child first: a hit, if any, is found sooner.
+            let (left, right) = (node.first, node.first + 1);
+            let l = &self.nodes[left as usize];
+            let r = &self.nodes[right as usize];
+            match (slab.test(l.min, l.max), slab.test(r.min, r.max)) {
+                (Some((ea, _)), Some((eb, _))) => {
+                    if ea <= eb {
                         stack.extend([right, left]);
                     } else {
                         stack.extend([left, right]);
@@ -214,6 +230,100 @@ impl MeshBvh {
                 (None, None) => {}
             }
         }
+        false
+    }
+
+    /// The nodes, for the packet path (which copies their topology).
+    pub(crate) fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The triangle indices in leaf order.
+    pub(crate) fn order(&self) -> &[u32] {
+        &self.order
+    }
+}
+
+/// Whether a hit at `t` on `triangle` beats the best so far (`best_t`, `best`): nearer, or as
+/// near with a smaller triangle index — the tie rule both traversals share.
+#[inline]
+pub(crate) fn is_better(t: f64, triangle: u32, best_t: f64, best: Option<u32>) -> bool {
+    t < best_t || (t == best_t && best.is_some_and(|b| triangle < b))
+}
+
+/// `1 − 2⁻⁵⁰`: a computed triangle `t` is at least `(1 − 6u)` times its corners' least
+/// major-axis distance (u = 2⁻⁵³: three products, two sums and a quotient of non-negative
+/// terms), and `fl(x · (1 − 2⁻⁵⁰)) ≤ x (1 − 6u)`.
+const BOUND_SHRINK: f64 = 1.0 - 1.0 / (1u64 << 50) as f64;
+
+/// The axis of `d`'s largest component, as [`RayFrame::new`] chooses it (ties to the first).
+#[inline]
+pub(crate) fn major_axis(d: DVec3) -> usize {
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    }
+}
+
+/// A ray's box test in f64 (Ize's conservative slab over a range), the one both traversals
+/// judge reachability by.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Slab {
+    pub(crate) origin: DVec3,
+    pub(crate) inv: DVec3,
+    /// The ray's major axis (the watertight test's `kz`).
+    pub(crate) kz: usize,
+    pub(crate) lo: f64,
+    pub(crate) hi: f64,
+}
+
+impl Slab {
+    pub(crate) fn new(ray: &Ray, range: Interval) -> Self {
+        Self {
+            origin: ray.origin,
+            inv: ray.dir.recip(),
+            kz: major_axis(ray.dir),
+            lo: range.lo,
+            hi: range.hi,
+        }
+    }
+
+    /// For a box the ray enters within the range: the entry (to order children by) and a lower
+    /// bound on the `t` that [`intersect`] computes for any triangle inside the box (from the
+    /// major axis alone; `−∞` when the box reaches behind the origin on that axis).
+    #[inline]
+    pub(crate) fn test(&self, min: DVec3, max: DVec3) -> Option<(f64, f64)> {
+        // Arrays, not `DVec3`'s `Index` (a `match` per access); the same products.
+        let t0 = ((min - self.origin) * self.inv).to_array();
+        let t1 = ((max - self.origin) * self.inv).to_array();
+        let (mut enter, mut leave) = (self.lo, self.hi);
+        for a in 0..3 {
+            let (x, y) = (t0[a], t1[a]);
+            // NaN (0 · ∞: a ray parallel to the slab, in the plane of one of its faces) means
+            // the ray is inside that (closed) slab all along: the axis does not constrain.
+            // Selects, not branches (`|`, not `||`).
+            let constrains = !(x.is_nan() | y.is_nan());
+            let (near, far) = if x < y { (x, y) } else { (y, x) };
+            enter = if constrains { enter.max(near) } else { enter };
+            leave = if constrains {
+                leave.min(far * SLAB_WIDEN)
+            } else {
+                leave
+            };
+        }
+        // The major axis's direction component is not 0: no NaN there.
+        let (x, y) = (t0[self.kz], t1[self.kz]);
+        let near = if x < y { x } else { y };
+        let bound = if near > 0.0 {
+            near * BOUND_SHRINK
+        } else {
+            f64::NEG_INFINITY
+        };
+        (enter <= leave).then_some((enter, bound))
     }
 
     /// The nodes in index order, read-only (for flattening the BVH: `gpu_layout`): node 0 is

@@ -6,11 +6,14 @@
 //! **watertight** ray–triangle test (Woop, Benthin and Wald 2013: shear to the ray's frame, edge
 //! functions that agree on a shared edge, so rays through edges and vertices never leak) in f64;
 //! [`MeshBvh`], an `obvhs` BVH2 traversed here in f64 with a conservative slab test, for the
-//! nearest hit and any hit (shadow rays); [`Instance`], one mesh under several transforms;
-//! [`gpu_layout`], the meshes and instances flattened for the GPU twin (`gpu_struct!`s, f32
-//! boxes rounded outward around anchor-relative f32 triangles, the traversal's stack depth
-//! checked); [`texture`]: linear textures with mip chains (PNG, EXR), trilinear lookups from a
-//! pixel's footprint, projected mappings for surfaces without UVs, terrain colour ramps.
+//! nearest hit and any hit (shadow rays) — an order-independent answer, ties to the smallest
+//! triangle index; [`PacketBvh`], the same answers bit for bit for many rays at once (a
+//! renderer's tile: f32 packet traversal that only decides what the f64 code looks at);
+//! [`Instance`], one mesh under several transforms; [`gpu_layout`], the meshes and instances
+//! flattened for the GPU twin (`gpu_struct!`s, f32 boxes rounded outward around anchor-relative
+//! f32 triangles, the traversal's stack depth checked); [`texture`]: linear textures with mip
+//! chains (PNG, EXR), trilinear lookups from a pixel's footprint, projected mappings for surfaces
+//! without UVs, terrain colour ramps.
 //!
 //! ```
 //! use fray_core::{Interval, Ray};
@@ -37,6 +40,7 @@ pub mod gpu_layout;
 mod instance;
 mod mesh;
 mod obj;
+mod packet;
 pub mod texture;
 pub mod triangle;
 
@@ -46,3 +50,4 @@ pub use error::MeshError;
 pub use instance::Instance;
 pub use mesh::TriangleMesh;
 pub use texture::{Texture, TextureError};
+pub use packet::{LANES, PacketBvh};

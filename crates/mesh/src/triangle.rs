@@ -24,8 +24,9 @@ pub struct RayFrame {
 impl RayFrame {
     /// The frame of `ray` (any non-zero direction; `t` is in units of its length).
     pub fn new(ray: &Ray) -> Self {
-        let d = ray.dir;
-        let a = d.abs();
+        // Arrays, not `DVec3`'s `Index` (a `match` per access).
+        let d = ray.dir.to_array();
+        let a = ray.dir.abs();
         let kz = if a.x >= a.y && a.x >= a.z {
             0
         } else if a.y >= a.z {
@@ -60,7 +61,12 @@ pub struct TriangleHit {
 #[inline]
 pub fn intersect(frame: &RayFrame, [a, b, c]: [DVec3; 3], range: Interval) -> Option<TriangleHit> {
     let (kx, ky, kz, s) = (frame.kx, frame.ky, frame.kz, frame.shear);
-    let (a, b, c) = (a - frame.origin, b - frame.origin, c - frame.origin);
+    // Arrays, not `DVec3`'s `Index` (a `match` per access); the same subtractions.
+    let (a, b, c) = (
+        (a - frame.origin).to_array(),
+        (b - frame.origin).to_array(),
+        (c - frame.origin).to_array(),
+    );
     // Sheared 2D positions: per vertex, the same bits in every triangle that shares it.
     let (ax, ay) = (a[kx] - s.x * a[kz], a[ky] - s.y * a[kz]);
     let (bx, by) = (b[kx] - s.x * b[kz], b[ky] - s.y * b[kz]);

@@ -169,7 +169,8 @@ fn no_ray_leaks_out_of_the_closed_bunny() {
     );
 }
 
-/// The BVH's nearest hit is the brute force's over every triangle, and any-hit agrees.
+/// The BVH's nearest hit is the brute force's over every triangle (nearest, then the smallest
+/// triangle index), and any-hit agrees.
 #[test]
 fn the_bvh_finds_what_a_brute_force_finds() {
     let bvh = MeshBvh::build(load("boeing.obj"));
@@ -182,13 +183,15 @@ fn the_bvh_finds_what_a_brute_force_finds() {
         let toward = b.min + (b.max - b.min) * DVec3::new(rng.next(), rng.next(), rng.next());
         let ray = Ray::new(o, toward - o).unwrap();
         let frame = RayFrame::new(&ray);
-        let brute = (0..m.triangles.len())
-            .filter_map(|i| intersect(&frame, m.corners(i), ALL).map(|h| h.t))
-            .fold(f64::INFINITY, f64::min);
+        // The least (t, triangle index): the tie rule.
+        let best = (0..m.triangles.len())
+            .filter_map(|i| intersect(&frame, m.corners(i), ALL).map(|h| (h.t, i as u32)))
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let brute = best.map_or(f64::INFINITY, |b| b.0);
         let got = bvh.nearest_hit(&ray, ALL);
         match got {
             Some(h) => {
-                assert_eq!(h.t, brute);
+                assert_eq!((h.t, h.triangle), best.unwrap_or_default());
                 hits += 1;
             }
             None => assert!(brute.is_infinite(), "missed a hit at {brute}"),

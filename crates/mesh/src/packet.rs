@@ -1,0 +1,1095 @@
+//! Packet traversal of a [`MeshBvh`]: many rays at once (a renderer's tile), the same answers as
+//! [`MeshBvh::nearest_hit`] and [`MeshBvh::any_hit`] bit for bit, found faster.
+//!
+//! Rays go through in packets of [`LANES`] consecutive rays, traversing one BVH2 (the
+//! reference's topology) together with a shared stack whose entries carry the mask of lanes
+//! still in them. A box is first judged for the whole packet by interval bounds over its lanes
+//! (all in, all out), then, if undecided, lane by lane in chunks of 8 (chunks with no lane left
+//! skipped). Everything that only *decides what to look at* is f32 and conservative;
+//! everything that *answers* is the reference's f64 code:
+//!
+//! - Boxes are the reference's f64 boxes relative to the mesh's centre, rounded outward to f32.
+//!   Each lane's origin is rounded outward too (two copies, one per box side) and its inverse
+//!   direction shrunk toward zero for near planes and grown for far planes by more than every
+//!   f32 and f64 rounding in between, so a lane enters every box the f64 slab lets it enter.
+//!   The cull against the lane's best hit uses the major-axis entry alone, like the reference.
+//! - Triangles are pre-tested in f32 by Plücker coordinates relative to the mesh's centre
+//!   (`d·n + m·e` per edge, proportional to the watertight test's edge functions), rejected only
+//!   when two edges have opposite signs beyond an error bound that covers both f32 rounding and
+//!   the f64 watertight test's own; what survives (the real hits and rays within ~1e-7 of an
+//!   edge) is decided by [`crate::triangle::intersect`] itself, and a leaf's hit counts only when
+//!   the f64 slab reaches that leaf, as in the reference.
+//! - A camera's packet (one origin for every lane) subtracts the origin once per box plane, not
+//!   once per lane, and pre-tests triangles by `d·(n + o × e)` with the sum made once per packet.
+//! - Lanes the f32 bounds cannot cover (a direction component that is zero or below ~3e-39, a
+//!   range that starts below 0, non-finite values) are answered by the reference itself.
+
+// Lane loops index several arrays by the lane (structure of arrays): that is what vectorises.
+#![allow(clippy::needless_range_loop)]
+
+use crate::bvh::{Slab, is_better};
+use crate::triangle::{RayFrame, intersect};
+use crate::{MeshBvh, MeshHit, TriangleMesh};
+use fray_core::{Interval, Ray};
+use glam::DVec3;
+
+/// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
+/// (an 8×8 block: 64 consecutive rays of a tile in Morton order) should be consecutive.
+pub const LANES: usize = 64;
+
+/// Fewer rays than this go to the reference one by one: setting a packet up costs more than
+/// it saves for them (the answers are the same either way).
+const MIN_PACKET: usize = 4;
+
+/// A set of lanes, one bit each.
+type Mask = u64;
+
+/// Lanes tested together (one AVX register of f32, two SSE ones); chunks with no lane left in a
+/// packet's mask are skipped.
+const CHUNK: usize = 8;
+const CHUNK_MASK: Mask = (1 << CHUNK) - 1;
+const NCHUNK: usize = LANES / CHUNK;
+const LANES_MASK: Mask = if LANES == Mask::BITS as usize {
+    Mask::MAX
+} else {
+    (1 << LANES) - 1
+};
+/// One chunk's values of one quantity.
+type V = [f32; CHUNK];
+
+/// The f32 unit roundoff.
+const U32: f64 = f32::EPSILON as f64 * 0.5;
+/// An absolute slack above the spacing of subnormal f32s.
+const TINY: f64 = 1e-42;
+/// The f64 unit roundoff.
+const U64: f64 = f64::EPSILON * 0.5;
+/// How much a lane's inverse direction is shrunk (near planes) or grown (far planes): more than
+/// the f32 subtraction, product and rounding of the inverse (3 · 2⁻²⁴) plus the f64 slab's own
+/// rounding and its widening (`1 + 2γ₃`).
+const KAPPA: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// An f32 node: the f64 box rounded outward, relative to the mesh's centre.
+#[derive(Clone, Copy, Debug)]
+struct FNode {
+    min: [f32; 3],
+    max: [f32; 3],
+    first: u32,
+    count: u32,
+}
+
+/// A triangle's f32 Plücker data for the pre-test, edges in the watertight test's order
+/// (`u`: b→c, `v`: c→a, `w`: a→b): `n = Q × P`, `e = Q − P` relative to the mesh's centre, and
+/// their 1-norms for the error bound.
+#[derive(Clone, Copy, Debug)]
+struct FTri {
+    n: [[f32; 3]; 3],
+    e: [[f32; 3]; 3],
+    n1: [f32; 3],
+    e1: [f32; 3],
+}
+
+/// A [`MeshBvh`] with f32 copies of its boxes and triangle data for packet traversal; answers
+/// exactly what the reference answers (see the module's notes).
+#[derive(Clone, Debug)]
+pub struct PacketBvh {
+    reference: MeshBvh,
+    centre: DVec3,
+    /// The largest `|v − centre|∞` over the vertices (rounded up).
+    radius: f64,
+    nodes: Vec<FNode>,
+    /// The reference's f64 boxes, by node: a hit counts only in a leaf the f64 slab reaches.
+    boxes: Vec<[DVec3; 2]>,
+    /// By position in leaf order.
+    tris: Vec<FTri>,
+    corners: Vec<[DVec3; 3]>,
+    order: Vec<u32>,
+}
+
+/// The larger of two numbers that are never NaN here (one compare and select: `maxps`).
+#[inline(always)]
+fn max(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// The smaller of two numbers that are never NaN here.
+#[inline(always)]
+fn min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
+/// The bits of `b` (lane `j` → bit `j`): the bools as bytes, gathered by one multiplication
+/// (each byte's low bit lands in the top byte), which compiles to a compare, packs and a
+/// multiply instead of a shift and an or per lane.
+#[inline(always)]
+fn bitmask(b: [bool; CHUNK]) -> Mask {
+    let mut bytes = [0u8; 8];
+    for j in 0..CHUNK {
+        bytes[j] = u8::from(b[j]);
+    }
+    ((u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56) as Mask
+}
+
+/// 0 for a finite `x`, NaN for an infinite or NaN one (branch-free, so lane loops vectorise).
+#[inline(always)]
+fn zero_if_finite(x: f32) -> f32 {
+    x * 0.0
+}
+
+/// The least and largest of a lane array (lane-innermost: it vectorises).
+#[inline(always)]
+fn range(v: &[V; NCHUNK]) -> [f32; 2] {
+    let (mut a, mut b) = (v[0], v[0]);
+    for c in 1..NCHUNK {
+        for j in 0..CHUNK {
+            a[j] = min(a[j], v[c][j]);
+            b[j] = max(b[j], v[c][j]);
+        }
+    }
+    let (mut lo, mut hi) = (a[0], b[0]);
+    for j in 1..CHUNK {
+        lo = min(lo, a[j]);
+        hi = max(hi, b[j]);
+    }
+    [lo, hi]
+}
+
+/// The largest magnitude in a lane array of f64.
+#[inline(always)]
+fn largest(v: &[f64; LANES]) -> f64 {
+    let mut a = [0.0f64; CHUNK];
+    for c in 0..NCHUNK {
+        for j in 0..CHUNK {
+            let x = v[c * CHUNK + j].abs();
+            a[j] = if x > a[j] { x } else { a[j] };
+        }
+    }
+    a.into_iter().fold(0.0, |m, x| if x > m { x } else { m })
+}
+
+/// `x` rounded to an f32 no greater than it.
+fn down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x { f.next_down() } else { f }
+}
+
+/// `x` rounded to an f32 no less than it.
+fn up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x { f.next_up() } else { f }
+}
+
+fn f32s(v: DVec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// The 1-norm of `v`, rounded up to f32 with room for the f64 sums' rounding.
+fn norm1_up(v: DVec3) -> f32 {
+    up((v.x.abs() + v.y.abs() + v.z.abs()) * (1.0 + 8.0 * U64))
+}
+
+impl PacketBvh {
+    /// The packet data of `bvh`, which it keeps as its reference.
+    pub fn new(bvh: MeshBvh) -> Self {
+        let centre = if bvh.node_count() == 0 {
+            DVec3::ZERO
+        } else {
+            bvh.bounds().center()
+        };
+        let mesh: &TriangleMesh = bvh.mesh();
+        let radius = mesh
+            .positions
+            .iter()
+            .map(|p| (*p - centre).abs().max_element())
+            .fold(0.0, f64::max)
+            * (1.0 + 4.0 * U64);
+        // The f64 difference `p − centre` is within one rounding of the exact one: widen it by
+        // that before rounding outward.
+        let lower = |x: f64| down(x - x.abs() * (2.0 * U64));
+        let upper = |x: f64| up(x + x.abs() * (2.0 * U64));
+        let nodes = bvh
+            .nodes()
+            .iter()
+            .map(|n| {
+                let (lo, hi) = (n.min - centre, n.max - centre);
+                FNode {
+                    min: [lower(lo.x), lower(lo.y), lower(lo.z)],
+                    max: [upper(hi.x), upper(hi.y), upper(hi.z)],
+                    first: n.first,
+                    count: n.count,
+                }
+            })
+            .collect();
+        let boxes = bvh.nodes().iter().map(|n| [n.min, n.max]).collect();
+        let order = bvh.order().to_vec();
+        let corners: Vec<[DVec3; 3]> = order.iter().map(|&t| mesh.corners(t as usize)).collect();
+        let tris = corners
+            .iter()
+            .map(|c| {
+                let [a, b, c] = c.map(|p| p - centre);
+                let edges = [(c, b), (a, c), (b, a)];
+                let n = edges.map(|(q, p)| q.cross(p));
+                let e = edges.map(|(q, p)| q - p);
+                FTri {
+                    n: n.map(f32s),
+                    e: e.map(f32s),
+                    n1: n.map(norm1_up),
+                    e1: e.map(norm1_up),
+                }
+            })
+            .collect();
+        Self {
+            reference: bvh,
+            centre,
+            radius,
+            nodes,
+            boxes,
+            tris,
+            corners,
+            order,
+        }
+    }
+
+    /// The reference this answers like.
+    pub fn reference(&self) -> &MeshBvh {
+        &self.reference
+    }
+
+    /// `hits[i]` = [`MeshBvh::nearest_hit`]`(rays[i], ranges[i])`, bit for bit, for any rays;
+    /// fastest when consecutive rays are coherent (see [`LANES`]).
+    ///
+    /// # Panics
+    /// If the three slices differ in length.
+    pub fn nearest_hits(&self, rays: &[Ray], ranges: &[Interval], hits: &mut [Option<MeshHit>]) {
+        assert!(
+            rays.len() == ranges.len() && rays.len() == hits.len(),
+            "nearest_hits: {} rays, {} ranges, {} hits",
+            rays.len(),
+            ranges.len(),
+            hits.len()
+        );
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), hit) in rays.iter().zip(ranges).zip(hits) {
+                *hit = self.reference.nearest_hit(ray, *range);
+            }
+            return;
+        }
+        let mut stack = Vec::with_capacity(64);
+        let mut packet = Packet::empty();
+        for ((rays, ranges), hits) in rays
+            .chunks(LANES)
+            .zip(ranges.chunks(LANES))
+            .zip(hits.chunks_mut(LANES))
+        {
+            self.nearest_packet(rays, ranges, hits, &mut stack, &mut packet);
+        }
+    }
+
+    /// `occluded[i]` = [`MeshBvh::any_hit`]`(rays[i], ranges[i])` for any rays (shadow rays).
+    ///
+    /// # Panics
+    /// If the three slices differ in length.
+    pub fn any_hits(&self, rays: &[Ray], ranges: &[Interval], occluded: &mut [bool]) {
+        assert!(
+            rays.len() == ranges.len() && rays.len() == occluded.len(),
+            "any_hits: {} rays, {} ranges, {} results",
+            rays.len(),
+            ranges.len(),
+            occluded.len()
+        );
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), o) in rays.iter().zip(ranges).zip(occluded) {
+                *o = self.reference.any_hit(ray, *range);
+            }
+            return;
+        }
+        let mut stack = Vec::with_capacity(64);
+        let mut packet = Packet::empty();
+        for ((rays, ranges), out) in rays
+            .chunks(LANES)
+            .zip(ranges.chunks(LANES))
+            .zip(occluded.chunks_mut(LANES))
+        {
+            self.any_packet(rays, ranges, out, &mut stack, &mut packet);
+        }
+    }
+
+    fn nearest_packet(
+        &self,
+        rays: &[Ray],
+        ranges: &[Interval],
+        hits: &mut [Option<MeshHit>],
+        stack: &mut Vec<(u32, Mask)>,
+        p: &mut Packet,
+    ) {
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), hit) in rays.iter().zip(ranges).zip(hits) {
+                *hit = self.reference.nearest_hit(ray, *range);
+            }
+            return;
+        }
+        p.load(self, rays, ranges);
+        for (l, hit) in hits.iter_mut().enumerate() {
+            *hit = None;
+            if p.valid & (1 << l) == 0 {
+                *hit = self.reference.nearest_hit(&rays[l], ranges[l]);
+            }
+        }
+        if p.valid == 0 {
+            return;
+        }
+        let mut best_tri = [u32::MAX; LANES];
+        let mut best_t = [f64::INFINITY; LANES];
+        let mut bary = [[0.0; 3]; LANES];
+        stack.clear();
+        stack.push((0, p.valid));
+        while let Some((index, mask)) = stack.pop() {
+            let node = &self.nodes[index as usize];
+            let mask = p.enters(node, mask, true);
+            if mask == 0 {
+                continue;
+            }
+            if node.count == 0 {
+                self.push_children(p, node, mask, stack);
+                continue;
+            }
+            let (first, count) = (node.first as usize, node.count as usize);
+            for pos in first..first + count {
+                let mut candidates = p.may_hit(&self.tris[pos], mask);
+                while candidates != 0 {
+                    let l = candidates.trailing_zeros() as usize;
+                    candidates &= candidates - 1;
+                    let Some(h) = intersect(p.frame(l), self.corners[pos], ranges[l]) else {
+                        continue;
+                    };
+                    let triangle = self.order[pos];
+                    let best = (best_tri[l] != u32::MAX).then_some(best_tri[l]);
+                    if is_better(h.t, triangle, best_t[l], best) && p.reaches(l, &self.boxes, index)
+                    {
+                        best_t[l] = h.t;
+                        best_tri[l] = triangle;
+                        bary[l] = h.barycentric;
+                        p.set_best(l, h.t);
+                    }
+                }
+            }
+        }
+        for (l, hit) in hits.iter_mut().enumerate() {
+            if p.valid & (1 << l) != 0 && best_tri[l] != u32::MAX {
+                *hit = Some(MeshHit {
+                    t: best_t[l],
+                    triangle: best_tri[l],
+                    barycentric: bary[l],
+                });
+            }
+        }
+    }
+
+    fn any_packet(
+        &self,
+        rays: &[Ray],
+        ranges: &[Interval],
+        out: &mut [bool],
+        stack: &mut Vec<(u32, Mask)>,
+        p: &mut Packet,
+    ) {
+        if rays.len() < MIN_PACKET {
+            for ((ray, range), o) in rays.iter().zip(ranges).zip(out) {
+                *o = self.reference.any_hit(ray, *range);
+            }
+            return;
+        }
+        p.load(self, rays, ranges);
+        for (l, o) in out.iter_mut().enumerate() {
+            *o = p.valid & (1 << l) == 0 && self.reference.any_hit(&rays[l], ranges[l]);
+        }
+        let mut active = p.valid;
+        stack.clear();
+        if active != 0 {
+            stack.push((0, active));
+        }
+        while let Some((index, mask)) = stack.pop() {
+            let node = &self.nodes[index as usize];
+            let mask = mask & active;
+            if mask == 0 {
+                continue;
+            }
+            let mut mask = p.enters(node, mask, false);
+            if mask == 0 {
+                continue;
+            }
+            if node.count == 0 {
+                self.push_children(p, node, mask, stack);
+                continue;
+            }
+            let (first, count) = (node.first as usize, node.count as usize);
+            for pos in first..first + count {
+                let mut candidates = p.may_hit(&self.tris[pos], mask);
+                while candidates != 0 {
+                    let l = candidates.trailing_zeros() as usize;
+                    candidates &= candidates - 1;
+                    if intersect(p.frame(l), self.corners[pos], ranges[l]).is_some()
+                        && p.reaches(l, &self.boxes, index)
+                    {
+                        out[l] = true;
+                        mask &= !(1 << l);
+                        active &= !(1 << l);
+                    }
+                }
+                if mask == 0 {
+                    break;
+                }
+            }
+            if active == 0 {
+                return;
+            }
+        }
+    }
+
+    /// Pushes an inner node's children, the one nearer along the packet's mean direction last
+    /// (popped first).
+    #[inline]
+    fn push_children(&self, p: &Packet, node: &FNode, mask: Mask, stack: &mut Vec<(u32, Mask)>) {
+        let (a, b) = (node.first, node.first + 1);
+        let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
+        let mut s = 0.0;
+        for k in 0..3 {
+            s += (na.min[k] + na.max[k] - nb.min[k] - nb.max[k]) * p.mean_dir[k];
+        }
+        if s <= 0.0 {
+            stack.extend([(b, mask), (a, mask)]);
+        } else {
+            stack.extend([(a, mask), (b, mask)]);
+        }
+    }
+}
+
+/// Whether the valid lanes' directions share a sign on an axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Sign {
+    Positive,
+    Negative,
+    Mixed,
+}
+
+/// One packet's lanes in structure-of-arrays form for the f32 tests, with each lane's f64
+/// frame and slab for the exact ones.
+struct Packet {
+    /// Lanes the f32 tests cover (the others are answered by the reference).
+    valid: Mask,
+    /// Origins relative to the centre, rounded up (used with box minima) and down (maxima).
+    oa: [[V; NCHUNK]; 3],
+    ob: [[V; NCHUNK]; 3],
+    /// Inverse directions scaled for the minimum and the maximum planes (see [`KAPPA`]).
+    imin: [[V; NCHUNK]; 3],
+    imax: [[V; NCHUNK]; 3],
+    lo: [V; NCHUNK],
+    hi: [V; NCHUNK],
+    /// The best hit so far, rounded up, on the lane's major axis; `+∞` on the others and
+    /// before a hit.
+    bound: [[V; NCHUNK]; 3],
+    /// Directions and moments `d × o` (relative to the centre) for the triangle pre-test.
+    d: [[V; NCHUNK]; 3],
+    m: [[V; NCHUNK]; 3],
+    /// The pre-test's error bound is `alpha·|n|₁ + beta·|e|₁ + gamma` per edge.
+    alpha: f32,
+    beta: f32,
+    gamma: f32,
+    mean_dir: [f32; 3],
+    /// Per axis, whether every valid lane's direction is positive, negative, or neither.
+    sign: [Sign; 3],
+    /// The valid lanes' major axis when they share one.
+    major: Option<usize>,
+    /// Whether the valid lanes share one origin (a camera's packet): then `oa` and `ob` are
+    /// the same in every lane and the box test subtracts once per plane, not once per lane.
+    shared: bool,
+    /// The shared `oa` and `ob` per axis.
+    shared_o: [[f32; 2]; 3],
+    /// The shared origin relative to the centre (rounded to nearest), and the pre-test's
+    /// `|e|₁` coefficient that goes with it.
+    shared_origin: [f32; 3],
+    shared_beta: f32,
+    /// Each lane's f64 frame and slab, made when first needed (most lanes need them once at
+    /// most: a candidate, a new best hit).
+    frames: [Option<RayFrame>; LANES],
+    slabs: [Option<Slab>; LANES],
+    rays: [Ray; LANES],
+    ranges: [Interval; LANES],
+    /// Each lane's major axis.
+    kz: [u8; LANES],
+    /// Interval bounds over the lanes, to decide a box for all of them at once.
+    whole: Whole,
+}
+
+/// The packet's lanes as intervals (Wald, Boulos and Shirley 2007's interval test): each
+/// lane's f32 values lie inside, and rounding is monotone, so a box the intervals' entry and
+/// exit bounds put outside (inside) every lane's f32 test is outside (inside) each of them.
+#[derive(Clone, Copy, Debug)]
+struct Whole {
+    /// Whether the bounds apply: every axis's directions share a sign and some lane is valid.
+    usable: bool,
+    /// Per axis, the lanes' range of `oa`, `ob`, `imin` and `imax` (lowest, highest).
+    oa: [[f32; 2]; 3],
+    ob: [[f32; 2]; 3],
+    imin: [[f32; 2]; 3],
+    imax: [[f32; 2]; 3],
+    lo: [f32; 2],
+    hi: [f32; 2],
+    /// The shared major axis (for the nearest hit's cull), when there is one.
+    major: Option<usize>,
+    /// Whether the lanes share one origin (`oa` and `ob` are then points).
+    shared: bool,
+    bound_min: f32,
+    bound_max: f32,
+}
+
+/// The range of `(x − o) · i` over `x − o ∈ [x − o_hi, x − o_lo]` and `i ∈ i`, as f32 computes
+/// it lane by lane (the extremes of a product over a box are at its corners).
+#[inline(always)]
+fn product_range(x: f32, o: [f32; 2], i: [f32; 2]) -> [f32; 2] {
+    let (a, b) = (x - o[1], x - o[0]);
+    let p = [a * i[0], a * i[1], b * i[0], b * i[1]];
+    [
+        min(min(p[0], p[1]), min(p[2], p[3])),
+        max(max(p[0], p[1]), max(p[2], p[3])),
+    ]
+}
+
+/// The range of `a · i` over `i ∈ i` (one origin: `a` is the same in every lane).
+#[inline(always)]
+fn scaled_range(a: f32, i: [f32; 2]) -> [f32; 2] {
+    let (p, q) = (a * i[0], a * i[1]);
+    [min(p, q), max(p, q)]
+}
+
+impl Whole {
+    /// Every lane in, every lane out, or undecided.
+    #[inline(always)]
+    fn decide(&self, node: &FNode, nearest: bool) -> Option<bool> {
+        if !self.usable {
+            return None;
+        }
+        // Entry and exit bounds: `[lowest, highest]` over the lanes.
+        let (mut enter, mut leave) = (self.lo, self.hi);
+        let mut major = [f32::NEG_INFINITY, f32::INFINITY];
+        for k in 0..3 {
+            let (t0, t1) = if self.shared {
+                (
+                    scaled_range(node.min[k] - self.oa[k][0], self.imin[k]),
+                    scaled_range(node.max[k] - self.ob[k][0], self.imax[k]),
+                )
+            } else {
+                (
+                    product_range(node.min[k], self.oa[k], self.imin[k]),
+                    product_range(node.max[k], self.ob[k], self.imax[k]),
+                )
+            };
+            // `usable` means one sign per axis: a positive direction enters at the minimum.
+            let (near, far) = if self.imin[k][0] > 0.0 {
+                (t0, t1)
+            } else {
+                (t1, t0)
+            };
+            enter = [max(enter[0], near[0]), max(enter[1], near[1])];
+            leave = [min(leave[0], far[0]), min(leave[1], far[1])];
+            if self.major == Some(k) {
+                major = near;
+            }
+        }
+        let tiny = f32::MIN_POSITIVE;
+        if enter[0] > leave[1] + tiny || (nearest && major[0] > self.bound_max) {
+            return Some(false);
+        }
+        let major_in = !nearest || (self.major.is_some() && major[1] <= self.bound_min);
+        (enter[1] <= leave[0] + tiny && major_in).then_some(true)
+    }
+}
+
+impl Packet {
+    /// A packet with no valid lane, to [`Packet::load`] into (it is large: one per call, not
+    /// one per packet).
+    fn empty() -> Self {
+        let unit = Ray {
+            origin: DVec3::ZERO,
+            dir: DVec3::Z,
+        };
+        Packet {
+            valid: 0,
+            oa: [[[0.0; CHUNK]; NCHUNK]; 3],
+            ob: [[[0.0; CHUNK]; NCHUNK]; 3],
+            imin: [[[0.0; CHUNK]; NCHUNK]; 3],
+            imax: [[[0.0; CHUNK]; NCHUNK]; 3],
+            // A lane that is not valid never enters a box.
+            lo: [[f32::INFINITY; CHUNK]; NCHUNK],
+            hi: [[f32::NEG_INFINITY; CHUNK]; NCHUNK],
+            bound: [[[f32::INFINITY; CHUNK]; NCHUNK]; 3],
+            d: [[[0.0; CHUNK]; NCHUNK]; 3],
+            m: [[[0.0; CHUNK]; NCHUNK]; 3],
+            alpha: 0.0,
+            beta: 0.0,
+            gamma: 0.0,
+            mean_dir: [0.0; 3],
+            sign: [Sign::Mixed; 3],
+            major: None,
+            shared: false,
+            shared_o: [[0.0; 2]; 3],
+            shared_origin: [0.0; 3],
+            shared_beta: 0.0,
+            frames: [None; LANES],
+            slabs: [None; LANES],
+            rays: [unit; LANES],
+            ranges: [Interval::new(0.0, 0.0); LANES],
+            kz: [0; LANES],
+            whole: Whole {
+                usable: false,
+                oa: [[0.0; 2]; 3],
+                ob: [[0.0; 2]; 3],
+                imin: [[0.0; 2]; 3],
+                imax: [[0.0; 2]; 3],
+                lo: [0.0; 2],
+                hi: [0.0; 2],
+                major: None,
+                shared: false,
+                bound_min: f32::INFINITY,
+                bound_max: f32::INFINITY,
+            },
+        }
+    }
+
+    /// Sets the lanes to `rays` over `ranges` (at most [`LANES`]): a scalar pass that checks
+    /// and stages each ray in f64, then passes over all lanes at once (they vectorise), then
+    /// the bounds over the valid lanes.
+    fn load(&mut self, bvh: &PacketBvh, rays: &[Ray], ranges: &[Interval]) {
+        let p = self;
+        let empty = [f32::INFINITY, f32::NEG_INFINITY];
+        p.valid = 0;
+        p.major = None;
+        p.shared = false;
+        p.whole = Whole {
+            usable: false,
+            oa: [empty; 3],
+            ob: [empty; 3],
+            imin: [empty; 3],
+            imax: [empty; 3],
+            lo: empty,
+            hi: empty,
+            major: None,
+            shared: false,
+            bound_min: f32::INFINITY,
+            bound_max: f32::INFINITY,
+        };
+        p.lo = [[f32::INFINITY; CHUNK]; NCHUNK];
+        p.hi = [[f32::NEG_INFINITY; CHUNK]; NCHUNK];
+        p.bound = [[[f32::INFINITY; CHUNK]; NCHUNK]; 3];
+        if bvh.nodes.is_empty() {
+            return;
+        }
+        // Staging in f64: origins relative to the centre, directions, ranges, copied as they
+        // are; lanes past the rays get values that fail the checks below.
+        let n = rays.len().min(LANES);
+        let mut o = [[0.0f64; LANES]; 3];
+        let mut d = [[1.0f64; LANES]; 3];
+        let mut lo = [f64::NAN; LANES];
+        let mut hi = [0.0f64; LANES];
+        for l in 0..LANES {
+            p.frames[l] = None;
+            p.slabs[l] = None;
+        }
+        for l in 0..n {
+            let (ray, range) = (&rays[l], &ranges[l]);
+            let rel = (ray.origin - bvh.centre).to_array();
+            let dir = ray.dir.to_array();
+            for k in 0..3 {
+                o[k][l] = rel[k];
+                d[k][l] = dir[k];
+            }
+            (lo[l], hi[l]) = (range.lo, range.hi);
+            p.rays[l] = *ray;
+            p.ranges[l] = *range;
+        }
+        // Which lanes the bounds cover: finite origins and directions, a range from a finite
+        // `lo ≥ 0` (negative starts would need the bounds' other sign cases) to `hi ≥ lo`;
+        // NaN anywhere fails. And each lane's major axis, as `RayFrame::new` picks it.
+        let mut staged: Mask = 0;
+        let mut kz = [0u8; LANES];
+        for l in 0..LANES {
+            let mut z = 0.0f64;
+            for k in 0..3 {
+                z += o[k][l] * 0.0 + d[k][l] * 0.0;
+            }
+            let covered = lo[l] >= 0.0 && lo[l] <= hi[l] && lo[l] * 0.0 == 0.0 && z == 0.0;
+            staged |= Mask::from(covered) << l;
+            let (x, y, w) = (d[0][l].abs(), d[1][l].abs(), d[2][l].abs());
+            kz[l] = if x >= y && x >= w {
+                0
+            } else if y >= w {
+                1
+            } else {
+                2
+            };
+        }
+        p.kz = kz;
+        let mut majors = [false; 3];
+        // Whether every staged lane has the first one's origin (bit for bit).
+        let mut shared = staged != 0;
+        if shared {
+            let first = staged.trailing_zeros() as usize;
+            for k in 0..3 {
+                let o0 = o[k][first].to_bits();
+                let mut differ = 0u64;
+                for l in 0..LANES {
+                    let on = (staged >> l) & 1;
+                    differ |= (o[k][l].to_bits() ^ o0) * on;
+                }
+                shared &= differ == 0;
+            }
+            for l in (0..LANES).filter(|l| (staged >> l) & 1 != 0) {
+                majors[usize::from(kz[l])] = true;
+            }
+        }
+        // Per axis over all lanes: outward origins, inverse directions shrunk and grown (see
+        // `KAPPA`), the f32 directions; `bad` turns NaN where an f32 value is not finite.
+        let mut bad = [[0.0f32; CHUNK]; NCHUNK];
+        for k in 0..3 {
+            for c in 0..NCHUNK {
+                for j in 0..CHUNK {
+                    let l = c * CHUNK + j;
+                    // `o − centre` is within one f64 rounding of the exact difference; one f32
+                    // rounding to nearest is within 2⁻²⁴ of what it rounds (and `TINY` covers
+                    // subnormal spacing).
+                    let ok = o[k][l];
+                    let slack = ok.abs() * (2.0 * U64 + 2.0 * U32) + TINY;
+                    let oa = (ok + slack) as f32;
+                    let ob = (ok - slack) as f32;
+                    let inv = 1.0 / d[k][l];
+                    let shrunk = (inv * (1.0 - KAPPA - 2.0 * U32)) as f32;
+                    let grown = (inv * (1.0 + KAPPA + 2.0 * U32)) as f32;
+                    // A positive component meets the minimum plane first, a negative one the
+                    // maximum.
+                    let positive = inv > 0.0;
+                    p.imin[k][c][j] = if positive { shrunk } else { grown };
+                    p.imax[k][c][j] = if positive { grown } else { shrunk };
+                    // An infinite inverse (a zero component) rounds to an infinite `grown`.
+                    bad[c][j] += zero_if_finite(oa) + zero_if_finite(ob) + zero_if_finite(grown);
+                    p.oa[k][c][j] = oa;
+                    p.ob[k][c][j] = ob;
+                    p.d[k][c][j] = d[k][l] as f32;
+                }
+            }
+        }
+        // Moments `d × o` for the triangle pre-test (not needed with one origin).
+        let mut m_max = [0.0f64; LANES];
+        for k in (0..3).filter(|_| !shared) {
+            let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+            for c in 0..NCHUNK {
+                for j in 0..CHUNK {
+                    let l = c * CHUNK + j;
+                    let m = d[a][l] * o[b][l] - d[b][l] * o[a][l];
+                    let m32 = m as f32;
+                    bad[c][j] += zero_if_finite(m32);
+                    p.m[k][c][j] = m32;
+                    m_max[l] = if m.abs() > m_max[l] {
+                        m.abs()
+                    } else {
+                        m_max[l]
+                    };
+                }
+            }
+        }
+        let mut valid = staged;
+        for l in 0..LANES {
+            if bad[l / CHUNK][l % CHUNK] != 0.0 {
+                valid &= !(1 << l);
+            }
+        }
+        p.valid = valid;
+        if valid == 0 {
+            return;
+        }
+        let is_valid = |l: usize| valid & (1 << l) != 0;
+        let first = valid.trailing_zeros() as usize;
+        let (c0, j0) = (first / CHUNK, first % CHUNK);
+        // Lanes that are not valid take the first valid lane's values, so that bounds over all
+        // lanes are bounds over the valid ones (their `lo`/`hi` keep them out of every box).
+        for l in (0..LANES).filter(|&l| !is_valid(l)) {
+            let (c, j) = (l / CHUNK, l % CHUNK);
+            for k in 0..3 {
+                p.oa[k][c][j] = p.oa[k][c0][j0];
+                p.ob[k][c][j] = p.ob[k][c0][j0];
+                p.imin[k][c][j] = p.imin[k][c0][j0];
+                p.imax[k][c][j] = p.imax[k][c0][j0];
+                p.d[k][c][j] = p.d[k][c0][j0];
+                p.m[k][c][j] = p.m[k][c0][j0];
+                o[k][l] = o[k][first];
+                d[k][l] = d[k][first];
+            }
+            m_max[l] = m_max[first];
+            (lo[l], hi[l]) = (lo[first], hi[first]);
+        }
+        let (mut whole_lo, mut whole_hi) = ([[0.0; CHUNK]; NCHUNK], [[0.0; CHUNK]; NCHUNK]);
+        for c in 0..NCHUNK {
+            for j in 0..CHUNK {
+                let l = c * CHUNK + j;
+                whole_lo[c][j] = (lo[l] * (1.0 - 2.0 * U32) - TINY) as f32;
+                whole_hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
+            }
+        }
+        for l in (0..LANES).filter(|&l| is_valid(l)) {
+            let (c, j) = (l / CHUNK, l % CHUNK);
+            (p.lo[c][j], p.hi[c][j]) = (whole_lo[c][j], whole_hi[c][j]);
+        }
+        let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
+        let mut mean = [0.0f64; 3];
+        for k in 0..3 {
+            d_max = d_max.max(largest(&d[k]));
+            r_max = r_max.max(largest(&o[k]));
+            for l in 0..LANES {
+                mean[k] += d[k][l];
+            }
+            let w = &mut p.whole;
+            w.oa[k] = range(&p.oa[k]);
+            w.ob[k] = range(&p.ob[k]);
+            w.imin[k] = range(&p.imin[k]);
+            w.imax[k] = range(&p.imax[k]);
+            // `imin` is positive exactly for a positive direction.
+            p.sign[k] = match (w.imin[k][0] > 0.0, w.imin[k][1] < 0.0) {
+                (true, _) => Sign::Positive,
+                (_, true) => Sign::Negative,
+                _ => Sign::Mixed,
+            };
+        }
+        let mm_max = largest(&m_max);
+        p.whole.lo = range(&whole_lo);
+        p.whole.hi = range(&whole_hi);
+        p.shared = shared;
+        let (c, j) = (first / CHUNK, first % CHUNK);
+        p.shared_o = std::array::from_fn(|k| [p.oa[k][c][j], p.ob[k][c][j]]);
+        if majors.iter().filter(|m| **m).count() == 1 {
+            p.major = majors.iter().position(|m| *m);
+        }
+        // f32 pre-test error (the inputs' rounding to f32, the two dot products and their sum:
+        // under 7·2⁻²⁴ of |d|∞|n|₁ + |m|∞|e|₁) and the f64 watertight test's own error with the
+        // rounding of the mesh-centred f64 inputs (under 256·2⁻⁵³·(R + r)²|d|∞).
+        p.alpha = up(8.0 * U32 * d_max);
+        p.beta = up(8.0 * U32 * mm_max * (1.0 + 8.0 * U64));
+        p.shared_origin = std::array::from_fn(|k| o[k][first] as f32);
+        p.shared_beta = up(24.0 * U32 * d_max * r_max * (1.0 + 8.0 * U64));
+        let reach = (bvh.radius + r_max) * (1.0 + 8.0 * U64);
+        p.gamma = up(256.0 * U64 * reach * reach * d_max);
+        p.mean_dir = mean.map(|x| x as f32);
+        let w = &mut p.whole;
+        w.usable = p.sign.iter().all(|s| *s != Sign::Mixed);
+        w.major = p.major;
+        w.shared = p.shared;
+        w.bound_min = f32::INFINITY;
+        w.bound_max = f32::INFINITY;
+        if valid != LANES_MASK {
+            // See `set_best`: lanes that are not valid do not hold the largest bound up.
+            for k in 0..3 {
+                for l in (0..LANES).filter(|&l| !is_valid(l)) {
+                    p.bound[k][l / CHUNK][l % CHUNK] = f32::NEG_INFINITY;
+                }
+            }
+        }
+    }
+
+    /// Which of the lanes in `mask` enter `node`'s f32 box within their range (and, for the
+    /// nearest hit, whose major-axis entry is not past their best hit): every lane the f64
+    /// slab lets in. Lanes go [`CHUNK`] at a time, lane-innermost so that each chunk compiles
+    /// to vector code, and chunks with no lane in `mask` are skipped.
+    #[inline(always)]
+    fn enters(&self, node: &FNode, mask: Mask, nearest: bool) -> Mask {
+        match self.whole.decide(node, nearest) {
+            Some(true) => return mask,
+            Some(false) => return 0,
+            None => {}
+        }
+        let mut bits: Mask = 0;
+        for c in 0..LANES / CHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                bits |= self.enters_chunk(node, c, nearest) << base;
+            }
+        }
+        bits & mask
+    }
+
+    #[inline(always)]
+    fn enters_chunk(&self, node: &FNode, c: usize, nearest: bool) -> Mask {
+        let mut enter = self.lo[c];
+        let mut leave = self.hi[c];
+        // `near − bound` on the major axis: positive when the entry is past the best hit.
+        let mut excess = [f32::NEG_INFINITY; CHUNK];
+        for k in 0..3 {
+            let (lo, hi) = (node.min[k], node.max[k]);
+            let (oa, ob) = (&self.oa[k][c], &self.ob[k][c]);
+            let (ia, ib) = (&self.imin[k][c], &self.imax[k][c]);
+            let mut t0 = [0.0f32; CHUNK];
+            let mut t1 = [0.0f32; CHUNK];
+            if self.shared {
+                // The same subtraction as below, done once.
+                let (a, b) = (lo - self.shared_o[k][0], hi - self.shared_o[k][1]);
+                for j in 0..CHUNK {
+                    t0[j] = a * ia[j];
+                    t1[j] = b * ib[j];
+                }
+            } else {
+                for j in 0..CHUNK {
+                    t0[j] = (lo - oa[j]) * ia[j];
+                    t1[j] = (hi - ob[j]) * ib[j];
+                }
+            }
+            // On an axis where every lane's direction has one sign, the near plane is known
+            // up front.
+            let (near, far) = match self.sign[k] {
+                Sign::Positive => (t0, t1),
+                Sign::Negative => (t1, t0),
+                Sign::Mixed => {
+                    let mut near = [0.0f32; CHUNK];
+                    let mut far = [0.0f32; CHUNK];
+                    for j in 0..CHUNK {
+                        near[j] = min(t0[j], t1[j]);
+                        far[j] = max(t0[j], t1[j]);
+                    }
+                    (near, far)
+                }
+            };
+            for j in 0..CHUNK {
+                enter[j] = max(enter[j], near[j]);
+                leave[j] = min(leave[j], far[j]);
+            }
+            if nearest && self.major.is_none_or(|m| m == k) {
+                let bound = &self.bound[k][c];
+                for j in 0..CHUNK {
+                    excess[j] = max(excess[j], near[j] - bound[j]);
+                }
+            }
+        }
+        let mut inside = [false; CHUNK];
+        for j in 0..CHUNK {
+            // `MIN_POSITIVE`: an underflowed product may be off by a subnormal's spacing. A
+            // difference of two floats is ≤ 0 exactly when the first is not the larger.
+            let gap = max(enter[j] - (leave[j] + f32::MIN_POSITIVE), excess[j]);
+            inside[j] = gap <= 0.0;
+        }
+        bitmask(inside)
+    }
+
+    /// Which of the lanes in `mask` may hit `tri`: not those where two edge functions have
+    /// opposite signs beyond the error bound.
+    #[inline(always)]
+    fn may_hit(&self, tri: &FTri, mask: Mask) -> Mask {
+        if self.shared {
+            return self.may_hit_shared(tri, mask);
+        }
+        let bound: [f32; 3] =
+            std::array::from_fn(|k| self.alpha * tri.n1[k] + self.beta * tri.e1[k] + self.gamma);
+        let mut bits: Mask = 0;
+        for c in 0..LANES / CHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                bits |= self.may_hit_chunk(tri, &bound, c) << base;
+            }
+        }
+        bits & mask
+    }
+
+    /// [`Packet::may_hit`] for lanes that share one origin `o`: `d·n + (d × o)·e` is
+    /// `d·(n + o × e)`, and `n + o × e` is computed once for the packet. In f32, with the
+    /// rounding of `o`, `n`, `e` and `d`, the cross product, the sum and the dot product, the
+    /// result is within 2⁻²⁴·(6|n|₁ + 20|o|∞|e|₁)·|d|∞ of `d·n + (d × o)·e`, which `alpha` and
+    /// `shared_beta` cover (8 and 24).
+    #[inline(always)]
+    fn may_hit_shared(&self, tri: &FTri, mask: Mask) -> Mask {
+        let o = self.shared_origin;
+        let normals: [[f32; 3]; 3] = std::array::from_fn(|k| {
+            let (n, e) = (tri.n[k], tri.e[k]);
+            [
+                n[0] + (o[1] * e[2] - o[2] * e[1]),
+                n[1] + (o[2] * e[0] - o[0] * e[2]),
+                n[2] + (o[0] * e[1] - o[1] * e[0]),
+            ]
+        });
+        let bound: [f32; 3] = std::array::from_fn(|k| {
+            self.alpha * tri.n1[k] + self.shared_beta * tri.e1[k] + self.gamma
+        });
+        let mut bits: Mask = 0;
+        for c in 0..LANES / CHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                let mut low = [f32::INFINITY; CHUNK];
+                let mut high = [f32::NEG_INFINITY; CHUNK];
+                let (d0, d1, d2) = (&self.d[0][c], &self.d[1][c], &self.d[2][c]);
+                for k in 0..3 {
+                    let (n, b) = (normals[k], bound[k]);
+                    for j in 0..CHUNK {
+                        let s = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
+                        low[j] = min(low[j], s + b);
+                        high[j] = max(high[j], s - b);
+                    }
+                }
+                let mut keep = [false; CHUNK];
+                for j in 0..CHUNK {
+                    keep[j] = !(low[j] < 0.0 && high[j] > 0.0);
+                }
+                bits |= bitmask(keep) << base;
+            }
+        }
+        bits & mask
+    }
+
+    #[inline(always)]
+    fn may_hit_chunk(&self, tri: &FTri, bound: &[f32; 3], c: usize) -> Mask {
+        // The least `s + bound` (negative: an edge certainly negative) and the largest
+        // `s − bound` (positive: one certainly positive).
+        let mut low = [f32::INFINITY; CHUNK];
+        let mut high = [f32::NEG_INFINITY; CHUNK];
+        let (d, m) = (&self.d, &self.m);
+        let (d0, d1, d2) = (&d[0][c], &d[1][c], &d[2][c]);
+        let (m0, m1, m2) = (&m[0][c], &m[1][c], &m[2][c]);
+        for k in 0..3 {
+            let (n, e, b) = (tri.n[k], tri.e[k], bound[k]);
+            for j in 0..CHUNK {
+                let dn = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
+                let me = m0[j] * e[0] + m1[j] * e[1] + m2[j] * e[2];
+                let s = dn + me;
+                low[j] = min(low[j], s + b);
+                high[j] = max(high[j], s - b);
+            }
+        }
+        let mut keep = [false; CHUNK];
+        for j in 0..CHUNK {
+            keep[j] = !(low[j] < 0.0 && high[j] > 0.0);
+        }
+        bitmask(keep)
+    }
+
+    /// Records lane `l`'s new best hit for the major-axis cull.
+    fn set_best(&mut self, l: usize, t: f64) {
+        let kz = usize::from(self.kz[l]);
+        self.bound[kz][l / CHUNK][l % CHUNK] = up(t);
+        if self.major == Some(kz) {
+            // Bounds only fall: the least is the last least or this one. Lanes that are not
+            // valid hold `−∞` here (they never enter a box anyway), so the row's largest is the
+            // valid lanes' largest.
+            self.whole.bound_min = min(self.whole.bound_min, up(t));
+            self.whole.bound_max = self.bound[kz]
+                .as_flattened()
+                .iter()
+                .fold(f32::NEG_INFINITY, |a, &b| max(a, b));
+        }
+    }
+
+    /// Whether the f64 slab of lane `l` reaches node `index` (a hit in its leaf counts).
+    fn reaches(&mut self, l: usize, boxes: &[[DVec3; 2]], index: u32) -> bool {
+        let [min, max] = boxes[index as usize];
+        let (ray, range) = (&self.rays[l], self.ranges[l]);
+        let slab = self.slabs[l].get_or_insert_with(|| Slab::new(ray, range));
+        slab.test(min, max).is_some()
+    }
+
+    /// Lane `l`'s watertight frame.
+    fn frame(&mut self, l: usize) -> &RayFrame {
+        let ray = &self.rays[l];
+        self.frames[l].get_or_insert_with(|| RayFrame::new(ray))
+    }
+}
