@@ -234,13 +234,49 @@ impl MeshBvh {
     }
 
     /// The nodes, for the packet path (which copies their topology).
-    pub(crate) fn nodes(&self) -> &[Node] {
+    pub(crate) fn raw_nodes(&self) -> &[Node] {
         &self.nodes
     }
 
     /// The triangle indices in leaf order.
     pub(crate) fn order(&self) -> &[u32] {
         &self.order
+    }
+
+    /// The nodes in index order, read-only (for flattening the BVH: `gpu_layout`): node 0 is
+    /// the root; an inner node's children are nodes `first` and `first + 1`, a leaf's
+    /// triangles `leaf_order()[first..first + count]`.
+    pub fn nodes(&self) -> impl ExactSizeIterator<Item = crate::BvhNode> + '_ {
+        self.nodes.iter().map(|n| crate::BvhNode {
+            min: n.min,
+            max: n.max,
+            first: n.first,
+            count: n.count,
+        })
+    }
+
+    /// The triangle indices in leaf order (what a leaf's `first..first + count` indexes).
+    pub fn leaf_order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// The number of edges on the longest root-to-leaf path: 0 for a single leaf (or no
+    /// nodes). A traversal that pushes both children of each inner node needs a stack of
+    /// `max_depth() + 1` entries.
+    pub fn max_depth(&self) -> u32 {
+        let mut deepest = 0;
+        let mut pending: Vec<(u32, u32)> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            pending.push((0, 0));
+        }
+        while let Some((index, depth)) = pending.pop() {
+            deepest = deepest.max(depth);
+            let node = &self.nodes[index as usize];
+            if node.count == 0 {
+                pending.extend([(node.first, depth + 1), (node.first + 1, depth + 1)]);
+            }
+        }
+        deepest
     }
 }
 
@@ -324,42 +360,6 @@ impl Slab {
             f64::NEG_INFINITY
         };
         (enter <= leave).then_some((enter, bound))
-    }
-
-    /// The nodes in index order, read-only (for flattening the BVH: `gpu_layout`): node 0 is
-    /// the root; an inner node's children are nodes `first` and `first + 1`, a leaf's
-    /// triangles `leaf_order()[first..first + count]`.
-    pub fn nodes(&self) -> impl ExactSizeIterator<Item = crate::BvhNode> + '_ {
-        self.nodes.iter().map(|n| crate::BvhNode {
-            min: n.min,
-            max: n.max,
-            first: n.first,
-            count: n.count,
-        })
-    }
-
-    /// The triangle indices in leaf order (what a leaf's `first..first + count` indexes).
-    pub fn leaf_order(&self) -> &[u32] {
-        &self.order
-    }
-
-    /// The number of edges on the longest root-to-leaf path: 0 for a single leaf (or no
-    /// nodes). A traversal that pushes both children of each inner node needs a stack of
-    /// `max_depth() + 1` entries.
-    pub fn max_depth(&self) -> u32 {
-        let mut deepest = 0;
-        let mut pending: Vec<(u32, u32)> = Vec::with_capacity(64);
-        if !self.nodes.is_empty() {
-            pending.push((0, 0));
-        }
-        while let Some((index, depth)) = pending.pop() {
-            deepest = deepest.max(depth);
-            let node = &self.nodes[index as usize];
-            if node.count == 0 {
-                pending.extend([(node.first, depth + 1), (node.first + 1, depth + 1)]);
-            }
-        }
-        deepest
     }
 }
 

@@ -207,7 +207,7 @@ impl PacketBvh {
         let lower = |x: f64| down(x - x.abs() * (2.0 * U64));
         let upper = |x: f64| up(x + x.abs() * (2.0 * U64));
         let nodes = bvh
-            .nodes()
+            .raw_nodes()
             .iter()
             .map(|n| {
                 let (lo, hi) = (n.min - centre, n.max - centre);
@@ -219,7 +219,7 @@ impl PacketBvh {
                 }
             })
             .collect();
-        let boxes = bvh.nodes().iter().map(|n| [n.min, n.max]).collect();
+        let boxes = bvh.raw_nodes().iter().map(|n| [n.min, n.max]).collect();
         let order = bvh.order().to_vec();
         let corners: Vec<[DVec3; 3]> = order.iter().map(|&t| mesh.corners(t as usize)).collect();
         let tris = corners
