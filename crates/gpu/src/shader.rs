@@ -484,6 +484,10 @@ pub fn prelude(sizes: &ArraySizes) -> String {
         ("KIND_FREE_FORM".to_owned(), PrimitiveKind::FreeForm.code()),
         ("KIND_TERRAIN".to_owned(), PrimitiveKind::Terrain.code()),
         ("TILE_THREADS".to_owned(), crate::work::TILE),
+        (
+            "MESH_TEXTURE_WIDTH".to_owned(),
+            crate::mesh_pass::MESH_TEXTURE_WIDTH,
+        ),
     ]);
     for (name, value) in [
         ("MAX_LEAVES", sizes.max_leaves),
@@ -930,6 +934,12 @@ mod tests {
             ("PROJECTOR_SPHERE", params::PROJECTOR_SPHERE),
             ("LIGHT_POINT", params::LIGHT_POINT),
             ("KIND_TERRAIN", PrimitiveKind::Terrain.code()),
+            ("MESH_TEXTURE_WIDTH", crate::mesh_pass::MESH_TEXTURE_WIDTH),
+            ("MESH_FLAG_SMOOTH", fray_mesh::gpu_layout::MESH_FLAG_SMOOTH),
+            (
+                "MESH_FLAG_MIRRORED",
+                fray_mesh::gpu_layout::MESH_FLAG_MIRRORED,
+            ),
             ("TILE_THREADS", crate::work::TILE),
             ("FOG_METHOD", fray_atmosphere::gpu_layout::FOG_METHOD),
             ("PHASE_PRINTED", fray_atmosphere::gpu_layout::PHASE_PRINTED),
