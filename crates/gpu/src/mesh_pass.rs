@@ -209,12 +209,20 @@ pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers,
     let w = u64::from(MESH_TEXTURE_WIDTH);
     let rows = total.div_ceil(w).max(1);
     let limit = u64::from(ctx.limits.max_texture_dimension_2d);
-    if w > limit || rows > limit {
-        return Err(GpuError::TooLarge {
-            what: "rows of the mesh texture (4096 texels of 16 bytes each)",
-            needed: rows.max(w),
-            limit,
-        });
+    for (what, needed) in [
+        ("texels per row of the mesh texture", w),
+        (
+            "rows of the mesh texture (4096 texels of 16 bytes each)",
+            rows,
+        ),
+    ] {
+        if needed > limit {
+            return Err(GpuError::TooLarge {
+                what,
+                needed,
+                limit,
+            });
+        }
     }
     let index = |v: u64| {
         u32::try_from(v).map_err(|_| GpuError::TooLarge {
@@ -400,6 +408,69 @@ mod tests {
         crate::shader::assert_validates_with_struct::<GpuMeshTriangle>(&source);
         crate::shader::assert_validates_with_struct::<GpuMeshVertex>(&source);
         crate::shader::assert_validates_with_struct::<GpuMeshInstance>(&source);
+    }
+
+    /// `load_mesh_*` (mesh.wgsl) read each element as its texels' words in field order: the
+    /// Rust structs lay their fields out so, one 4-byte word each, without padding.
+    #[test]
+    fn the_texture_loaders_word_order_is_the_structs() {
+        use std::mem::offset_of;
+        let words = |offsets: &[usize]| offsets.iter().map(|o| o / 4).collect::<Vec<_>>();
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshNode, min_x),
+                offset_of!(GpuMeshNode, min_y),
+                offset_of!(GpuMeshNode, min_z),
+                offset_of!(GpuMeshNode, first),
+                offset_of!(GpuMeshNode, max_x),
+                offset_of!(GpuMeshNode, max_y),
+                offset_of!(GpuMeshNode, max_z),
+                offset_of!(GpuMeshNode, count),
+            ]),
+            (0..8).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshTriangle, a),
+                offset_of!(GpuMeshTriangle, b),
+                offset_of!(GpuMeshTriangle, c),
+                offset_of!(GpuMeshTriangle, index),
+                offset_of!(GpuMeshTriangle, v0),
+                offset_of!(GpuMeshTriangle, v1),
+                offset_of!(GpuMeshTriangle, v2),
+            ]),
+            vec![0, 4, 8, 12, 13, 14, 15]
+        );
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshVertex, normal),
+                offset_of!(GpuMeshVertex, uv),
+                offset_of!(GpuMeshVertex, pad),
+            ]),
+            vec![0, 4, 6]
+        );
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshInstance, to_mesh_x),
+                offset_of!(GpuMeshInstance, to_mesh_y),
+                offset_of!(GpuMeshInstance, to_mesh_z),
+                offset_of!(GpuMeshInstance, root),
+                offset_of!(GpuMeshInstance, mesh),
+                offset_of!(GpuMeshInstance, material),
+                offset_of!(GpuMeshInstance, flags),
+            ]),
+            vec![0, 4, 8, 12, 13, 14, 15]
+        );
+        assert_eq!(
+            [
+                texels::<GpuMeshInstance>(),
+                texels::<GpuMeshNode>(),
+                texels::<GpuMeshTriangle>(),
+                texels::<GpuMeshVertex>()
+            ],
+            [4, 2, 4, 2],
+            "the strides mesh.wgsl's loaders use"
+        );
     }
 
     /// The stack-depth policy: a BVH deeper than the traversal's stack is refused, before
