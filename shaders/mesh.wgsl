@@ -3,8 +3,11 @@
 // triangles (leaf order, corners relative to the mesh's anchor) and vertex attributes
 // concatenated, one GpuMeshInstance block per placed mesh (its root node and the affine rows
 // from reference-relative world positions to anchor-relative mesh positions). No bindings of its
-// own: the module that includes it binds the meshes group (fray_gpu::bindings::MESHES:
-// `mesh_instances`, `mesh_nodes`, `mesh_triangles`, `mesh_vertices`).
+// own: the module that includes it binds the meshes group (fray_gpu::bindings::MESHES, or
+// TERRAINS_MESHES): `mesh_data`, one texture of 16-byte texels holding every array —
+// instances, then nodes, triangles and vertices, each element its struct's words in field order
+// (fray_gpu::mesh_pass::MeshBuffers) — and `mesh_info`, (instance count, first texel of the
+// nodes, of the triangles, of the vertices). The load_mesh_* functions read one element.
 //
 // - mesh_instance_nearest(k, origin, dir, lo, hi, &best): narrows `best` (a MeshHit, start from
 //   mesh_no_hit()) by instance k's triangles with t in the open range (lo, hi); ties on equal t
@@ -41,6 +44,65 @@ const MESH_SLAB_WIDEN: f32 = 4.76837158e-7;
 // A box entry meaning "missed".
 const MESH_MISS: f32 = 3.0e38;
 
+// Texel i of the mesh texture (MESH_TEXTURE_WIDTH per row).
+fn mesh_texel(i: u32) -> vec4<u32> {
+    return textureLoad(mesh_data, vec2<u32>(i % MESH_TEXTURE_WIDTH, i / MESH_TEXTURE_WIDTH), 0);
+}
+
+fn load_mesh_instance(k: u32) -> GpuMeshInstance {
+    let at = 4u * k;
+    let d = mesh_texel(at + 3u);
+    var m: GpuMeshInstance;
+    m.to_mesh_x = bitcast<vec4<f32>>(mesh_texel(at));
+    m.to_mesh_y = bitcast<vec4<f32>>(mesh_texel(at + 1u));
+    m.to_mesh_z = bitcast<vec4<f32>>(mesh_texel(at + 2u));
+    m.root = d.x;
+    m.mesh = d.y;
+    m.material = d.z;
+    m.flags = d.w;
+    return m;
+}
+
+fn load_mesh_node(i: u32) -> GpuMeshNode {
+    let at = mesh_info.y + 2u * i;
+    let a = mesh_texel(at);
+    let b = mesh_texel(at + 1u);
+    var n: GpuMeshNode;
+    n.min_x = bitcast<f32>(a.x);
+    n.min_y = bitcast<f32>(a.y);
+    n.min_z = bitcast<f32>(a.z);
+    n.first = a.w;
+    n.max_x = bitcast<f32>(b.x);
+    n.max_y = bitcast<f32>(b.y);
+    n.max_z = bitcast<f32>(b.z);
+    n.count = b.w;
+    return n;
+}
+
+fn load_mesh_triangle(slot: u32) -> GpuMeshTriangle {
+    let at = mesh_info.z + 4u * slot;
+    let d = mesh_texel(at + 3u);
+    var t: GpuMeshTriangle;
+    t.a = bitcast<vec4<f32>>(mesh_texel(at));
+    t.b = bitcast<vec4<f32>>(mesh_texel(at + 1u));
+    t.c = bitcast<vec4<f32>>(mesh_texel(at + 2u));
+    t.index = d.x;
+    t.v0 = d.y;
+    t.v1 = d.z;
+    t.v2 = d.w;
+    return t;
+}
+
+fn load_mesh_vertex(v: u32) -> GpuMeshVertex {
+    let at = mesh_info.w + 2u * v;
+    let b = bitcast<vec4<f32>>(mesh_texel(at + 1u));
+    var m: GpuMeshVertex;
+    m.normal = bitcast<vec4<f32>>(mesh_texel(at));
+    m.uv = b.xy;
+    m.pad = b.zw;
+    return m;
+}
+
 struct MeshHit {
     // Distance along the ray (in units of `dir`); −1 for a miss.
     t: f32,
@@ -48,7 +110,7 @@ struct MeshHit {
     instance: u32,
     // The mesh's own index of the triangle (fray_mesh::MeshHit::triangle).
     triangle: u32,
-    // Its slot in mesh_triangles (for mesh_surface).
+    // Its slot in the triangle array (for mesh_surface).
     slot: u32,
     // The barycentric weights of the triangle's corners a, b, c at the hit.
     barycentric: vec3<f32>,
@@ -186,7 +248,7 @@ fn mesh_better(t: f32, instance: u32, triangle: u32, best: MeshHit) -> bool {
 }
 
 fn mesh_instance_nearest(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi: f32, best: ptr<function, MeshHit>) {
-    let inst = mesh_instances[k];
+    let inst = load_mesh_instance(k);
     if inst.root == MESH_NO_NODE {
         return;
     }
@@ -198,7 +260,7 @@ fn mesh_instance_nearest(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi:
     if (*best).instance != MESH_NO_HIT {
         bound = min(hi, (*best).t);
     }
-    let root_t = mesh_box_entry(mesh_nodes[inst.root], r, lo, bound);
+    let root_t = mesh_box_entry(load_mesh_node(inst.root), r, lo, bound);
     if root_t == MESH_MISS {
         return;
     }
@@ -216,11 +278,11 @@ fn mesh_instance_nearest(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi:
         if stack_t[top] > bound + abs(bound) * MESH_SLAB_WIDEN {
             continue;
         }
-        let node = mesh_nodes[stack_node[top]];
+        let node = load_mesh_node(stack_node[top]);
         if node.count > 0u {
             for (var j = 0u; j < node.count; j++) {
                 let slot = node.first + j;
-                let tri = mesh_triangles[slot];
+                let tri = load_mesh_triangle(slot);
                 let h = mesh_triangle(r, tri, lo);
                 if h.x > lo && h.x < hi && mesh_better(h.x, k, tri.index, *best) {
                     (*best).t = h.x;
@@ -237,8 +299,8 @@ fn mesh_instance_nearest(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi:
         }
         let left = node.first;
         let right = node.first + 1u;
-        let tl = mesh_box_entry(mesh_nodes[left], r, lo, bound);
-        let tr = mesh_box_entry(mesh_nodes[right], r, lo, bound);
+        let tl = mesh_box_entry(load_mesh_node(left), r, lo, bound);
+        let tr = mesh_box_entry(load_mesh_node(right), r, lo, bound);
         // The nearer child is pushed last, so it is popped first. The stack never overflows:
         // the CPU refuses a BVH deeper than MESH_STACK − 1 (the guard only keeps indices in
         // bounds).
@@ -266,12 +328,12 @@ fn mesh_instance_nearest(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi:
 }
 
 fn mesh_instance_any(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi: f32) -> bool {
-    let inst = mesh_instances[k];
+    let inst = load_mesh_instance(k);
     if inst.root == MESH_NO_NODE {
         return false;
     }
     let r = mesh_ray(inst, origin, dir);
-    if !r.valid || mesh_box_entry(mesh_nodes[inst.root], r, lo, hi) == MESH_MISS {
+    if !r.valid || mesh_box_entry(load_mesh_node(inst.root), r, lo, hi) == MESH_MISS {
         return false;
     }
     var stack_node: array<u32, MESH_STACK>;
@@ -279,10 +341,10 @@ fn mesh_instance_any(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi: f32
     var top = 1u;
     while top > 0u {
         top -= 1u;
-        let node = mesh_nodes[stack_node[top]];
+        let node = load_mesh_node(stack_node[top]);
         if node.count > 0u {
             for (var j = 0u; j < node.count; j++) {
-                let h = mesh_triangle(r, mesh_triangles[node.first + j], lo);
+                let h = mesh_triangle(r, load_mesh_triangle(node.first + j), lo);
                 if h.x > lo && h.x < hi {
                     return true;
                 }
@@ -291,7 +353,7 @@ fn mesh_instance_any(k: u32, origin: vec3<f32>, dir: vec3<f32>, lo: f32, hi: f32
         }
         for (var c = 0u; c < 2u; c++) {
             let child = node.first + c;
-            if mesh_box_entry(mesh_nodes[child], r, lo, hi) != MESH_MISS && top < MESH_STACK {
+            if mesh_box_entry(load_mesh_node(child), r, lo, hi) != MESH_MISS && top < MESH_STACK {
                 stack_node[top] = child;
                 top += 1u;
             }
@@ -337,12 +399,12 @@ fn mesh_world_normal(inst: GpuMeshInstance, n: vec3<f32>) -> vec3<f32> {
 
 // The surface at `hit` (a hit, not a miss).
 fn mesh_surface(hit: MeshHit) -> MeshSurface {
-    let inst = mesh_instances[hit.instance];
-    let tri = mesh_triangles[hit.slot];
+    let inst = load_mesh_instance(hit.instance);
+    let tri = load_mesh_triangle(hit.slot);
     let g = cross(tri.b.xyz - tri.a.xyz, tri.c.xyz - tri.a.xyz);
-    let va = mesh_vertices[tri.v0];
-    let vb = mesh_vertices[tri.v1];
-    let vc = mesh_vertices[tri.v2];
+    let va = load_mesh_vertex(tri.v0);
+    let vb = load_mesh_vertex(tri.v1);
+    let vc = load_mesh_vertex(tri.v2);
     let w = hit.barycentric;
     var s: MeshSurface;
     s.normal = mesh_world_normal(inst, g);

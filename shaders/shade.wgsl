@@ -1,18 +1,22 @@
 // shade.wgsl — surfaces and shading: one invocation per ray of the band that hit something —
 // the surface interaction (a free form's normal and leaf from its CSG program, freeform.wgsl; a
-// terrain's normal from its hit), the cut face where the ray starts inside, then ambient +
+// terrain's normal from its hit; a mesh's from its triangle, mesh_shading.wgsl), the cut face
+// where the ray starts inside, then ambient +
 // Lambert (albedo/π) + normalised Phong with each light seen through the RGB transmittance of a
 // shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32), and
 // through the media where the scene has them: the fog (fog_shading.wgsl), the clouds
 // (clouds_shading.wgsl) and, for the sky's sun, the air (sky_shading.wgsl). Writes the radiance
 // and the outward shading normal into the path. `shading` is the scene's group of lights and materials with its media's parameters and
-// tables (bindings::shading).
+// tables (bindings::shading); `surfaces` the terrains', the meshes' or both (bindings::surfaces).
 //
-// #bindings frame, free_forms, shading, terrains if terrain
+// #bindings frame, free_forms, shading, surfaces
 // #include "freeform.wgsl"
 // #include "terrain.wgsl" if terrain
 // #include "terrain_shadows.wgsl" if terrain
 // #include "no_terrain.wgsl" unless terrain
+// #include "mesh.wgsl" if meshes
+// #include "mesh_shading.wgsl" if meshes
+// #include "no_mesh.wgsl" unless meshes
 // #include "fog_shading.wgsl" if fog
 // #include "no_fog.wgsl" unless fog
 // #include "sky_shading.wgsl" if sky
@@ -27,13 +31,17 @@ override HAS_SUN: bool = true;
 override HAS_POINT: bool = true;
 
 // The RGB transmittance along the ray over [0, distance] (fray-trace's `transmittance`): the
-// product over every primitive kind — every solid whole, every terrain exactly — each opaque,
-// so 0 where one is hit and 1 where none is; the first that blocks all light ends it.
+// product over every primitive kind — every solid whole, every terrain exactly, every mesh
+// instance — each opaque, so 0 where one is hit and 1 where none is; the first that blocks all
+// light ends it.
 fn transmittance(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> vec3<f32> {
     if HAS_FREE_FORMS && occluded_by_solids(o, d, distance, eps) {
         return vec3<f32>(0.0);
     }
     if occluded_by_terrains(o, d, distance, eps) {
+        return vec3<f32>(0.0);
+    }
+    if occluded_by_meshes(o, d, distance, eps) {
         return vec3<f32>(0.0);
     }
     return vec3<f32>(1.0);
@@ -123,6 +131,10 @@ fn main(
             if path.kind == KIND_TERRAIN {
                 normal = path.hit.yzw;
                 material = terrain_material(path.index);
+            } else if path.kind == KIND_MESH {
+                let surface = mesh_shading(path);
+                normal = surface.normal;
+                material = surface.material;
             } else {
                 let surface = surface_at(path.index, p, to_viewer);
                 normal = surface.normal;

@@ -11,6 +11,12 @@
 //! [`SHADING_FOG`], [`SHADING_SKY`] or [`SHADING_FOG_SKY`], picked by [`shading`] — since the
 //! shade pass of a scene with free forms and terrains already binds four groups. A module names
 //! that group `shading` in its `#bindings` line and `shader::compose` substitutes the scene's.
+//! Likewise the shade pass's fourth group holds the terrains, the meshes or both
+//! ([`TERRAINS`], [`MESHES`], [`TERRAINS_MESHES`], picked by [`surfaces`]; a module names it
+//! `surfaces`). The meshes bind no storage buffer — the shade pass's eight are the frame's two,
+//! the free forms' four and the terrains' two —: their arrays are packed into one `Rgba32Uint`
+//! texture read with `textureLoad`, with the sections' first texels in a uniform
+//! (`crate::mesh_pass::MeshBuffers`).
 
 use crate::GpuContext;
 use bytemuck::Pod;
@@ -28,6 +34,8 @@ pub enum Access {
     Sampled,
     /// A 3D texture of unfilterable floats (`texture_3d<f32>`), read with `textureLoad`.
     Sampled3d,
+    /// A 2D texture of unsigned integers (`texture_2d<u32>`), read with `textureLoad`.
+    SampledUint,
 }
 
 /// One binding of a group.
@@ -199,22 +207,70 @@ pub const fn shading(fog: bool, sky: bool, clouds: bool) -> Group {
     }
 }
 
+const TERRAIN_TABLE: Binding = binding(
+    0,
+    "terrains",
+    "array<GpuTerrainParams, MAX_TERRAINS>",
+    Uniform,
+);
+const TERRAIN_LODS: Binding = binding(1, "terrain_lods", "array<vec4<f32>, MAX_TERRAINS>", Uniform);
+const PYRAMID: Binding = binding(2, "pyramid", "array<f32>", StorageRead);
+const SAMPLES: Binding = binding(3, "samples", "array<f32>", StorageRead);
+
 /// The terrains (camera-relative parameters, this view's level-of-detail parameters) and their
 /// pyramids and samples, concatenated.
 pub const TERRAINS: Group = Group {
     name: "terrains",
+    bindings: &[TERRAIN_TABLE, TERRAIN_LODS, PYRAMID, SAMPLES],
+};
+
+/// `b` as binding `index` of another group.
+const fn renumbered(b: Binding, index: u32) -> Binding {
+    Binding {
+        binding: index,
+        ..b
+    }
+}
+
+/// The meshes' layout: (instance count, first texel of the BVH nodes, of the triangles, of the
+/// vertices) in `mesh_data`.
+const MESH_INFO: Binding = binding(0, "mesh_info", "vec4<u32>", Uniform);
+/// Every mesh array (`fray_mesh::gpu_layout`) packed into one texture of 16-byte texels,
+/// `MESH_TEXTURE_WIDTH` per row: the instance blocks first (4 texels each, relative to the
+/// reference point — the only part a moved camera rewrites), then the BVH nodes (2), the
+/// triangles (4, leaf order, anchor-relative) and the vertex attributes (2).
+const MESH_DATA: Binding = binding(1, "mesh_data", "texture_2d<u32>", Access::SampledUint);
+
+/// The meshes (read by `mesh.wgsl`), for the mesh intersection pass and the batch mesh pass.
+/// The vertices are read only for surfaces (`mesh_surface`).
+pub const MESHES: Group = Group {
+    name: "meshes",
+    bindings: &[MESH_INFO, MESH_DATA],
+};
+
+/// [`TERRAINS`] and [`MESHES`] in one group: the shade pass's fourth of a scene with both.
+pub const TERRAINS_MESHES: Group = Group {
+    name: "terrains_meshes",
     bindings: &[
-        binding(
-            0,
-            "terrains",
-            "array<GpuTerrainParams, MAX_TERRAINS>",
-            Uniform,
-        ),
-        binding(1, "terrain_lods", "array<vec4<f32>, MAX_TERRAINS>", Uniform),
-        binding(2, "pyramid", "array<f32>", StorageRead),
-        binding(3, "samples", "array<f32>", StorageRead),
+        TERRAIN_TABLE,
+        TERRAIN_LODS,
+        PYRAMID,
+        SAMPLES,
+        renumbered(MESH_INFO, 4),
+        renumbered(MESH_DATA, 5),
     ],
 };
+
+/// The shade pass's group of the primitive kinds beyond free forms that a scene has (what a
+/// module's `surfaces` stands for): the terrains', the meshes', both, or none.
+pub const fn surfaces(terrain: bool, meshes: bool) -> Option<Group> {
+    match (terrain, meshes) {
+        (false, false) => None,
+        (true, false) => Some(TERRAINS),
+        (false, true) => Some(MESHES),
+        (true, true) => Some(TERRAINS_MESHES),
+    }
+}
 
 /// The frame's images (the resolve pass).
 pub const TARGETS: Group = Group {
@@ -302,20 +358,6 @@ pub const CLOUDS_BATCH: Group = Group {
     ],
 };
 
-/// The meshes (`fray_mesh::gpu_layout`, read by `mesh.wgsl`): the instance blocks (relative to
-/// the reference point, the only part a moved camera rewrites), and every mesh's BVH nodes,
-/// triangles (leaf order, anchor-relative) and vertex attributes, concatenated. The vertices are
-/// read only for surfaces (`mesh_surface`): an intersection pass binds them unused.
-pub const MESHES: Group = Group {
-    name: "meshes",
-    bindings: &[
-        binding(0, "mesh_instances", "array<GpuMeshInstance>", StorageRead),
-        binding(1, "mesh_nodes", "array<GpuMeshNode>", StorageRead),
-        binding(2, "mesh_triangles", "array<GpuMeshTriangle>", StorageRead),
-        binding(3, "mesh_vertices", "array<GpuMeshVertex>", StorageRead),
-    ],
-};
-
 /// The batch mesh pass (`MeshPass`): ray count and instance count, rays in, hits out.
 pub const MESH_BATCH: Group = Group {
     name: "mesh_batch",
@@ -327,7 +369,7 @@ pub const MESH_BATCH: Group = Group {
 };
 
 /// Every group, for the include step.
-pub const GROUPS: [Group; 20] = [
+pub const GROUPS: [Group; 21] = [
     FRAME,
     FREE_FORMS,
     WORK,
@@ -341,6 +383,7 @@ pub const GROUPS: [Group; 20] = [
     SHADING_FOG_SKY_CLOUDS,
     CLOUDS_BATCH,
     TERRAINS,
+    TERRAINS_MESHES,
     TARGETS,
     REBASE,
     TERRAIN_BATCH,
@@ -369,7 +412,7 @@ impl Group {
                     "{at} var {}: texture_storage_2d<{}, write>;\n",
                     b.name, b.wgsl
                 ),
-                Access::Sampled | Access::Sampled3d => {
+                Access::Sampled | Access::Sampled3d | Access::SampledUint => {
                     format!("{at} var {}: {};\n", b.name, b.wgsl)
                 }
             };
@@ -406,6 +449,11 @@ impl Group {
                         view_dimension: wgpu::TextureViewDimension::D3,
                         multisampled: false,
                     },
+                    Access::SampledUint => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
                 },
                 count: None,
             })
@@ -424,8 +472,18 @@ impl Group {
     pub fn sampled_textures(&self) -> u32 {
         self.bindings
             .iter()
-            .filter(|b| matches!(b.access, Access::Sampled | Access::Sampled3d))
+            .filter(|b| {
+                matches!(
+                    b.access,
+                    Access::Sampled | Access::Sampled3d | Access::SampledUint
+                )
+            })
             .count() as u32
+    }
+
+    /// Uniform buffers the group binds.
+    pub fn uniform_buffers(&self) -> u32 {
+        self.bindings.iter().filter(|b| b.access == Uniform).count() as u32
     }
 
     /// The bind-group layout on `device`.
@@ -567,12 +625,14 @@ mod tests {
             vec![SKY_BATCH],
             vec![CLOUDS_BATCH],
             vec![MESH_BATCH, MESHES],
-            // What a mesh intersection pass will bind.
             vec![FRAME, WORK, MESHES],
         ];
-        for k in 0..8 {
+        for k in 0..32 {
             let (fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
-            sets.push(vec![FRAME, FREE_FORMS, shading(fog, sky, clouds), TERRAINS]);
+            let (terrain, meshes) = (k & 8 != 0, k & 16 != 0);
+            let mut shade = vec![FRAME, FREE_FORMS, shading(fog, sky, clouds)];
+            shade.extend(surfaces(terrain, meshes));
+            sets.push(shade);
             sets.push(vec![FRAME, shading(fog, sky, clouds)]);
         }
         for set in sets {
@@ -583,8 +643,30 @@ mod tests {
             );
             let textures: u32 = set.iter().map(Group::sampled_textures).sum();
             assert!(textures <= defaults.max_sampled_textures_per_shader_stage);
+            let uniforms: u32 = set.iter().map(Group::uniform_buffers).sum();
+            assert!(uniforms <= defaults.max_uniform_buffers_per_shader_stage);
             assert!(set.len() as u32 <= defaults.max_bind_groups);
         }
+        // The shade pass of a scene with every kind and every medium is at the limits: four
+        // groups and eight storage buffers (the meshes' arrays are a texture).
+        assert_eq!(MESHES.storage_buffers(), 0);
+        let full = [
+            FRAME,
+            FREE_FORMS,
+            shading(true, true, true),
+            TERRAINS_MESHES,
+        ];
+        assert_eq!(
+            full.iter().map(Group::storage_buffers).sum::<u32>(),
+            defaults.max_storage_buffers_per_shader_stage
+        );
+        // The combined group declares the terrains' and the meshes' bindings under their names.
+        let names = |g: Group| g.bindings.iter().map(|b| b.name).collect::<Vec<_>>();
+        let mut both = names(TERRAINS);
+        both.extend(names(MESHES));
+        assert_eq!(names(TERRAINS_MESHES), both);
+        assert_eq!(surfaces(false, false), None);
+        assert_eq!(surfaces(true, false), Some(TERRAINS));
         // A scene without a medium binds none of its parameters or tables.
         assert_eq!(shading(false, false, false), SHADING);
         // Every combination is its own group (layouts are cached by name).

@@ -21,10 +21,13 @@ pub enum Counter {
     TerrainStopLevels,
     /// The cloud march's density samples of camera rays (the media pass).
     CloudSamples,
+    /// Camera rays cast at a mesh instance: one per ray and instance searched (the mesh
+    /// intersection pass; fray-trace's `mesh_rays`).
+    MeshRays,
 }
 
 /// Every counter, in workgroup-slot order.
-pub const ALL: [Counter; 10] = [
+pub const ALL: [Counter; 11] = [
     Counter::Hits,
     Counter::ShadowRays,
     Counter::BoundEvaluations,
@@ -35,10 +38,11 @@ pub const ALL: [Counter; 10] = [
     Counter::TerrainStops,
     Counter::TerrainStopLevels,
     Counter::CloudSamples,
+    Counter::MeshRays,
 ];
 
 /// 32-bit words in the frame's counter buffer.
-pub const WORDS: usize = 18;
+pub const WORDS: usize = 20;
 
 impl Counter {
     /// Its slot in the workgroup sums.
@@ -74,6 +78,7 @@ impl Counter {
             Counter::TerrainStops => "TERRAIN_STOPS",
             Counter::TerrainStopLevels => "TERRAIN_STOP_LEVELS",
             Counter::CloudSamples => "CLOUD_SAMPLES",
+            Counter::MeshRays => "MESH_RAYS",
         }
     }
 

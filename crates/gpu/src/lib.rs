@@ -4,9 +4,10 @@
 //! generation (with anti-aliasing samples), intersection per primitive kind — free forms by the
 //! same halving search as `fray-geometry` (exact per-term bounds widened by their rounding,
 //! monotone segments finished by Illinois, CSG by one evaluator over the postfix program),
-//! terrains by the max-pyramid search of `fray-terrain` — narrowing each ray's nearest hit, then
-//! surfaces and shading like `fray-trace` (ambient + Lambert albedo/π + normalised Phong, shadow
-//! rays any-hit per kind, light through the fog and the air), then the media (Klassen's fog layer
+//! terrains by the max-pyramid search of `fray-terrain`, triangle meshes by `fray-mesh`'s BVH and
+//! watertight triangle test (every mesh's arrays in one texture) — narrowing each ray's nearest
+//! hit, then surfaces and shading like `fray-trace` (ambient + Lambert albedo/π + normalised
+//! Phong, shadow rays any-hit per kind, light through the fog and the air), then the media (Klassen's fog layer
 //! and the physically based sky of `fray-atmosphere`, a media pass: `T · L + L_in`, misses
 //! included, the sky's tables and the sun's disc as their background, the air's aerial
 //! perspective marched per ray), then resolve into storage textures (tone mapped on the GPU),

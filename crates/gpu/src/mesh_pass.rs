@@ -6,9 +6,11 @@
 //! (`tests/mesh_parity.rs`) bounds the difference.
 //!
 //! The arrays are `fray_mesh::gpu_layout::GpuMeshes` ([`mesh_layout`]: its refusals as
-//! [`GpuError`]s) uploaded by [`mesh_buffers`] into the [`MESHES`] group, checked against the
-//! device's limits; a frame pass that includes `mesh.wgsl` binds the same group. A camera that
-//! moves rewrites only the instance blocks ([`MeshPass::rebase`]).
+//! [`GpuError`]s) uploaded by [`mesh_buffers`] into the [`MESHES`] group — one texture of
+//! 16-byte texels and a uniform saying where each array starts in it ([`MeshBuffers`]), checked
+//! against the device's limits; the frame's mesh intersection and shade passes bind the same
+//! resources. A camera that moves rewrites only the instance blocks ([`MeshPass::rebase`],
+//! [`MeshBuffers::write_instances`]).
 
 use crate::bindings::{self, MESH_BATCH, MESHES};
 use crate::passes::PipelineCache;
@@ -20,7 +22,7 @@ use fray_core::MemoryBudget;
 use fray_mesh::MeshBvh;
 use fray_mesh::gpu_layout::{
     GpuMeshInstance, GpuMeshNode, GpuMeshTriangle, GpuMeshVertex, GpuMeshes, MESH_NO_HIT,
-    MESH_NO_NODE, MeshLayoutError,
+    MeshLayoutError,
 };
 use glam::{DAffine3, DVec3};
 
@@ -91,69 +93,186 @@ pub fn mesh_layout(
     GpuMeshes::build(meshes, instances, reference, budget).map_err(layout_error)
 }
 
-/// The buffers of the [`MESHES`] group, in its binding order.
+/// Texels (of 16 bytes) per row of the mesh texture: a power of two, at most the 8192 texels
+/// per side every WebGPU device allows (`MESH_TEXTURE_WIDTH` in the prelude).
+pub const MESH_TEXTURE_WIDTH: u32 = 4096;
+
+/// Texels of one element of each array.
+const fn texels<T>() -> u64 {
+    (std::mem::size_of::<T>() / 16) as u64
+}
+
+/// The [`MESHES`] group's resources: the layout uniform `(instance count, first texel of the
+/// nodes, of the triangles, of the vertices)` and the one texture every array is packed into
+/// (`Rgba32Uint`, [`MESH_TEXTURE_WIDTH`] texels per row; instances first, then nodes,
+/// triangles and vertices, each element its struct's words in field order). A texture, not
+/// storage buffers: the shade pass already binds the eight storage buffers WebGPU's defaults
+/// allow (`bindings`), while sampled textures have a limit of their own (16).
 #[derive(Debug)]
 pub struct MeshBuffers {
-    /// The instance blocks (`COPY_DST`: rewritten when the camera moves).
-    pub instances: wgpu::Buffer,
-    pub nodes: wgpu::Buffer,
-    pub triangles: wgpu::Buffer,
-    pub vertices: wgpu::Buffer,
+    pub info: wgpu::Buffer,
+    pub texture: wgpu::Texture,
+    /// What `info` holds.
+    pub layout: [u32; 4],
+    /// Bytes uploaded (the uniform and every texel written).
+    pub bytes: u64,
 }
 
 impl MeshBuffers {
     /// The bind group of [`MESHES`] over these buffers.
     pub fn bind(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
+        let view = self.view();
         MESHES.bind(
             &ctx.device,
             layout,
             &[
-                self.instances.as_entire_binding(),
-                self.nodes.as_entire_binding(),
-                self.triangles.as_entire_binding(),
-                self.vertices.as_entire_binding(),
+                self.info.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&view),
             ],
         )
     }
+
+    /// A view of the texture (for a group that binds it with others).
+    pub fn view(&self) -> wgpu::TextureView {
+        self.texture
+            .create_view(&wgpu::TextureViewDescriptor::default())
+    }
+
+    /// Rewrites the instance blocks (the texture's first texels) with `blocks`, nothing else;
+    /// returns the bytes written.
+    pub fn write_instances(&self, ctx: &GpuContext, blocks: &[GpuMeshInstance]) -> u64 {
+        write_texels(ctx, &self.texture, 0, bytemuck::cast_slice(blocks))
+    }
 }
 
-/// Uploads `layout`'s arrays, each checked against the device's storage-buffer limits first
-/// (an empty array becomes one inert element: WebGPU has no empty bindings).
+/// Writes `data` (16-byte texels) into `texture` from texel `first` on, row-major with
+/// [`MESH_TEXTURE_WIDTH`] per row: a partial first row, whole rows, a partial last row — no
+/// texel outside the range is touched. Returns the bytes written.
+fn write_texels(ctx: &GpuContext, texture: &wgpu::Texture, first: u64, data: &[[u32; 4]]) -> u64 {
+    let w = u64::from(MESH_TEXTURE_WIDTH);
+    let mut at = first;
+    let mut rest = data;
+    let write = |x: u64, y: u64, width: u64, rows: u64, texels: &[[u32; 4]]| {
+        ctx.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: x as u32,
+                    y: y as u32,
+                    z: 0,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some((width * 16) as u32),
+                rows_per_image: Some(rows as u32),
+            },
+            wgpu::Extent3d {
+                width: width as u32,
+                height: rows as u32,
+                depth_or_array_layers: 1,
+            },
+        );
+    };
+    let x = at % w;
+    if x != 0 && !rest.is_empty() {
+        let n = (w - x).min(rest.len() as u64);
+        write(x, at / w, n, 1, &rest[..n as usize]);
+        at += n;
+        rest = &rest[n as usize..];
+    }
+    let rows = rest.len() as u64 / w;
+    if rows > 0 {
+        let n = (rows * w) as usize;
+        write(0, at / w, w, rows, &rest[..n]);
+        at += rows * w;
+        rest = &rest[n..];
+    }
+    if !rest.is_empty() {
+        write(0, at / w, rest.len() as u64, 1, rest);
+    }
+    std::mem::size_of_val(data) as u64
+}
+
+/// Uploads `layout`'s arrays into one texture ([`MeshBuffers`]), its rows checked against the
+/// device's 2D texture limit first, and the layout uniform.
 pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers, GpuError> {
     use wgpu::BufferUsages as U;
-    let empty_instance = GpuMeshInstance {
-        root: MESH_NO_NODE,
-        ..GpuMeshInstance::default()
+    let count = |n: usize| n as u64;
+    let nodes_at = count(layout.instances.len()) * texels::<GpuMeshInstance>();
+    let triangles_at = nodes_at + count(layout.nodes.len()) * texels::<GpuMeshNode>();
+    let vertices_at = triangles_at + count(layout.triangles.len()) * texels::<GpuMeshTriangle>();
+    let total = vertices_at + count(layout.vertices.len()) * texels::<GpuMeshVertex>();
+    let w = u64::from(MESH_TEXTURE_WIDTH);
+    let rows = total.div_ceil(w).max(1);
+    let limit = u64::from(ctx.limits.max_texture_dimension_2d);
+    for (what, needed) in [
+        ("texels per row of the mesh texture", w),
+        (
+            "rows of the mesh texture (4096 texels of 16 bytes each)",
+            rows,
+        ),
+    ] {
+        if needed > limit {
+            return Err(GpuError::TooLarge {
+                what,
+                needed,
+                limit,
+            });
+        }
+    }
+    let index = |v: u64| {
+        u32::try_from(v).map_err(|_| GpuError::TooLarge {
+            what: "texels of the mesh texture",
+            needed: total,
+            limit: u32::MAX.into(),
+        })
     };
+    let info = [
+        index(count(layout.instances.len()))?,
+        index(nodes_at)?,
+        index(triangles_at)?,
+        index(vertices_at)?,
+    ];
+    index(total)?;
+    let info_buffer = bindings::upload(ctx, "mesh layout", &[info], [0; 4], U::UNIFORM)?;
+    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("meshes"),
+        size: wgpu::Extent3d {
+            width: MESH_TEXTURE_WIDTH,
+            height: rows as u32,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba32Uint,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let mut bytes = 16;
+    bytes += write_texels(ctx, &texture, 0, bytemuck::cast_slice(&layout.instances));
+    bytes += write_texels(ctx, &texture, nodes_at, bytemuck::cast_slice(&layout.nodes));
+    bytes += write_texels(
+        ctx,
+        &texture,
+        triangles_at,
+        bytemuck::cast_slice(&layout.triangles),
+    );
+    bytes += write_texels(
+        ctx,
+        &texture,
+        vertices_at,
+        bytemuck::cast_slice(&layout.vertices),
+    );
     Ok(MeshBuffers {
-        instances: bindings::upload(
-            ctx,
-            "mesh instances",
-            &layout.instances,
-            empty_instance,
-            U::STORAGE | U::COPY_DST,
-        )?,
-        nodes: bindings::upload(
-            ctx,
-            "mesh BVH nodes",
-            &layout.nodes,
-            GpuMeshNode::default(),
-            U::STORAGE,
-        )?,
-        triangles: bindings::upload(
-            ctx,
-            "mesh triangles",
-            &layout.triangles,
-            GpuMeshTriangle::default(),
-            U::STORAGE,
-        )?,
-        vertices: bindings::upload(
-            ctx,
-            "mesh vertices",
-            &layout.vertices,
-            GpuMeshVertex::default(),
-            U::STORAGE,
-        )?,
+        info: info_buffer,
+        texture,
+        layout: info,
+        bytes,
     })
 }
 
@@ -210,12 +329,9 @@ impl MeshPass {
     /// nodes, triangles and vertices stay as uploaded); returns the bytes written.
     pub fn rebase(&mut self, ctx: &GpuContext, reference: DVec3) -> Result<u64, GpuError> {
         let blocks = self.layout.instances_at(reference).map_err(layout_error)?;
-        if !blocks.is_empty() {
-            ctx.queue
-                .write_buffer(&self.buffers.instances, 0, bytemuck::cast_slice(&blocks));
-        }
+        let bytes = self.buffers.write_instances(ctx, &blocks);
         self.layout.instances = blocks;
-        Ok(std::mem::size_of_val(self.layout.instances.as_slice()) as u64)
+        Ok(bytes)
     }
 
     /// Casts `rays` (relative to the reference point; `t_hi` past `BIG` = 1e30 is clamped to
@@ -292,6 +408,69 @@ mod tests {
         crate::shader::assert_validates_with_struct::<GpuMeshTriangle>(&source);
         crate::shader::assert_validates_with_struct::<GpuMeshVertex>(&source);
         crate::shader::assert_validates_with_struct::<GpuMeshInstance>(&source);
+    }
+
+    /// `load_mesh_*` (mesh.wgsl) read each element as its texels' words in field order: the
+    /// Rust structs lay their fields out so, one 4-byte word each, without padding.
+    #[test]
+    fn the_texture_loaders_word_order_is_the_structs() {
+        use std::mem::offset_of;
+        let words = |offsets: &[usize]| offsets.iter().map(|o| o / 4).collect::<Vec<_>>();
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshNode, min_x),
+                offset_of!(GpuMeshNode, min_y),
+                offset_of!(GpuMeshNode, min_z),
+                offset_of!(GpuMeshNode, first),
+                offset_of!(GpuMeshNode, max_x),
+                offset_of!(GpuMeshNode, max_y),
+                offset_of!(GpuMeshNode, max_z),
+                offset_of!(GpuMeshNode, count),
+            ]),
+            (0..8).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshTriangle, a),
+                offset_of!(GpuMeshTriangle, b),
+                offset_of!(GpuMeshTriangle, c),
+                offset_of!(GpuMeshTriangle, index),
+                offset_of!(GpuMeshTriangle, v0),
+                offset_of!(GpuMeshTriangle, v1),
+                offset_of!(GpuMeshTriangle, v2),
+            ]),
+            vec![0, 4, 8, 12, 13, 14, 15]
+        );
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshVertex, normal),
+                offset_of!(GpuMeshVertex, uv),
+                offset_of!(GpuMeshVertex, pad),
+            ]),
+            vec![0, 4, 6]
+        );
+        assert_eq!(
+            words(&[
+                offset_of!(GpuMeshInstance, to_mesh_x),
+                offset_of!(GpuMeshInstance, to_mesh_y),
+                offset_of!(GpuMeshInstance, to_mesh_z),
+                offset_of!(GpuMeshInstance, root),
+                offset_of!(GpuMeshInstance, mesh),
+                offset_of!(GpuMeshInstance, material),
+                offset_of!(GpuMeshInstance, flags),
+            ]),
+            vec![0, 4, 8, 12, 13, 14, 15]
+        );
+        assert_eq!(
+            [
+                texels::<GpuMeshInstance>(),
+                texels::<GpuMeshNode>(),
+                texels::<GpuMeshTriangle>(),
+                texels::<GpuMeshVertex>()
+            ],
+            [4, 2, 4, 2],
+            "the strides mesh.wgsl's loaders use"
+        );
     }
 
     /// The stack-depth policy: a BVH deeper than the traversal's stack is refused, before

@@ -1,14 +1,15 @@
 //! The GPU frame: settings, the f32 ε, the renderer (a device and its pipeline cache) and the
 //! resident scene a frame is rendered from ([`GpuScene`]) — per frame the rebase, the quadtree
 //! work list, then per band of rows the passes (ray generation → free forms → terrains →
-//! shading → media (fog, sky, clouds) → resolve into storage textures), and the textures read back into
-//! a [`Frame`].
+//! meshes → shading → media (fog, sky, clouds) → resolve into storage textures), and the
+//! textures read back into a [`Frame`].
 
-use crate::bindings::{self, FRAME, FREE_FORMS, TARGETS, TERRAINS, WORK};
+use crate::bindings::{self, FRAME, FREE_FORMS, MESHES, TARGETS, TERRAINS, WORK};
 use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams, GpuPath, View};
 use crate::passes::freeform::FreeFormPass;
 use crate::passes::media::MediaPass;
+use crate::passes::mesh::MeshIntersectPass;
 use crate::passes::raygen::RayGenPass;
 use crate::passes::rebase::RebasePass;
 use crate::passes::resolve::ResolvePass;
@@ -175,12 +176,10 @@ impl GpuRenderer {
     }
 }
 
-/// What of `scene` this backend does not draw yet, if anything: triangle meshes and Whitted's
-/// secondary rays (the CPU backend draws them; `Auto` falls back to it).
+/// What of `scene` this backend does not draw yet, if anything: Whitted's secondary rays —
+/// materials that reflect or transmit (the CPU backend draws them; `Auto` falls back to it).
 pub fn unsupported_feature(scene: &Scene) -> Option<&'static str> {
-    if scene.features.meshes {
-        Some("triangle meshes")
-    } else if scene.features.reflection || scene.features.transmission {
+    if scene.features.reflection || scene.features.transmission {
         Some("reflection and refraction (Whitted secondary rays)")
     } else {
         None
@@ -199,6 +198,8 @@ struct Passes {
     raygen: RayGenPass,
     free_forms: Option<FreeFormPass>,
     terrains: Option<TerrainIntersectPass>,
+    /// Only with meshes.
+    meshes: Option<MeshIntersectPass>,
     shade: ShadePass,
     /// Only with fog, a sky or clouds.
     media: Option<MediaPass>,
@@ -231,8 +232,8 @@ struct Targets {
 }
 
 /// A scene resident on the GPU: render it from any view; a frame from a moved camera re-runs the
-/// quadtree and uploads only the camera, the media's parameters and the work list — and, with a
-/// sky, its sky-view table when the eye's height changed ([`RenderStats::uploaded_bytes`],
+/// quadtree and uploads only the camera, the media's parameters, the mesh instance blocks and the
+/// work list — and, with a sky, its sky-view table when the eye's height changed ([`RenderStats::uploaded_bytes`],
 /// [`RenderStats::scene_uploaded_bytes`], [`RenderStats::pipelines_built`] say so).
 #[derive(Debug)]
 pub struct GpuScene<'a> {
@@ -271,7 +272,7 @@ impl<'a> GpuScene<'a> {
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;
         let anchor = params::reference_point(&scene.camera);
-        let resident = ResidentScene::upload(ctx, cache, scene, anchor)?;
+        let resident = ResidentScene::upload(ctx, cache, scene, anchor, &settings.memory_budget)?;
         let sizes = shader::array_sizes(scene, &resident.flat);
         let private = shader::private_bytes(&sizes);
         if private > shader::MAX_PRIVATE_BYTES {
@@ -284,6 +285,7 @@ impl<'a> GpuScene<'a> {
         let options = ModuleOptions {
             sizes,
             terrain: !scene.terrains.is_empty(),
+            meshes: !scene.meshes.is_empty(),
             fog: scene.atmosphere.fog.is_some(),
             sky: scene.atmosphere.sky.is_some(),
             clouds: scene.clouds.is_some(),
@@ -305,6 +307,10 @@ impl<'a> GpuScene<'a> {
             terrains: options
                 .terrain
                 .then(|| TerrainIntersectPass::new(&setup))
+                .transpose()?,
+            meshes: options
+                .meshes
+                .then(|| MeshIntersectPass::new(&setup))
                 .transpose()?,
             shade: ShadePass::new(&setup)?,
             media: specialisation
@@ -434,6 +440,11 @@ impl<'a> GpuScene<'a> {
             self.rebased_for = Some(offset);
         }
         uploaded += self.write_media(view);
+        if let Some(m) = &mut self.resident.meshes {
+            // The instance blocks relative to this camera, from f64 (nothing else of the
+            // meshes moves).
+            uploaded += m.move_to(ctx, params::reference_point(&view.camera))?;
+        }
         if let Some(t) = &self.resident.terrains {
             let footprint = view.camera.pixel_footprint(width, height);
             let lods = terrain_lods(scene, footprint);
@@ -483,11 +494,15 @@ impl<'a> GpuScene<'a> {
                     let groups = [&groups.frame, &groups.work, terrains];
                     tp.encode(&mut pass, ctx, groups, items.len() as u32);
                 }
+                if let (Some(mp), Some(meshes)) = (&self.passes.meshes, &groups.meshes) {
+                    let groups = [&groups.frame, &groups.work, meshes];
+                    mp.encode(&mut pass, ctx, groups, items.len() as u32);
+                }
                 self.passes.shade.encode(
                     &mut pass,
                     ctx,
                     [&groups.frame, &groups.free_forms, &groups.shading],
-                    groups.terrains.as_ref(),
+                    groups.surfaces.as_ref(),
                     rays,
                 );
                 if let Some(media) = &self.passes.media {
@@ -581,6 +596,7 @@ impl<'a> GpuScene<'a> {
             terrain_stops: Counter::TerrainStops.read(&words),
             terrain_stop_levels: Counter::TerrainStopLevels.read(&words),
             cloud_samples: Counter::CloudSamples.read(&words),
+            mesh_rays: Counter::MeshRays.read(&words),
             uploaded_bytes: uploaded + scene_uploaded,
             scene_uploaded_bytes: scene_uploaded,
             pipelines_built,
@@ -856,17 +872,36 @@ impl<'a> GpuScene<'a> {
             ]);
         }
         let shading = shading_group.bind(device, &cache.layout(ctx, &shading_group), &resources);
-        let terrains = r.terrains.as_ref().map(|t| {
-            TERRAINS.bind(
-                device,
-                &cache.layout(ctx, &TERRAINS),
-                &[
-                    t.table.as_entire_binding(),
-                    t.lods.as_entire_binding(),
-                    t.pyramid.as_entire_binding(),
-                    t.samples.as_entire_binding(),
-                ],
-            )
+        let terrain_resources = r.terrains.as_ref().map(|t| {
+            [
+                t.table.as_entire_binding(),
+                t.lods.as_entire_binding(),
+                t.pyramid.as_entire_binding(),
+                t.samples.as_entire_binding(),
+            ]
+        });
+        let terrains = terrain_resources
+            .as_ref()
+            .map(|res| TERRAINS.bind(device, &cache.layout(ctx, &TERRAINS), res));
+        let mesh_view = r.meshes.as_ref().map(|m| m.buffers.view());
+        let mesh_resources = r.meshes.as_ref().zip(mesh_view.as_ref()).map(|(m, view)| {
+            [
+                m.buffers.info.as_entire_binding(),
+                wgpu::BindingResource::TextureView(view),
+            ]
+        });
+        let meshes = mesh_resources
+            .as_ref()
+            .map(|res| MESHES.bind(device, &cache.layout(ctx, &MESHES), res));
+        // The shade pass's fourth group: the terrains', the meshes' or both in one.
+        let surfaces = bindings::surfaces(r.terrains.is_some(), r.meshes.is_some()).map(|g| {
+            let resources: Vec<wgpu::BindingResource<'_>> = terrain_resources
+                .iter()
+                .flatten()
+                .chain(mesh_resources.iter().flatten())
+                .cloned()
+                .collect();
+            g.bind(device, &cache.layout(ctx, &g), &resources)
         });
         let work = WORK.bind(
             device,
@@ -894,6 +929,8 @@ impl<'a> GpuScene<'a> {
             work,
             shading,
             terrains,
+            meshes,
+            surfaces,
             targets,
         })
     }
@@ -1056,7 +1093,12 @@ struct Groups {
     free_forms: wgpu::BindGroup,
     work: wgpu::BindGroup,
     shading: wgpu::BindGroup,
+    /// The terrain pass's (with terrains).
     terrains: Option<wgpu::BindGroup>,
+    /// The mesh pass's (with meshes).
+    meshes: Option<wgpu::BindGroup>,
+    /// The shade pass's fourth (with terrains or meshes: `bindings::surfaces`).
+    surfaces: Option<wgpu::BindGroup>,
     targets: wgpu::BindGroup,
 }
 

@@ -6,17 +6,22 @@
 //! (camera-relative heights, written per frame) and the sky (its transmittance table, uploaded
 //! here once; its sky-view table, written when the eye's height changes; its parameters, written
 //! per frame), the clouds (their density grid and max grid as 3D textures, uploaded here once;
-//! their parameters, camera-relative, written per frame); every buffer and texture checked
-//! against the device's limits before it is made.
+//! their parameters, camera-relative, written per frame), the meshes (every mesh's BVH, triangles
+//! and vertices once, in one texture with the instance blocks, which alone a moved camera
+//! rewrites — relative to the camera, from f64 —: `mesh_pass::MeshBuffers`); every buffer and
+//! texture checked against the device's limits before it is made.
 
 use crate::bindings::{self};
+use crate::mesh_pass::{MeshBuffers, layout_error, mesh_buffers};
 use crate::params::{self, GpuLight, GpuMaterial};
 use crate::passes::PipelineCache;
 use crate::passes::rebase::{RebaseLayout, Rebased};
 use crate::terrain_pass::{TerrainUpload, terrain_arrays};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::{GpuFog, GpuSky};
+use fray_core::MemoryBudget;
 use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuQuadric, GpuSolid, GpuSolids};
+use fray_mesh::gpu_layout::GpuMeshes;
 use fray_scene::Scene;
 use fray_terrain::gpu_layout::GpuTerrainParams;
 use glam::DVec3;
@@ -92,6 +97,33 @@ pub struct ResidentClouds {
     pub textures: crate::cloud_textures::CloudTextures,
 }
 
+/// The meshes on the GPU.
+#[derive(Debug)]
+pub struct ResidentMeshes {
+    /// The layout uploaded (each distinct mesh once, one instance per mesh object in scene
+    /// order, with its material and smooth flag), kept for the instance blocks of a moved
+    /// camera.
+    pub layout: GpuMeshes,
+    pub buffers: MeshBuffers,
+    /// The point (world, f64) the instance blocks on the GPU are relative to.
+    pub reference: DVec3,
+}
+
+impl ResidentMeshes {
+    /// Rewrites the instance blocks relative to `reference` (a camera's eye, f64), unless they
+    /// already are; nothing else of the meshes moves. Returns the bytes written.
+    pub fn move_to(&mut self, ctx: &GpuContext, reference: DVec3) -> Result<u64, GpuError> {
+        if reference == self.reference {
+            return Ok(0);
+        }
+        let blocks = self.layout.instances_at(reference).map_err(layout_error)?;
+        let bytes = self.buffers.write_instances(ctx, &blocks);
+        self.layout.instances = blocks;
+        self.reference = reference;
+        Ok(bytes)
+    }
+}
+
 /// A scene on the GPU.
 #[derive(Debug)]
 pub struct ResidentScene {
@@ -116,17 +148,21 @@ pub struct ResidentScene {
     pub sky: Option<ResidentSky>,
     /// The clouds' parameters and grids; `None` without clouds (nothing of them is allocated).
     pub clouds: Option<ResidentClouds>,
+    /// The meshes; `None` without meshes (nothing of them is allocated).
+    pub meshes: Option<ResidentMeshes>,
     /// Bytes uploaded.
     pub bytes: u64,
 }
 
 impl ResidentScene {
-    /// Uploads `scene` relative to `anchor`.
+    /// Uploads `scene` relative to `anchor`; what it lays out on the host for the device (the
+    /// meshes' arrays) is checked against `budget` first.
     pub fn upload(
         ctx: &GpuContext,
         cache: &PipelineCache,
         scene: &Scene,
         anchor: DVec3,
+        budget: &MemoryBudget,
     ) -> Result<Self, GpuError> {
         let mut flat = GpuSolids::new(anchor);
         let material_count = scene.materials.len() as u32;
@@ -210,6 +246,13 @@ impl ResidentScene {
             }
             None => None,
         };
+        let meshes = if scene.meshes.is_empty() {
+            None
+        } else {
+            let m = upload_meshes(ctx, scene, anchor, budget)?;
+            bytes += m.buffers.bytes;
+            Some(m)
+        };
         Ok(Self {
             anchor,
             flat,
@@ -224,6 +267,7 @@ impl ResidentScene {
             fog,
             sky,
             clouds,
+            meshes,
             bytes,
         })
     }
@@ -299,6 +343,51 @@ fn upload_terrains(
         },
         bytes,
     ))
+}
+
+/// The scene's meshes laid out relative to `anchor` (`fray_mesh::gpu_layout::GpuMeshes`: each
+/// distinct mesh — objects naming one file share its BVH — once, one instance per mesh object
+/// in scene order with its material, the default where it has none, and its smooth flag) and
+/// uploaded (`mesh_pass::mesh_buffers`).
+fn upload_meshes(
+    ctx: &GpuContext,
+    scene: &Scene,
+    anchor: DVec3,
+    budget: &MemoryBudget,
+) -> Result<ResidentMeshes, GpuError> {
+    let mut distinct: Vec<&std::sync::Arc<fray_mesh::MeshBvh>> = Vec::new();
+    let mut placements = Vec::with_capacity(scene.meshes.len());
+    for object in &scene.meshes {
+        let mesh = &object.instance.mesh;
+        let index = match distinct
+            .iter()
+            .position(|m| std::sync::Arc::ptr_eq(m, mesh))
+        {
+            Some(i) => i,
+            None => {
+                distinct.push(mesh);
+                distinct.len() - 1
+            }
+        };
+        placements.push((index as u32, object.instance.to_world()));
+    }
+    let bvhs: Vec<&fray_mesh::MeshBvh> = distinct.iter().map(|m| m.as_ref()).collect();
+    let material_count = scene.materials.len() as u32;
+    let materials: Vec<u32> = scene
+        .meshes
+        .iter()
+        .map(|m| m.material.min(material_count))
+        .collect();
+    let smooth: Vec<bool> = scene.meshes.iter().map(|m| m.smooth).collect();
+    let layout = crate::mesh_pass::mesh_layout(&bvhs, &placements, anchor, budget)?
+        .with_materials(&materials)
+        .with_smooth(&smooth);
+    let buffers = mesh_buffers(ctx, &layout)?;
+    Ok(ResidentMeshes {
+        layout,
+        buffers,
+        reference: anchor,
+    })
 }
 
 /// The sky's parameter block (empty: written per frame), its transmittance table (uploaded) and

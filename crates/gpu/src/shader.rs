@@ -6,15 +6,16 @@
 //! - `// #include "file.wgsl"` — the file's text, once per module (WGSL declarations may come
 //!   in any order, so included text is simply appended);
 //! - `// #include "file.wgsl" if terrain` / `… unless terrain` — only with / without a terrain
-//!   (likewise `if fog` / `unless fog`: with / without a fog layer; `if sky` / `unless sky`:
-//!   with / without a physically based sky; `if clouds` / `unless clouds`: with / without a
-//!   cloud volume);
+//!   (likewise `if meshes` / `unless meshes`: with / without triangle meshes; `if fog` /
+//!   `unless fog`: with / without a fog layer; `if sky` / `unless sky`: with / without a
+//!   physically based sky; `if clouds` / `unless clouds`: with / without a cloud volume);
 //! - `// #instantiate "file.wgsl" { KEY: value; … }` — the file as a template, each `{{KEY}}`
 //!   replaced (the CSG evaluator, once per algebra);
 //! - `// #bindings frame, work, terrains if terrain` — the generated declarations of those bind
 //!   groups (`bindings::GROUPS`), under the same conditions; `shading` stands for the scene's
 //!   lights-and-media group (`bindings::shading`: with the fog's, the sky's and the clouds'
-//!   bindings only where the scene has them).
+//!   bindings only where the scene has them), `surfaces` for the terrains' and the meshes'
+//!   group (`bindings::surfaces`: either, both, or no group at all).
 
 use crate::{bindings, counters, params};
 use fray_core::gpu_struct::GpuStruct;
@@ -22,7 +23,7 @@ use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/`.
-pub const SHADER_FILES: [(&str, &str); 40] = [
+pub const SHADER_FILES: [(&str, &str); 43] = [
     ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../../../shaders/clouds.wgsl")),
     (
@@ -65,6 +66,10 @@ pub const SHADER_FILES: [(&str, &str); 40] = [
         include_str!("../../../shaders/intersect_freeform.wgsl"),
     ),
     (
+        "intersect_mesh.wgsl",
+        include_str!("../../../shaders/intersect_mesh.wgsl"),
+    ),
+    (
         "intersect_terrain.wgsl",
         include_str!("../../../shaders/intersect_terrain.wgsl"),
     ),
@@ -75,6 +80,10 @@ pub const SHADER_FILES: [(&str, &str); 40] = [
         include_str!("../../../shaders/mesh_batch.wgsl"),
     ),
     (
+        "mesh_shading.wgsl",
+        include_str!("../../../shaders/mesh_shading.wgsl"),
+    ),
+    (
         "no_clouds.wgsl",
         include_str!("../../../shaders/no_clouds.wgsl"),
     ),
@@ -83,6 +92,10 @@ pub const SHADER_FILES: [(&str, &str); 40] = [
         include_str!("../../../shaders/no_clouds_media.wgsl"),
     ),
     ("no_fog.wgsl", include_str!("../../../shaders/no_fog.wgsl")),
+    (
+        "no_mesh.wgsl",
+        include_str!("../../../shaders/no_mesh.wgsl"),
+    ),
     (
         "no_fog_media.wgsl",
         include_str!("../../../shaders/no_fog_media.wgsl"),
@@ -145,10 +158,11 @@ pub const SHADER_FILES: [(&str, &str); 40] = [
 
 /// The entry modules, one per pass (`passes::*`, `TerrainPass`, `FogPass`, `SkyPass`,
 /// `CloudsPass` and `MeshPass`).
-pub const ENTRY_MODULES: [&str; 12] = [
+pub const ENTRY_MODULES: [&str; 13] = [
     "raygen.wgsl",
     "intersect_freeform.wgsl",
     "intersect_terrain.wgsl",
+    "intersect_mesh.wgsl",
     "shade.wgsl",
     "media.wgsl",
     "resolve.wgsl",
@@ -216,6 +230,8 @@ pub struct ModuleOptions {
     pub sizes: ArraySizes,
     /// The scene has terrains (`if terrain` / `unless terrain`).
     pub terrain: bool,
+    /// The scene has triangle meshes (`if meshes` / `unless meshes`).
+    pub meshes: bool,
     /// The scene has a fog layer (`if fog` / `unless fog`).
     pub fog: bool,
     /// The scene has a physically based sky (`if sky` / `unless sky`).
@@ -237,6 +253,7 @@ impl ModuleOptions {
             max_terrains: 1,
         },
         terrain: false,
+        meshes: false,
         fog: false,
         sky: false,
         clouds: false,
@@ -248,6 +265,7 @@ impl Default for ModuleOptions {
         Self {
             sizes: ArraySizes::default(),
             terrain: true,
+            meshes: true,
             fog: true,
             sky: true,
             clouds: true,
@@ -318,6 +336,8 @@ impl Compose {
             "" => true,
             "if terrain" => self.options.terrain,
             "unless terrain" => !self.options.terrain,
+            "if meshes" => self.options.meshes,
+            "unless meshes" => !self.options.meshes,
             "if fog" => self.options.fog,
             "unless fog" => !self.options.fog,
             "if sky" => self.options.sky,
@@ -364,6 +384,12 @@ impl Compose {
                     let g = if group == "shading" {
                         // The scene's lights with its media (see `bindings::shading`).
                         bindings::shading(self.options.fog, self.options.sky, self.options.clouds)
+                    } else if group == "surfaces" {
+                        // The scene's terrains and meshes (see `bindings::surfaces`), if any.
+                        match bindings::surfaces(self.options.terrain, self.options.meshes) {
+                            Some(g) => g,
+                            None => continue,
+                        }
                     } else {
                         *bindings::GROUPS
                             .iter()
@@ -483,7 +509,12 @@ pub fn prelude(sizes: &ArraySizes) -> String {
     constants.extend([
         ("KIND_FREE_FORM".to_owned(), PrimitiveKind::FreeForm.code()),
         ("KIND_TERRAIN".to_owned(), PrimitiveKind::Terrain.code()),
+        ("KIND_MESH".to_owned(), PrimitiveKind::Mesh.code()),
         ("TILE_THREADS".to_owned(), crate::work::TILE),
+        (
+            "MESH_TEXTURE_WIDTH".to_owned(),
+            crate::mesh_pass::MESH_TEXTURE_WIDTH,
+        ),
     ]);
     for (name, value) in [
         ("MAX_LEAVES", sizes.max_leaves),
@@ -526,6 +557,8 @@ pub struct Specialisation {
     pub point_lights: bool,
     pub projector: u32,
     pub terrain: bool,
+    /// Triangle meshes: the mesh intersection pass runs and shade reads their surfaces.
+    pub meshes: bool,
     /// A fog layer: the media pass runs and resolve takes the misses' radiance from it.
     pub fog: bool,
     /// A physically based sky: likewise (the media pass draws it and its air).
@@ -547,6 +580,7 @@ impl Specialisation {
             point_lights: f.point_lights,
             projector: params::projector_kind(&scene.camera),
             terrain: !scene.terrains.is_empty(),
+            meshes: !scene.meshes.is_empty(),
             fog: scene.atmosphere.fog.is_some(),
             sky: scene.atmosphere.sky.is_some(),
             clouds: scene.clouds.is_some(),
@@ -599,6 +633,7 @@ impl Specialisation {
             (self.sun, "sun"),
             (self.point_lights, "point-lights"),
             (self.terrain, "terrain"),
+            (self.meshes, "meshes"),
             (self.fog, "fog"),
             (self.sky, "sky"),
             (self.clouds, "clouds"),
@@ -678,8 +713,9 @@ mod tests {
         embedded.sort();
         assert_eq!(on_disk, embedded, "every file in shaders/ must be embedded");
         let mut reached: Vec<String> = Vec::new();
-        for k in 0..16u32 {
+        for k in 0..32u32 {
             let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
+            let meshes = k & 16 != 0;
             for sizes in [
                 ArraySizes::default(),
                 ArraySizes {
@@ -694,6 +730,7 @@ mod tests {
                 let options = ModuleOptions {
                     sizes,
                     terrain,
+                    meshes,
                     fog,
                     sky,
                     clouds,
@@ -702,7 +739,7 @@ mod tests {
                     let source = compose(entry, &options).unwrap();
                     validate(
                         &format!(
-                            "{entry} (terrain {terrain}, fog {fog}, sky {sky}, clouds {clouds})"
+                            "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds})"
                         ),
                         &source,
                     );
@@ -750,6 +787,55 @@ mod tests {
                 && !flat.contains("var<storage, read> pyramid")
         );
         assert!(flat.contains("// ---- no_terrain.wgsl ----"));
+        // And the meshes': a scene without them compiles no mesh code and binds no mesh data;
+        // with them, shade reads the mesh texture through the terrains-and-meshes group.
+        assert!(
+            shade.contains("// ---- mesh.wgsl ----")
+                && shade.contains("// ---- mesh_shading.wgsl ----")
+                && shade.contains("var mesh_data: texture_2d<u32>")
+                && !shade.contains("// ---- no_mesh.wgsl ----")
+        );
+        assert_eq!(
+            module_groups("shade.wgsl", &options).unwrap()[3],
+            bindings::TERRAINS_MESHES
+        );
+        for (terrain, group) in [(true, Some(bindings::TERRAINS)), (false, None)] {
+            let plain = ModuleOptions {
+                terrain,
+                meshes: false,
+                ..options
+            };
+            let frame_modules = ENTRY_MODULES
+                .iter()
+                .filter(|e| !e.starts_with("mesh") && !e.ends_with("_mesh.wgsl"));
+            for entry in frame_modules {
+                let source = compose(entry, &plain).unwrap();
+                assert!(
+                    !source.contains("// ---- mesh")
+                        && !source.contains("mesh_data")
+                        && !source.contains("mesh_info")
+                        && !source.contains("fn load_mesh")
+                        && !source.contains("fn mesh_instance_"),
+                    "{entry}"
+                );
+            }
+            assert_eq!(
+                module_groups("shade.wgsl", &plain).unwrap().get(3).copied(),
+                group
+            );
+        }
+        let meshes_only = ModuleOptions {
+            terrain: false,
+            ..options
+        };
+        assert_eq!(
+            module_groups("shade.wgsl", &meshes_only).unwrap()[3],
+            bindings::MESHES
+        );
+        assert_eq!(
+            module_groups("intersect_mesh.wgsl", &meshes_only).unwrap(),
+            vec![bindings::FRAME, bindings::WORK, bindings::MESHES]
+        );
         // And the fog switch: a scene without fog compiles no fog code and binds no fog layer.
         assert!(
             shade.contains("// ---- fog.wgsl ----") && shade.contains("var<uniform> fog: GpuFog")
@@ -930,6 +1016,13 @@ mod tests {
             ("PROJECTOR_SPHERE", params::PROJECTOR_SPHERE),
             ("LIGHT_POINT", params::LIGHT_POINT),
             ("KIND_TERRAIN", PrimitiveKind::Terrain.code()),
+            ("KIND_MESH", PrimitiveKind::Mesh.code()),
+            ("MESH_TEXTURE_WIDTH", crate::mesh_pass::MESH_TEXTURE_WIDTH),
+            ("MESH_FLAG_SMOOTH", fray_mesh::gpu_layout::MESH_FLAG_SMOOTH),
+            (
+                "MESH_FLAG_MIRRORED",
+                fray_mesh::gpu_layout::MESH_FLAG_MIRRORED,
+            ),
             ("TILE_THREADS", crate::work::TILE),
             ("FOG_METHOD", fray_atmosphere::gpu_layout::FOG_METHOD),
             ("PHASE_PRINTED", fray_atmosphere::gpu_layout::PHASE_PRINTED),

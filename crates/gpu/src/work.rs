@@ -54,8 +54,8 @@ enum Program {
 impl GpuWork {
     /// The culled work list of `scene` seen by `camera` at `width × height` (`solids`: the
     /// scene's objects flattened in order, whose programs precede the work list in `indices`). Free forms are listed with their pruned programs;
-    /// terrains with none, and the terrain pass casts them only on the pixels of items that
-    /// list them, as fray-trace does. Items left with no candidate are dropped.
+    /// terrains and meshes with none, and their passes cast them only on the pixels of items
+    /// that list them, as fray-trace does. Items left with no candidate are dropped.
     pub fn culled(
         scene: &Scene,
         (camera, width, height): (&fray_core::Projector, u32, u32),
@@ -69,7 +69,7 @@ impl GpuWork {
         for item in &list.items {
             let candidate_start = listed.len() as u32;
             for c in list.candidates_of(item) {
-                if c.kind == PrimitiveKind::Terrain.code() {
+                if c.kind == PrimitiveKind::Terrain.code() || c.kind == PrimitiveKind::Mesh.code() {
                     listed.push(Listed {
                         candidate: *c,
                         leaves: Vec::new(),
@@ -141,20 +141,19 @@ impl GpuWork {
                 program: Program::Whole(flat.first_word, flat.word_count),
             });
         }
-        for k in 0..scene.terrains.len() {
-            listed.push(Listed {
-                candidate: Candidate::new(
-                    PrimitiveKind::Terrain.code(),
-                    k as u32,
-                    0,
-                    0,
-                    0.0,
-                    f64::INFINITY,
-                ),
-                leaves: Vec::new(),
-                perturbations: Vec::new(),
-                program: Program::None,
-            });
+        let others = [
+            (PrimitiveKind::Terrain, scene.terrains.len()),
+            (PrimitiveKind::Mesh, scene.meshes.len()),
+        ];
+        for (kind, count) in others {
+            for k in 0..count {
+                listed.push(Listed {
+                    candidate: Candidate::new(kind.code(), k as u32, 0, 0, 0.0, f64::INFINITY),
+                    leaves: Vec::new(),
+                    perturbations: Vec::new(),
+                    program: Program::None,
+                });
+            }
         }
         let mut items = Vec::new();
         if !listed.is_empty() {
@@ -367,5 +366,56 @@ mod tests {
                 assert_eq!((word(&solids, &w, at), word(&solids, &w, at + 1)), (0, 0));
             }
         }
+    }
+
+    /// Mesh candidates (one instance each) reach the GPU as the scheduler lists them — not
+    /// taken for free forms of the same index —, with no program; without culling every item
+    /// lists every instance after the free forms.
+    #[test]
+    fn mesh_candidates_reach_the_gpu_where_listed() {
+        let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/meshes/bunny00.obj");
+        let text = format!(
+            "Scene(image: (width: 64, height: 40), \
+             camera: Pinhole(eye: (0, 0.5, -4), look_at: (0, 0, 0)), \
+             objects: [(shape: Sphere(center: (1.2, 0, 0), radius: 0.4)), \
+                       (shape: Mesh(path: {bunny:?}, transform: (translate: (-0.8, 0, 0)))), \
+                       (shape: Mesh(path: {bunny:?}, transform: (translate: (0.2, 0, 1))))])"
+        );
+        let s = fray_scene::parse(&text, "meshes.ron").unwrap();
+        assert_eq!((s.objects.len(), s.meshes.len()), (1, 2));
+        let solids = flat(&s);
+        let w = GpuWork::culled(
+            &s,
+            (&s.camera, s.width, s.height),
+            &solids,
+            &QuadtreeConfig::new(TILE),
+        )
+        .unwrap();
+        let mesh = PrimitiveKind::Mesh.code();
+        let listed: Vec<u32> = w
+            .candidates
+            .iter()
+            .filter(|c| c.kind == mesh)
+            .map(|c| c.object)
+            .collect();
+        assert!(listed.contains(&0) && listed.contains(&1), "{listed:?}");
+        for (k, c) in w.candidates.iter().enumerate() {
+            if c.kind == mesh {
+                let at = w.programs_base + 2 * k as u32;
+                assert_eq!((word(&solids, &w, at), word(&solids, &w, at + 1)), (0, 0));
+                assert_eq!((c.leaf_count, c.perturbation_count), (0, 0));
+            }
+        }
+        // Some tile sees a mesh and no free form.
+        assert!(w.items.iter().any(|i| {
+            let c = &w.candidates[i.candidate_start as usize..][..i.candidate_count as usize];
+            c.iter().all(|c| c.kind == mesh)
+        }));
+        let all = GpuWork::everything(&s, &solids, (s.width, s.height));
+        let kinds: Vec<(u32, u32)> = all.candidates.iter().map(|c| (c.kind, c.object)).collect();
+        assert_eq!(
+            kinds,
+            vec![(PrimitiveKind::FreeForm.code(), 0), (mesh, 0), (mesh, 1)]
+        );
     }
 }

@@ -34,6 +34,12 @@ pub const MESH_NO_NODE: u32 = u32::MAX;
 pub const MESH_NO_HIT: u32 = u32::MAX;
 /// [`GpuMeshInstance::flags`]: the mesh has texture coordinates (else every uv is 0).
 pub const MESH_FLAG_UVS: u32 = 1;
+/// [`GpuMeshInstance::flags`]: shade with the interpolated vertex normals (else the face's);
+/// set by [`GpuMeshes::with_smooth`].
+pub const MESH_FLAG_SMOOTH: u32 = 2;
+/// [`GpuMeshInstance::flags`]: the instance's transform mirrors (determinant < 0, decided in
+/// f64), so its world corners wind the other way round than the mesh's.
+pub const MESH_FLAG_MIRRORED: u32 = 4;
 
 fray_core::gpu_struct! {
     /// A BVH node (32 bytes). Its box is the f64 box minus the mesh's anchor, rounded outward.
@@ -96,7 +102,7 @@ fray_core::gpu_struct! {
         pub mesh: u32,
         /// The material index (0 unless [`GpuMeshes::with_materials`] sets it).
         pub material: u32,
-        /// [`MESH_FLAG_UVS`].
+        /// [`MESH_FLAG_UVS`], [`MESH_FLAG_SMOOTH`], [`MESH_FLAG_MIRRORED`].
         pub flags: u32,
     }
 }
@@ -116,12 +122,14 @@ pub fn wgsl_declarations() -> String {
 }
 
 /// The constants mesh.wgsl reads, for the generated prelude.
-pub fn wgsl_constants() -> [(&'static str, u32); 4] {
+pub fn wgsl_constants() -> [(&'static str, u32); 6] {
     [
         ("MESH_STACK", MESH_STACK),
         ("MESH_NO_NODE", MESH_NO_NODE),
         ("MESH_NO_HIT", MESH_NO_HIT),
         ("MESH_FLAG_UVS", MESH_FLAG_UVS),
+        ("MESH_FLAG_SMOOTH", MESH_FLAG_SMOOTH),
+        ("MESH_FLAG_MIRRORED", MESH_FLAG_MIRRORED),
     ]
 }
 
@@ -346,7 +354,9 @@ impl GpuMeshes {
     }
 
     /// The instance blocks relative to `reference` (world, f64): what a frame from a moved
-    /// camera rewrites (nothing else depends on the reference point).
+    /// camera rewrites (nothing else depends on the reference point). Each keeps the material
+    /// and the smooth flag its current block has ([`GpuMeshes::with_materials`],
+    /// [`GpuMeshes::with_smooth`]).
     pub fn instances_at(&self, reference: DVec3) -> Result<Vec<GpuMeshInstance>, MeshLayoutError> {
         self.placements
             .iter()
@@ -360,7 +370,12 @@ impl GpuMeshes {
                         mesh,
                         meshes: self.meshes.len(),
                     })?;
-                instance_block(i, range, mesh, to_world, reference)
+                let mut block = instance_block(i, range, mesh, to_world, reference)?;
+                if let Some(current) = self.instances.get(i) {
+                    block.material = current.material;
+                    block.flags |= current.flags & MESH_FLAG_SMOOTH;
+                }
+                Ok(block)
             })
             .collect()
     }
@@ -370,6 +385,16 @@ impl GpuMeshes {
     pub fn with_materials(mut self, materials: &[u32]) -> Self {
         for (block, &m) in self.instances.iter_mut().zip(materials) {
             block.material = m;
+        }
+        self
+    }
+
+    /// These meshes with instance `k` shaded smooth (interpolated vertex normals) where
+    /// `smooth[k]`, faceted otherwise ([`MESH_FLAG_SMOOTH`]; instances past the slice keep
+    /// theirs).
+    pub fn with_smooth(mut self, smooth: &[bool]) -> Self {
+        for (block, &on) in self.instances.iter_mut().zip(smooth) {
+            block.flags = (block.flags & !MESH_FLAG_SMOOTH) | if on { MESH_FLAG_SMOOTH } else { 0 };
         }
         self
     }
@@ -410,7 +435,12 @@ fn instance_block(
         },
         mesh,
         material: 0,
-        flags: if range.has_uvs { MESH_FLAG_UVS } else { 0 },
+        flags: if range.has_uvs { MESH_FLAG_UVS } else { 0 }
+            | if determinant < 0.0 {
+                MESH_FLAG_MIRRORED
+            } else {
+                0
+            },
     };
     let finite = [block.to_mesh_x, block.to_mesh_y, block.to_mesh_z]
         .iter()
@@ -552,11 +582,35 @@ mod tests {
         let moved = g.instances_at(reference + DVec3::X).unwrap();
         assert_ne!(moved[2], g.instances[2]);
         assert_eq!(moved[2].to_mesh_x[..3], g.instances[2].to_mesh_x[..3]);
-        let g = g.with_materials(&[4, 5]);
+        let g = g.with_materials(&[4, 5]).with_smooth(&[true, false, true]);
         assert_eq!(
             g.instances.iter().map(|i| i.material).collect::<Vec<_>>(),
             vec![4, 5, 0]
         );
+        // Materials and the smooth flag survive a move; the mirror flag is the transform's.
+        let moved = g.instances_at(reference + DVec3::Y).unwrap();
+        assert_eq!(
+            moved
+                .iter()
+                .map(|i| (i.material, i.flags))
+                .collect::<Vec<_>>(),
+            g.instances
+                .iter()
+                .map(|i| (i.material, i.flags))
+                .collect::<Vec<_>>()
+        );
+        assert_eq!(
+            g.instances.iter().map(|i| i.flags).collect::<Vec<_>>(),
+            vec![MESH_FLAG_SMOOTH, 0, MESH_FLAG_SMOOTH]
+        );
+        let mirrored = GpuMeshes::build(
+            &[&a],
+            &[(0, DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)))],
+            reference,
+            &MemoryBudget::default(),
+        )
+        .unwrap();
+        assert_eq!(mirrored.instances[0].flags, MESH_FLAG_MIRRORED);
     }
 
     #[test]

@@ -1,12 +1,13 @@
 //! The GPU frame in passes, one struct each, each owning its pipeline (and its own buffers):
 //! rebase (the resident scene moved to the camera) → ray generation → intersection per
-//! primitive kind (free forms, terrains), each narrowing the rays' nearest hits → surfaces and
+//! primitive kind (free forms, terrains, meshes), each narrowing the rays' nearest hits → surfaces and
 //! shading (shadow rays any-hit per kind) → media (fog and the sky, only with them) → resolve
 //! into the frame's storage textures. The frame's shared buffers (paths, counters, parameters) and bind groups belong to
 //! `crate::render::GpuScene`; pipelines come from the renderer's cache.
 
 pub mod freeform;
 pub mod media;
+pub mod mesh;
 pub mod raygen;
 pub mod rebase;
 pub mod resolve;
@@ -230,10 +231,12 @@ mod tests {
     /// has no gaps and a bind group lands at the index the WGSL declares).
     #[test]
     fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for k in 0..16u32 {
+        for k in 0..32u32 {
             let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
+            let meshes = k & 16 != 0;
             let options = ModuleOptions {
                 terrain,
+                meshes,
                 fog,
                 sky,
                 clouds,
@@ -251,6 +254,10 @@ mod tests {
                     "intersect_terrain.wgsl",
                     &super::terrain::TerrainIntersectPass::GROUPS[..],
                 ),
+                (
+                    "intersect_mesh.wgsl",
+                    &super::mesh::MeshIntersectPass::GROUPS[..],
+                ),
                 ("shade.wgsl", &shade[..]),
                 ("media.wgsl", &media[..]),
                 ("resolve.wgsl", &super::resolve::ResolvePass::GROUPS[..]),
@@ -267,7 +274,7 @@ mod tests {
                 let declared = shader::module_groups(entry, &options).unwrap();
                 assert_eq!(
                     declared, groups,
-                    "{entry} (terrain {terrain}, fog {fog}, sky {sky}, clouds {clouds})"
+                    "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds})"
                 );
             }
         }

@@ -1,0 +1,46 @@
+// mesh_shading.wgsl — the mesh hooks of the shade pass (a scene with meshes; mesh.wgsl): a mesh
+// hit's surface as fray-trace's MeshPrimitive::surface makes it, and shadow rays any-hit
+// against every instance (opaque: transmittance 0 or 1).
+
+struct MeshShading {
+    // The outward normal to shade with (never turned to the viewer).
+    normal: vec3<f32>,
+    material: u32,
+}
+
+// The surface of the mesh hit the intersection pass left in `path` (instance in `index`,
+// triangle slot in `part`, barycentrics in `hit.yzw`): the geometric normal by the world
+// corners' winding — the inverse transpose of the mesh's face normal, turned round where the
+// instance mirrors (MESH_FLAG_MIRRORED: its world corners wind the other way) —; with
+// MESH_FLAG_SMOOTH the interpolated vertex normal where it agrees in sign with that face
+// normal, else (faceted, or a normal folded away from its face) the face's; the instance's
+// material.
+fn mesh_shading(path: GpuPath) -> MeshShading {
+    var hit = mesh_no_hit();
+    hit.t = path.hit.x;
+    hit.instance = path.index;
+    hit.slot = path.part;
+    hit.barycentric = path.hit.yzw;
+    let inst = load_mesh_instance(path.index);
+    let s = mesh_surface(hit);
+    var g = s.normal;
+    if (inst.flags & MESH_FLAG_MIRRORED) != 0u {
+        g = -g;
+    }
+    // A sliver whose normal rounds to nothing faces the ray, as on the CPU.
+    if dot(g, g) == 0.0 {
+        g = -path.dir.xyz;
+    }
+    var out: MeshShading;
+    out.normal = g;
+    if (inst.flags & MESH_FLAG_SMOOTH) != 0u && dot(s.shading_normal, g) > 0.0 {
+        out.normal = s.shading_normal;
+    }
+    out.material = inst.material;
+    return out;
+}
+
+// Whether a shadow ray from `o` along `d` meets a mesh in (0, distance).
+fn occluded_by_meshes(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+    return mesh_any(o, d, 0.0, distance, mesh_info.x);
+}
