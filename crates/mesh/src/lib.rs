@@ -49,5 +49,5 @@ pub use bvh_node::BvhNode;
 pub use error::MeshError;
 pub use instance::Instance;
 pub use mesh::TriangleMesh;
-pub use texture::{Texture, TextureError};
 pub use packet::{LANES, PacketBvh};
+pub use texture::{Texture, TextureError};
