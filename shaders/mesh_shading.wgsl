@@ -9,9 +9,9 @@ struct MeshShading {
 }
 
 // The surface of the mesh hit the intersection pass left in `path` (instance in `index`,
-// triangle slot in `part`, barycentrics in `hit.yzw`): the geometric normal by the world
-// corners' winding — the inverse transpose of the mesh's face normal, turned round where the
-// instance mirrors (MESH_FLAG_MIRRORED: its world corners wind the other way) —; with
+// triangle slot in `part`, barycentrics in `hit.yzw`): the outward geometric normal — the
+// inverse transpose of the mesh's face normal, outward whether or not the instance mirrors (as
+// the CPU's winding normal turned round by the transform's sign) —; with
 // MESH_FLAG_SMOOTH the interpolated vertex normal where it agrees in sign with that face
 // normal, else (faceted, or a normal folded away from its face) the face's; the instance's
 // material.
@@ -24,9 +24,6 @@ fn mesh_shading(path: GpuPath) -> MeshShading {
     let inst = load_mesh_instance(path.index);
     let s = mesh_surface(hit);
     var g = s.normal;
-    if (inst.flags & MESH_FLAG_MIRRORED) != 0u {
-        g = -g;
-    }
     // A sliver whose normal rounds to nothing faces the ray, as on the CPU.
     if dot(g, g) == 0.0 {
         g = -path.dir.xyz;

@@ -14,6 +14,8 @@ pub struct Instance {
     to_world: DAffine3,
     to_mesh: DAffine3,
     normal_matrix: DMat3,
+    /// The transform's determinant is negative: world corners wind the other way round.
+    mirrored: bool,
 }
 
 impl Instance {
@@ -31,7 +33,14 @@ impl Instance {
             to_world,
             to_mesh,
             normal_matrix: to_mesh.matrix3.transpose(),
+            mirrored: det < 0.0,
         })
+    }
+
+    /// Whether the transform mirrors (negative determinant): a triangle's world corners then
+    /// wind clockwise seen from outside, so a normal from their winding must be turned round.
+    pub fn mirrored(&self) -> bool {
+        self.mirrored
     }
 
     /// The transform from the mesh's space to the world.

@@ -61,9 +61,13 @@ impl Primitive for MeshPrimitive<'_> {
             };
         };
         let [a, b, c] = instance.world_corners(triangle);
-        // Counter-clockwise seen from outside: the face normal points out. A triangle the
-        // watertight test hit has a non-zero area, but a sliver may round to zero here.
-        let geometric_normal = (b - a).cross(c - a).try_normalize().unwrap_or(-ray.dir);
+        // Counter-clockwise seen from outside: the face normal points out (a mirroring
+        // transform reverses the winding). A triangle the watertight test hit has a non-zero
+        // area, but a sliver may round to zero here.
+        let winding = if instance.mirrored() { -1.0 } else { 1.0 };
+        let geometric_normal = ((b - a).cross(c - a) * winding)
+            .try_normalize()
+            .unwrap_or(-ray.dir);
         let w = hit.detail;
         let shading_normal = if self.object.smooth {
             let [ni, nj, nk] = [i, j, k].map(|v| mesh.normals[v as usize]);

@@ -475,3 +475,33 @@ fn a_prism_reflects_totally_exactly_past_the_critical_angle() {
         );
     }
 }
+
+/// A mirroring instance (scale −1 on x) reverses its triangles' winding; its normals must still
+/// point out: the icosphere is symmetric under x → −x, so mirrored and plain instances shade the
+/// same (smooth and faceted), to 1e-5 — a normal turned inward would shade it black or faceted.
+#[test]
+fn mirrored_instances_keep_outward_normals() {
+    let dir = temp_dir("mirrored");
+    let sphere = icosphere_obj(&dir, "sphere.obj", 2);
+    for smooth in [true, false] {
+        let frame = |scale: &str| {
+            let s = parse(&format!(
+                "Scene(image: (width: 48, height: 48), camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
+                 ambient: (0.1, 0.1, 0.1), lights: [Sun(direction: (0.3, 0.8, -0.5), irradiance: (3, 3, 3))], \
+                 objects: [(shape: Mesh(path: {sphere:?}, smooth: {smooth}, transform: (scale: {scale})))])"
+            ));
+            render(&s, &TraceSettings::for_scene(&s), None).unwrap()
+        };
+        let (plain, mirrored) = (frame("(1, 1, 1)"), frame("(-1, 1, 1)"));
+        let mut lit = 0;
+        for (a, b) in plain.colour.pixels().iter().zip(mirrored.colour.pixels()) {
+            assert!(
+                (*a - *b).abs().max_element() < 1e-5,
+                "smooth {smooth}: {a} vs {b}"
+            );
+            lit += usize::from(a.max_element() > 0.2);
+        }
+        assert!(lit > 200, "smooth {smooth}: {lit} lit pixels");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
