@@ -6,6 +6,7 @@ use crate::freeform::FreeFormPrimitive;
 use crate::interaction::SurfaceInteraction;
 use crate::mesh::MeshPrimitive;
 use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
+use crate::secondary::Interiors;
 use crate::terrain::TerrainPrimitive;
 use fray_core::{Aabb, CameraRay, Interval, PixelFootprint, Ray, Rgb};
 use fray_geometry::ActiveSet;
@@ -112,7 +113,16 @@ pub fn nearest_hit(
     range: Interval,
     eps: f64,
 ) -> Option<SurfaceInteraction> {
-    let hit = nearest_pending(scene, ctx, ray, range, eps, None, PixelFootprint::ZERO)?;
+    let hit = nearest_pending(
+        scene,
+        ctx,
+        ray,
+        range,
+        eps,
+        None,
+        PixelFootprint::ZERO,
+        None,
+    )?;
     Some(interaction(scene, ray, range.lo, &hit, None))
 }
 
@@ -129,12 +139,24 @@ pub fn nearest_hit_among(
     candidates: &Candidates,
 ) -> Option<SurfaceInteraction> {
     let some = Some(candidates);
-    let hit = nearest_pending(scene, ctx, ray, range, eps, some, PixelFootprint::ZERO)?;
+    let hit = nearest_pending(
+        scene,
+        ctx,
+        ray,
+        range,
+        eps,
+        some,
+        PixelFootprint::ZERO,
+        None,
+    )?;
     Some(interaction(scene, ray, range.lo, &hit, some))
 }
 
 /// The nearest hit over `candidates` (all primitives for `None`), terrains at the level of
-/// detail of `footprint`, its surface still to come.
+/// detail of `footprint`, its surface still to come. With `interiors` (rays leaving a surface),
+/// a ray that starts inside a transmissive free form finds where it leaves it
+/// ([`Interiors::exit_hit`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn nearest_pending(
     scene: &Scene,
     ctx: &mut TraceContext,
@@ -143,14 +165,18 @@ pub(crate) fn nearest_pending(
     eps: f64,
     candidates: Option<&Candidates>,
     footprint: PixelFootprint,
+    interiors: Option<&Interiors>,
 ) -> Option<SceneHit> {
     let mut best: Option<SceneHit> = None;
     let mut narrow = |id: PrimitiveId, active: Option<&ActiveSet>| {
-        let Some(primitive) = AnyPrimitive::of(scene, id, active, footprint) else {
-            return;
-        };
         let hi = best.map_or(range.hi, |b| b.hit.t);
-        if let Some(hit) = primitive.nearest_hit(ray, Interval { lo: range.lo, hi }, eps, ctx)
+        let segment = Interval { lo: range.lo, hi };
+        let found = match interiors.and_then(|i| i.exit_hit(scene, id, ray, segment, eps, ctx)) {
+            Some(exit) => exit,
+            None => AnyPrimitive::of(scene, id, active, footprint)
+                .and_then(|p| p.nearest_hit(ray, segment, eps, ctx)),
+        };
+        if let Some(hit) = found
             && best.is_none_or(|b| hit.t < b.hit.t)
         {
             best = Some(SceneHit { primitive: id, hit });

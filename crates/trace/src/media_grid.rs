@@ -95,9 +95,10 @@ impl MediaGrid {
                             };
                         };
                         let range = Interval::new(c.t_near, f64::INFINITY);
-                        let depth =
-                            nearest_pending(scene, ctx, &c.ray, range, epsilon, None, footprint)
-                                .map_or(f64::INFINITY, |h| h.hit.t);
+                        let depth = nearest_pending(
+                            scene, ctx, &c.ray, range, epsilon, None, footprint, None,
+                        )
+                        .map_or(f64::INFINITY, |h| h.hit.t);
                         let terms = media.terms(&c.ray, Interval::new(c.t_near, depth));
                         let end_extinction = if depth.is_finite() {
                             media.extinction_at(&c.ray, depth)

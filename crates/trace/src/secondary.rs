@@ -4,13 +4,12 @@
 //! complement, or the face of its clipping box), and the transmittance of a shadow ray that keeps
 //! `kt` per transmissive surface it crosses (no caustics: light is not bent toward the light).
 
-use crate::AnyPrimitive;
-use crate::hit::{SceneHit, interaction};
+use crate::hit::{interaction, nearest_pending};
 use crate::interaction::SurfaceInteraction;
-use crate::primitive::{KindHit, PART_PENDING, Primitive, TraceContext};
+use crate::primitive::{KindHit, PART_PENDING, TraceContext};
 use fray_core::{Interval, PixelFootprint, Ray, Rgb};
 use fray_geometry::Solid;
-use fray_scene::{PrimitiveKind, Scene};
+use fray_scene::{PrimitiveId, PrimitiveKind, Scene};
 use glam::DVec3;
 
 /// The most transmissive surfaces a shadow ray passes through before it counts as blocked (a
@@ -49,8 +48,24 @@ impl Interiors {
         Self { complements }
     }
 
-    fn complement(&self, object: usize) -> Option<&Solid> {
-        self.complements.get(object).and_then(Option::as_ref)
+    /// For primitive `id` of `scene`, when it is a transmissive free form and `ray.at(range.lo)`
+    /// lies inside it: where the ray leaves it within `range` (`Some(None)`: not in `range`).
+    /// `None` otherwise: the primitive's own nearest hit applies.
+    pub(crate) fn exit_hit(
+        &self,
+        scene: &Scene,
+        id: PrimitiveId,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        ctx: &mut TraceContext,
+    ) -> Option<Option<KindHit>> {
+        if id.kind != PrimitiveKind::FreeForm {
+            return None;
+        }
+        let complement = self.complements.get(id.index as usize)?.as_ref()?;
+        let solid = &scene.objects.get(id.index as usize)?.solid;
+        (solid.eval(ray.at(range.lo)) >= 0.0).then(|| exit(solid, complement, ray, range, eps, ctx))
     }
 }
 
@@ -66,34 +81,17 @@ pub fn nearest_hit_from_surface(
     eps: f64,
     interiors: &Interiors,
 ) -> Option<SurfaceInteraction> {
-    let start = ray.at(range.lo);
-    let mut best: Option<SceneHit> = None;
-    for id in scene.primitives() {
-        let hi = best.map_or(range.hi, |b| b.hit.t);
-        let segment = Interval { lo: range.lo, hi };
-        let found = match (id.kind, interiors.complement(id.index as usize)) {
-            (PrimitiveKind::FreeForm, Some(complement))
-                if scene.objects[id.index as usize].solid.eval(start) >= 0.0 =>
-            {
-                exit(
-                    &scene.objects[id.index as usize].solid,
-                    complement,
-                    ray,
-                    segment,
-                    eps,
-                    ctx,
-                )
-            }
-            _ => AnyPrimitive::of(scene, id, None, PixelFootprint::ZERO)
-                .and_then(|p| p.nearest_hit(ray, segment, eps, ctx)),
-        };
-        if let Some(hit) = found
-            && best.is_none_or(|b| hit.t < b.hit.t)
-        {
-            best = Some(SceneHit { primitive: id, hit });
-        }
-    }
-    let hit = best?;
+    let footprint = PixelFootprint::ZERO;
+    let hit = nearest_pending(
+        scene,
+        ctx,
+        ray,
+        range,
+        eps,
+        None,
+        footprint,
+        Some(interiors),
+    )?;
     Some(interaction(scene, ray, range.lo, &hit, None))
 }
 

@@ -55,7 +55,7 @@ fn lookup(
         }
         None => match si.uv {
             Some(uv) => {
-                let width = rule.uv_width(pixel, cos, uv_per_world(scene, si, uv));
+                let width = rule.uv_width(pixel, cos, uv_per_world(scene, si));
                 texture.filtered(uv, width, slot.wrap, slot.filter)
             }
             // No coordinates (a free form without a projected mapping): the image's mean.
@@ -71,7 +71,7 @@ fn lookup(
 
 /// The uv per world unit of the surface's own coordinates at `si`: a mesh triangle's (the
 /// largest stretch of its plane-to-uv map), a terrain's drape.
-fn uv_per_world(scene: &Scene, si: &SurfaceInteraction, _uv: DVec2) -> f64 {
+fn uv_per_world(scene: &Scene, si: &SurfaceInteraction) -> f64 {
     let index = si.primitive.index as usize;
     match si.primitive.kind {
         PrimitiveKind::Mesh => {
