@@ -177,10 +177,13 @@ impl GpuRenderer {
 }
 
 /// What of `scene` this backend does not draw yet, if anything: Whitted's secondary rays —
-/// materials that reflect or transmit (the CPU backend draws them; `Auto` falls back to it).
+/// materials that reflect or transmit — and image textures or colour ramps (the CPU backend
+/// draws them; `Auto` falls back to it).
 pub fn unsupported_feature(scene: &Scene) -> Option<&'static str> {
     if scene.features.reflection || scene.features.transmission {
         Some("reflection and refraction (Whitted secondary rays)")
+    } else if scene.features.textures {
+        Some("image textures and colour ramps")
     } else {
         None
     }

@@ -30,6 +30,8 @@ pub struct FeatureSet {
     /// A primitive's material transmits (`kt`): refracted rays are traced and shadow rays pass
     /// through it, dimmed.
     pub transmission: bool,
+    /// A primitive's material takes its colour from an image texture or a colour ramp.
+    pub textures: bool,
 }
 
 impl FeatureSet {
@@ -49,6 +51,7 @@ impl FeatureSet {
             (self.meshes, "meshes"),
             (self.reflection, "reflection"),
             (self.transmission, "transmission"),
+            (self.textures, "textures"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

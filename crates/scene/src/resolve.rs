@@ -221,6 +221,7 @@ pub(crate) fn resolve(
         if let Some(m) = materials.get(m as usize) {
             features.reflection |= m.reflects();
             features.transmission |= m.transmits();
+            features.textures |= m.texture.is_some() || m.ramp.is_some();
         }
     }
     features.shadows = settings.shadows && !lights.is_empty();

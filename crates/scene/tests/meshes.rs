@@ -201,3 +201,18 @@ fn textures_load_once_and_bad_ones_are_located_errors() {
         "{e}"
     );
 }
+
+#[test]
+fn textures_feature_is_set_only_by_a_used_textured_material() {
+    let ramp = "\"r\": (ramp: (height: [(0, (0, 0, 1)), (1, (1, 1, 1))]))";
+    let used = parse(&format!(
+        "(materials: {{ {ramp} }}, objects: [(material: \"r\", shape: Sphere(radius: 1))])"
+    ))
+    .unwrap();
+    assert!(used.features.textures && used.features.names().contains(&"textures"));
+    let unused = parse(&format!(
+        "(materials: {{ {ramp} }}, objects: [(shape: Sphere(radius: 1))])"
+    ))
+    .unwrap();
+    assert!(!unused.features.textures, "{:?}", unused.features);
+}

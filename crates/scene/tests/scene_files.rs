@@ -249,6 +249,7 @@ fn every_variant_parses_and_resolves() {
             meshes: false,
             reflection: false,
             transmission: false,
+            textures: false,
         }
     );
 }
@@ -676,6 +677,7 @@ fn the_documented_example_resolves() {
             meshes: false,
             reflection: false,
             transmission: false,
+            textures: false,
         }
     );
 }
