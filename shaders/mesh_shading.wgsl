@@ -5,6 +5,8 @@
 struct MeshShading {
     // The outward normal to shade with (never turned to the viewer).
     normal: vec3<f32>,
+    // The outward geometric normal (the face's).
+    geometric: vec3<f32>,
     material: u32,
 }
 
@@ -30,6 +32,7 @@ fn mesh_shading(path: GpuPath) -> MeshShading {
     }
     var out: MeshShading;
     out.normal = g;
+    out.geometric = g;
     if (inst.flags & MESH_FLAG_SMOOTH) != 0u && dot(s.shading_normal, g) > 0.0 {
         out.normal = s.shading_normal;
     }
@@ -40,4 +43,19 @@ fn mesh_shading(path: GpuPath) -> MeshShading {
 // Whether a shadow ray from `o` along `d` meets a mesh in (0, distance).
 fn occluded_by_meshes(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
     return mesh_any(o, d, 0.0, distance, mesh_info.x);
+}
+
+// Narrows `best` to the nearest mesh hit in (0, best) — (0, limit) before the first — of a ray
+// leaving a surface, over every instance.
+fn meshes_nearest(o: vec3<f32>, d: vec3<f32>, limit: f32, best: ptr<function, SurfaceHit>) {
+    let hi = select(limit, (*best).t, (*best).t >= 0.0);
+    let h = mesh_nearest(o, d, 0.0, hi, mesh_info.x);
+    if h.instance != MESH_NO_HIT && ((*best).t < 0.0 || h.t < (*best).t) {
+        *best = SurfaceHit(h.t, KIND_MESH, h.instance, h.slot, h.barycentric);
+    }
+}
+
+// The material of instance k.
+fn mesh_material(k: u32) -> u32 {
+    return load_mesh_instance(k).material;
 }

@@ -31,3 +31,17 @@ fn clip_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, d: vec3<f32>, lo_in:
     }
     return vec2<f32>(lo, hi);
 }
+
+// The nearest hit of a ray leaving a surface, any kind (secondary_hit.wgsl; fray-trace's
+// KindHit with its primitive): `t` (< 0: none), the kind and index, and what the kind's surface
+// needs — a terrain's shading normal, a mesh's barycentrics (its triangle slot in `part`), or for
+// a free form left through its clipping box (`part` = FREE_FORM_BOX_EXIT) that face's normal.
+struct SurfaceHit {
+    t: f32,
+    kind: u32,
+    index: u32,
+    part: u32,
+    detail: vec3<f32>,
+}
+
+const FREE_FORM_BOX_EXIT: u32 = 1u;

@@ -6,7 +6,9 @@
 // shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32), and
 // through the media where the scene has them: the fog (fog_shading.wgsl), the clouds
 // (clouds_shading.wgsl) and, for the sky's sun, the air (sky_shading.wgsl). Writes the radiance
-// and the outward shading normal into the path. `shading` is the scene's group of lights and materials with its media's parameters and
+// and the outward shading normal into the path. In a Whitted scene (whitted.wgsl) it also shades
+// the queue's levels of secondary rays, spawns each hit's reflected and refracted rays, and
+// shadow rays pass through transmissive surfaces. `shading` is the scene's group of lights and materials with its media's parameters and
 // tables (bindings::shading); `surfaces` the terrains', the meshes' or both (bindings::surfaces).
 //
 // #bindings frame, free_forms, shading, surfaces
@@ -23,6 +25,8 @@
 // #include "no_sky.wgsl" unless sky
 // #include "clouds_shading.wgsl" if clouds
 // #include "no_clouds.wgsl" unless clouds
+// #include "whitted.wgsl" if whitted
+// #include "no_whitted.wgsl" unless whitted
 // #include "counters.wgsl"
 
 override HAS_FREE_FORMS: bool = true;
@@ -35,6 +39,9 @@ override HAS_POINT: bool = true;
 // instance — each opaque, so 0 where one is hit and 1 where none is; the first that blocks all
 // light ends it.
 fn transmittance(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> vec3<f32> {
+    if whitted_transmits() {
+        return whitted_transmittance(o, d, distance, eps);
+    }
     if HAS_FREE_FORMS && occluded_by_solids(o, d, distance, eps) {
         return vec3<f32>(0.0);
     }
@@ -120,37 +127,53 @@ fn main(
     workgroupBarrier();
     let k = id.x + id.y * groups.x * 64u;
     shadow_rays = 0u;
-    if k < frame.width * frame.band_rows * frame.rays_per_pixel {
-        let path = paths[k];
+    let range = shade_range();
+    if k < range.y {
+        let slot = range.x + k;
+        whitted_begin(slot);
+        let path = paths[slot];
         let t = path.hit.x;
         if path.origin.w >= 0.0 && t >= 0.0 {
             let p = path.origin.xyz + path.dir.xyz * t;
             let to_viewer = -path.dir.xyz;
             var normal: vec3<f32>;
+            var geometric: vec3<f32>;
             var material: u32;
             if path.kind == KIND_TERRAIN {
                 normal = path.hit.yzw;
+                geometric = normal;
                 material = terrain_material(path.index);
             } else if path.kind == KIND_MESH {
                 let surface = mesh_shading(path);
                 normal = surface.normal;
+                geometric = surface.geometric;
                 material = surface.material;
             } else {
                 let surface = surface_at(path.index, p, to_viewer);
                 normal = surface.normal;
+                if path.part == FREE_FORM_BOX_EXIT {
+                    // Left through its clipping box (secondary_hit.wgsl): that face's normal.
+                    normal = path.hit.yzw;
+                }
+                geometric = normal;
                 material = leaves[surface.leaf].material;
             }
             if t <= path.origin.w {
                 // The picture surface cuts the object: the cut face, facing the viewer.
                 normal = to_viewer;
+                geometric = to_viewer;
             }
             var shading_normal = normal;
             if dot(normal, to_viewer) < 0.0 {
                 shading_normal = -normal;
             }
-            let colour = radiance(p, shading_normal, to_viewer, materials[material], frame.epsilon);
-            paths[k].radiance = vec4<f32>(colour, 0.0);
-            paths[k].hit = vec4<f32>(t, normal);
+            let m = materials[material];
+            let colour = radiance(p, shading_normal, to_viewer, m, frame.epsilon);
+            paths[slot].radiance = vec4<f32>(colour, 0.0);
+            paths[slot].hit = vec4<f32>(t, normal);
+            whitted_spawn(slot, p, path.dir.xyz, geometric, normal, m, t);
+        } else {
+            whitted_miss(slot);
         }
     }
     count(COUNT_SHADOW_RAYS, shadow_rays);

@@ -9,3 +9,16 @@ fn occluded_by_terrains(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> 
     }
     return false;
 }
+
+// Narrows `best` to the nearest terrain hit in (0, best) — (0, limit) before the first — of a
+// ray leaving a surface: exactly, at the finest level (fray-trace's secondary rays have no pixel
+// footprint).
+fn terrains_nearest(o: vec3<f32>, d: vec3<f32>, limit: f32, eps: f32, best: ptr<function, SurfaceHit>) {
+    for (var k = 0u; k < frame.terrains; k++) {
+        let hi = select(limit, (*best).t, (*best).t >= 0.0);
+        let h = cast_terrain(k, o, d, 0.0, hi, eps, false);
+        if h.t >= 0.0 && ((*best).t < 0.0 || h.t < (*best).t) {
+            *best = SurfaceHit(h.t, KIND_TERRAIN, k, h.levels_above, terrain_shading_normal(k, o, d, h));
+        }
+    }
+}

@@ -61,7 +61,10 @@ fray_core::gpu_struct! {
 
 fray_core::gpu_struct! {
     /// A solid: its box (relative), its leaves `[first_leaf, first_leaf + leaf_count)` and its
-    /// program `[first_word, first_word + word_count)` of the program array.
+    /// program `[first_word, first_word + word_count)` of the program array; where the solid's
+    /// complement is needed (rays travelling inside a transmissive solid look for where it
+    /// ends), that program negated at `[complement_word, complement_word + word_count + 1)`
+    /// (0: none — a complement always follows the solids' own programs).
     pub struct GpuSolid {
         pub box_min: [f32; 4],
         pub box_max: [f32; 4],
@@ -69,6 +72,9 @@ fray_core::gpu_struct! {
         pub leaf_count: u32,
         pub first_word: u32,
         pub word_count: u32,
+        pub complement_word: u32,
+        pub pad: u32,
+        pub pad2: [u32; 2],
     }
 }
 
@@ -185,10 +191,25 @@ impl GpuSolids {
             leaf_count: solid.leaves().len() as u32,
             first_word,
             word_count: solid.program().len() as u32,
+            ..GpuSolid::default()
         });
         self.max_leaves = self.max_leaves.max(solid.leaves().len() as u32);
         self.max_perturbations = self.max_perturbations.max(perturbations);
         self.max_stack = self.max_stack.max(solid.max_stack() as u32);
+    }
+
+    /// Appends the complement of solid `index` (already pushed) to the program array — its
+    /// program followed by a negation, `Solid::complement`'s program — and records where.
+    /// Call after every solid is pushed, so that a complement never starts at word 0.
+    pub fn push_complement(&mut self, index: usize) {
+        let Some(solid) = self.solids.get(index).copied() else {
+            return;
+        };
+        let (first, count) = (solid.first_word as usize, solid.word_count as usize);
+        let start = self.program.len() as u32;
+        self.program.extend_from_within(first..first + count);
+        self.program.push(OP_NEG);
+        self.solids[index].complement_word = start;
     }
 }
 
@@ -229,6 +250,40 @@ mod tests {
         let text = wgsl_declarations();
         assert!(text.contains("struct GpuLeaf {") && text.contains("const OP_NEG: u32 = 3u;"));
         assert!(text.contains("    first_perturbation: u32,\n"));
+    }
+
+    /// A complement is the solid's program negated, after every solid's own program, at the
+    /// word its solid records (0 for solids without one).
+    #[test]
+    fn complements_follow_the_programs_negated() {
+        let sphere = |c: DVec3| {
+            Solid::new(Shape::FreeForm(
+                FreeForm::new(Quadric::sphere(c, 1.0), vec![], None).unwrap(),
+            ))
+            .unwrap()
+        };
+        let mut g = GpuSolids::new(DVec3::ZERO);
+        g.push(&sphere(DVec3::ZERO), |_| 0);
+        g.push(&sphere(DVec3::X * 3.0), |_| 0);
+        let own = g.program.clone();
+        g.push_complement(1);
+        let s = g.solids[1];
+        assert_eq!(g.solids[0].complement_word, 0);
+        assert_eq!(s.complement_word as usize, own.len());
+        let (first, count) = (s.first_word as usize, s.word_count as usize);
+        assert_eq!(&g.program[..own.len()], &own[..]);
+        assert_eq!(
+            &g.program[own.len()..own.len() + count],
+            &own[first..first + count]
+        );
+        assert_eq!(g.program[own.len() + count], OP_NEG);
+        assert_eq!(g.program.len(), own.len() + count + 1);
+        g.push_complement(7);
+        assert_eq!(
+            g.program.len(),
+            own.len() + count + 1,
+            "no such solid: nothing"
+        );
     }
 
     #[test]

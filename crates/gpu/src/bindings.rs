@@ -3,9 +3,12 @@
 //! them where a module says `// #bindings …`) and the wgpu bind-group layouts are made — the two
 //! sides cannot disagree. A module's groups are numbered in the order its `#bindings` line names
 //! them, which is the order its pass binds them in (a test checks every pass): pipeline layouts
-//! have no gaps. Every pipeline stays within wgpu's default limits: at most 4 groups and 8 storage
+//! have no gaps. Every pipeline stays within wgpu's default limits — at most 4 groups and 8 storage
 //! buffers per stage (uniform arrays hold the small per-scene tables; the sky's tables, too
-//! large for a uniform, are sampled textures, which have a limit of their own).
+//! large for a uniform, are sampled textures, which have a limit of their own) — except the
+//! shade pass of a Whitted scene (reflecting or transmitting materials: [`SHADING_WHITTED`]),
+//! which binds one more storage buffer, its secondary rays' records: a device that cannot bind
+//! nine is refused before upload (`crate::render`), and the CPU renders the scene.
 //!
 //! The lights and materials travel with the scene's media in one group — [`SHADING`],
 //! [`SHADING_FOG`], [`SHADING_SKY`] or [`SHADING_FOG_SKY`], picked by [`shading`] — since the
@@ -193,8 +196,13 @@ pub const SHADING_FOG_SKY_CLOUDS: Group = Group {
 
 /// The lights-and-materials group of a scene with (or without) fog, a sky and clouds: what a
 /// module's `shading` stands for. A scene without a medium binds none of its buffers or
-/// textures.
-pub const fn shading(fog: bool, sky: bool, clouds: bool) -> Group {
+/// textures. A Whitted scene (`whitted`: its materials reflect or transmit) has no media — the
+/// GPU refuses the two together (`crate::render::unsupported_feature`) — and binds
+/// [`SHADING_WHITTED`].
+pub const fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
+    if whitted {
+        return SHADING_WHITTED;
+    }
     match (fog, sky, clouds) {
         (false, false, false) => SHADING,
         (true, false, false) => SHADING_FOG,
@@ -206,6 +214,22 @@ pub const fn shading(fog: bool, sky: bool, clouds: bool) -> Group {
         (true, true, true) => SHADING_FOG_SKY_CLOUDS,
     }
 }
+
+/// Whitted's per-ray records (`crate::params::GpuSecondary`), slot for slot with `paths`.
+const SECONDARIES: Binding = binding(2, "secondaries", "array<GpuSecondary>", StorageReadWrite);
+
+/// The lights and materials of a Whitted scene, with its rays' records.
+pub const SHADING_WHITTED: Group = Group {
+    name: "shading_whitted",
+    bindings: &[LIGHTS, MATERIALS, SECONDARIES],
+};
+
+/// Whitted's queue passes (`crate::passes::whitted`): the indirect dispatch arguments of the
+/// current level (x, y, z workgroups), written on the GPU from the queue's state.
+pub const QUEUE: Group = Group {
+    name: "queue",
+    bindings: &[binding(0, "queue_args", "array<u32, 4>", StorageReadWrite)],
+};
 
 const TERRAIN_TABLE: Binding = binding(
     0,
@@ -369,8 +393,10 @@ pub const MESH_BATCH: Group = Group {
 };
 
 /// Every group, for the include step.
-pub const GROUPS: [Group; 21] = [
+pub const GROUPS: [Group; 23] = [
     FRAME,
+    SHADING_WHITTED,
+    QUEUE,
     FREE_FORMS,
     WORK,
     SHADING,
@@ -630,10 +656,25 @@ mod tests {
         for k in 0..32 {
             let (fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
             let (terrain, meshes) = (k & 8 != 0, k & 16 != 0);
-            let mut shade = vec![FRAME, FREE_FORMS, shading(fog, sky, clouds)];
+            let mut shade = vec![FRAME, FREE_FORMS, shading(fog, sky, clouds, false)];
             shade.extend(surfaces(terrain, meshes));
             sets.push(shade);
-            sets.push(vec![FRAME, shading(fog, sky, clouds)]);
+            sets.push(vec![FRAME, shading(fog, sky, clouds, false)]);
+        }
+        // Whitted's passes (no media with them); its shade pass is the one past the defaults,
+        // by its records (checked against the device before upload, render.rs).
+        for k in 0..4 {
+            let (terrain, meshes) = (k & 1 != 0, k & 2 != 0);
+            let mut shade = vec![FRAME, FREE_FORMS, shading(false, false, false, true)];
+            shade.extend(surfaces(terrain, meshes));
+            let storage: u32 = shade.iter().map(Group::storage_buffers).sum();
+            assert_eq!(storage, 7 + if terrain { 2 } else { 0 });
+            assert!(shade.len() as u32 <= defaults.max_bind_groups);
+            let mut intersect = vec![FRAME, FREE_FORMS];
+            intersect.extend(surfaces(terrain, meshes));
+            sets.push(intersect);
+            sets.push(vec![FRAME, QUEUE]);
+            sets.push(vec![FRAME, shading(false, false, false, true)]);
         }
         for set in sets {
             let storage: u32 = set.iter().map(Group::storage_buffers).sum();
@@ -653,7 +694,7 @@ mod tests {
         let full = [
             FRAME,
             FREE_FORMS,
-            shading(true, true, true),
+            shading(true, true, true, false),
             TERRAINS_MESHES,
         ];
         assert_eq!(
@@ -668,14 +709,14 @@ mod tests {
         assert_eq!(surfaces(false, false), None);
         assert_eq!(surfaces(true, false), Some(TERRAINS));
         // A scene without a medium binds none of its parameters or tables.
-        assert_eq!(shading(false, false, false), SHADING);
+        assert_eq!(shading(false, false, false, false), SHADING);
         // Every combination is its own group (layouts are cached by name).
         let names: std::collections::HashSet<&str> = (0..8)
-            .map(|k| shading(k & 1 != 0, k & 2 != 0, k & 4 != 0).name)
+            .map(|k| shading(k & 1 != 0, k & 2 != 0, k & 4 != 0, false).name)
             .collect();
         assert_eq!(names.len(), 8);
         for k in 0..8 {
-            let g = shading(k & 1 != 0, k & 2 != 0, k & 4 != 0);
+            let g = shading(k & 1 != 0, k & 2 != 0, k & 4 != 0, false);
             let has = |name: &str| g.bindings.iter().any(|b| b.name == name);
             assert_eq!(has("fog"), k & 1 != 0, "{}", g.name);
             assert_eq!(has("sky_view_table"), k & 2 != 0, "{}", g.name);

@@ -24,10 +24,15 @@ pub enum Counter {
     /// Camera rays cast at a mesh instance: one per ray and instance searched (the mesh
     /// intersection pass; fray-trace's `mesh_rays`).
     MeshRays,
+    /// Whitted's reflected and refracted rays traced (fray-trace's `secondary_rays`).
+    SecondaryRays,
+    /// Secondary rays that found the band's queue full (the frame is rendered again in
+    /// smaller bands; 0 in a frame that is kept).
+    QueueOverflows,
 }
 
 /// Every counter, in workgroup-slot order.
-pub const ALL: [Counter; 11] = [
+pub const ALL: [Counter; 13] = [
     Counter::Hits,
     Counter::ShadowRays,
     Counter::BoundEvaluations,
@@ -39,10 +44,28 @@ pub const ALL: [Counter; 11] = [
     Counter::TerrainStopLevels,
     Counter::CloudSamples,
     Counter::MeshRays,
+    Counter::SecondaryRays,
+    Counter::QueueOverflows,
 ];
 
-/// 32-bit words in the frame's counter buffer.
-pub const WORDS: usize = 20;
+/// 32-bit words of the counters proper.
+pub const COUNTER_WORDS: usize = 23;
+
+/// Whitted's queue state, in words after the counters (one band's; reset per band): the next
+/// free queue slot, the level being processed, the current dispatch's range of slots, and per
+/// level its range of slots in `paths`.
+pub const QUEUE_TOP: usize = COUNTER_WORDS;
+pub const QUEUE_DEPTH: usize = QUEUE_TOP + 1;
+pub const QUEUE_CURRENT_START: usize = QUEUE_TOP + 2;
+pub const QUEUE_CURRENT_COUNT: usize = QUEUE_TOP + 3;
+/// `LEVEL_START + d`, `LEVEL_END + d` for levels `d = 0..=MAX_DEPTH` (0: the camera rays).
+pub const LEVEL_START: usize = QUEUE_TOP + 4;
+pub const LEVEL_END: usize = LEVEL_START + fray_scene::MAX_DEPTH as usize + 1;
+/// Words of the queue state.
+pub const QUEUE_WORDS: usize = LEVEL_END + fray_scene::MAX_DEPTH as usize + 1 - QUEUE_TOP;
+
+/// 32-bit words in the frame's counter buffer: the counters, then the queue state.
+pub const WORDS: usize = COUNTER_WORDS + QUEUE_WORDS;
 
 impl Counter {
     /// Its slot in the workgroup sums.
@@ -52,7 +75,10 @@ impl Counter {
 
     /// Whether it is a 64-bit pair of words.
     pub const fn wide(self) -> bool {
-        !matches!(self, Counter::Hits | Counter::ShadowRays)
+        !matches!(
+            self,
+            Counter::Hits | Counter::ShadowRays | Counter::QueueOverflows
+        )
     }
 
     /// Its (first) word in the frame's counter buffer.
@@ -60,6 +86,7 @@ impl Counter {
         match self {
             Counter::Hits => 0,
             Counter::ShadowRays => 1,
+            Counter::QueueOverflows => COUNTER_WORDS as u32 - 1,
             // The pairs follow the two single words, in slot order.
             wide => 2 + 2 * (wide as u32 - 2),
         }
@@ -79,6 +106,8 @@ impl Counter {
             Counter::TerrainStopLevels => "TERRAIN_STOP_LEVELS",
             Counter::CloudSamples => "CLOUD_SAMPLES",
             Counter::MeshRays => "MESH_RAYS",
+            Counter::SecondaryRays => "SECONDARY_RAYS",
+            Counter::QueueOverflows => "QUEUE_OVERFLOWS",
         }
     }
 
@@ -107,6 +136,16 @@ pub fn wgsl_constants() -> Vec<(String, u32)> {
         .collect();
     c.push(("GROUP_COUNTERS".into(), ALL.len() as u32));
     c.push(("COUNTER_WORDS".into(), WORDS as u32));
+    for (name, word) in [
+        ("WORD_QUEUE_TOP", QUEUE_TOP),
+        ("WORD_QUEUE_DEPTH", QUEUE_DEPTH),
+        ("WORD_QUEUE_CURRENT_START", QUEUE_CURRENT_START),
+        ("WORD_QUEUE_CURRENT_COUNT", QUEUE_CURRENT_COUNT),
+        ("WORD_LEVEL_START", LEVEL_START),
+        ("WORD_LEVEL_END", LEVEL_END),
+    ] {
+        c.push((name.into(), word as u32));
+    }
     c
 }
 
@@ -129,18 +168,23 @@ mod tests {
 
     #[test]
     fn slots_are_in_order_and_words_tile_the_buffer_without_overlap() {
-        let mut used = [false; WORDS];
+        let mut used = [false; COUNTER_WORDS];
         for (k, c) in ALL.iter().enumerate() {
             assert_eq!(c.slot() as usize, k);
             let n = if c.wide() { 2 } else { 1 };
             for w in c.word()..c.word() + n {
                 let w = w as usize;
-                assert!(w < WORDS, "{c:?} past the buffer");
+                assert!(w < COUNTER_WORDS, "{c:?} past the counters");
                 assert!(!used[w], "{c:?} overlaps");
                 used[w] = true;
             }
         }
         assert!(used.iter().all(|&u| u), "every word is a counter's");
+        // The queue state follows, its level tables one word per level each.
+        assert_eq!(QUEUE_TOP, COUNTER_WORDS);
+        assert_eq!(LEVEL_END - LEVEL_START, fray_scene::MAX_DEPTH as usize + 1);
+        assert_eq!(COUNTER_WORDS + QUEUE_WORDS, WORDS);
+        assert_eq!(LEVEL_END + fray_scene::MAX_DEPTH as usize + 1, WORDS);
     }
 
     #[test]

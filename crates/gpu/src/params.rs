@@ -64,8 +64,12 @@ fray_core::gpu_struct! {
         pub shadow_offset: f32,
         pub exposure: f32,
         pub tone_map: u32,
-        pub pad: u32,
-        pub pad2: [u32; 2],
+        /// Whitted: the deepest secondary ray (`settings.max_depth`), the weight below which a
+        /// secondary ray is not traced (`settings.min_contribution`), and the slots of the
+        /// band's queue of secondary rays (after the band's camera rays in `paths`).
+        pub max_depth: u32,
+        pub min_contribution: f32,
+        pub queue_capacity: u32,
     }
 }
 
@@ -106,14 +110,36 @@ fray_core::gpu_struct! {
 }
 
 fray_core::gpu_struct! {
-    /// A material (fray-trace's Phong-style model).
+    /// A material (fray-trace's Phong-style model with Whitted's terms).
     pub struct GpuMaterial {
         pub ambient: [f32; 4],
         pub diffuse: [f32; 4],
         pub specular: [f32; 4],
+        /// Mirror reflectance `kr` (rgb) and the index of refraction (w).
+        pub reflect: [f32; 4],
+        /// Transmittance `kt` (rgb) and 1 where Fresnel weights `kr`/`kt` (w), else 0.
+        pub transmit: [f32; 4],
         pub shininess: f32,
         pub pad: f32,
         pub pad2: [f32; 2],
+    }
+}
+
+fray_core::gpu_struct! {
+    /// Whitted's record of a ray in `paths` (same slot): what it carries and what it spawned.
+    /// Only scenes whose materials reflect or transmit allocate these.
+    pub struct GpuSecondary {
+        /// The ray's weight relative to its parent (`kr` or `kt` after Fresnel; rgb; 1 for a
+        /// camera ray) and the path's length from the camera to the ray's origin (w).
+        pub weight: [f32; 4],
+        /// The product of the weights from the camera (rgb): the contribution cut-off's.
+        pub throughput: [f32; 4],
+        /// Its children's slots `[first_child, first_child + children)` in `paths`.
+        pub first_child: u32,
+        pub children: u32,
+        /// Secondary rays from the camera to this one (0: a camera ray).
+        pub depth: u32,
+        pub pad: u32,
     }
 }
 
@@ -293,6 +319,8 @@ pub fn materials(scene: &Scene) -> Vec<GpuMaterial> {
             ambient: vec4(m.ambient.as_dvec3(), 0.0),
             diffuse: vec4(m.diffuse.as_dvec3(), 0.0),
             specular: vec4(m.specular.as_dvec3(), 0.0),
+            reflect: vec4(m.reflect.as_dvec3(), m.ior),
+            transmit: vec4(m.transmit.as_dvec3(), if m.fresnel { 1.0 } else { 0.0 }),
             shininess: m.shininess as f32,
             ..GpuMaterial::default()
         })
@@ -310,6 +338,7 @@ mod tests {
         GpuPath::check_layout().unwrap();
         GpuLight::check_layout().unwrap();
         GpuMaterial::check_layout().unwrap();
+        GpuSecondary::check_layout().unwrap();
         // Uniform arrays need a 16-byte stride.
         for size in [
             std::mem::size_of::<GpuLight>(),

@@ -4,9 +4,9 @@
 //! meshes → shading → media (fog, sky, clouds) → resolve into storage textures), and the
 //! textures read back into a [`Frame`].
 
-use crate::bindings::{self, FRAME, FREE_FORMS, MESHES, TARGETS, TERRAINS, WORK};
+use crate::bindings::{self, FRAME, FREE_FORMS, MESHES, QUEUE, TARGETS, TERRAINS, WORK};
 use crate::counters::{self, Counter};
-use crate::params::{self, FrameParams, GpuPath, View};
+use crate::params::{self, FrameParams, GpuPath, GpuSecondary, View};
 use crate::passes::freeform::FreeFormPass;
 use crate::passes::media::MediaPass;
 use crate::passes::mesh::MeshIntersectPass;
@@ -15,6 +15,7 @@ use crate::passes::rebase::RebasePass;
 use crate::passes::resolve::ResolvePass;
 use crate::passes::shade::ShadePass;
 use crate::passes::terrain::TerrainIntersectPass;
+use crate::passes::whitted::{QUEUE_SLOTS_PER_RAY, WhittedGroups, WhittedPasses};
 use crate::passes::{PassSetup, PipelineCache};
 use crate::readback::{map_read, read_back, readback_buffer};
 use crate::resident::{ResidentScene, terrain_lods};
@@ -176,12 +177,13 @@ impl GpuRenderer {
     }
 }
 
-/// What of `scene` this backend does not draw yet, if anything: Whitted's secondary rays —
-/// materials that reflect or transmit — and image textures or colour ramps (the CPU backend
-/// draws them; `Auto` falls back to it).
+/// What of `scene` this backend does not draw yet, if anything: Whitted's secondary rays
+/// through media (reflecting or transmitting materials in a scene with fog, a sky or clouds),
+/// and image textures or colour ramps (the CPU backend draws them; `Auto` falls back to it).
 pub fn unsupported_feature(scene: &Scene) -> Option<&'static str> {
-    if scene.features.reflection || scene.features.transmission {
-        Some("reflection and refraction (Whitted secondary rays)")
+    let f = &scene.features;
+    if (f.reflection || f.transmission) && (f.fog || f.sky || f.clouds) {
+        Some("reflection and refraction (Whitted secondary rays) through fog, sky or clouds")
     } else if scene.features.textures {
         Some("image textures and colour ramps")
     } else {
@@ -206,6 +208,8 @@ struct Passes {
     shade: ShadePass,
     /// Only with fog, a sky or clouds.
     media: Option<MediaPass>,
+    /// Only with reflecting or transmitting materials.
+    whitted: Option<WhittedPasses>,
     resolve: ResolvePass,
 }
 
@@ -217,6 +221,10 @@ struct FrameBuffers {
     counters: wgpu::Buffer,
     counters_readback: wgpu::Buffer,
     paths: wgpu::Buffer,
+    /// Whitted's records of the rays in `paths` and the queue passes' indirect dispatch (empty
+    /// without reflecting or transmitting materials).
+    secondaries: wgpu::Buffer,
+    queue_args: wgpu::Buffer,
     items: wgpu::Buffer,
     candidates: wgpu::Buffer,
     /// The scene's programs (head, copied on the GPU) and the frame's work-list words.
@@ -257,6 +265,8 @@ pub struct GpuScene<'a> {
     /// Scene bytes and pipeline builds not yet reported by a frame (the upload's).
     pending_scene_bytes: u64,
     pending_pipelines: (u32, Duration),
+    /// Whitted's queue slots per camera ray of a band (grown when a frame's queue overflows).
+    queue_slots: u32,
 }
 
 impl<'a> GpuScene<'a> {
@@ -292,7 +302,21 @@ impl<'a> GpuScene<'a> {
             fog: scene.atmosphere.fog.is_some(),
             sky: scene.atmosphere.sky.is_some(),
             clouds: scene.clouds.is_some(),
+            whitted: scene.features.reflection || scene.features.transmission,
         };
+        if options.whitted {
+            // The shade pass binds the secondary rays' records besides the frame's, the free
+            // forms' and the terrains' storage buffers.
+            let needed = 2 + 4 + if options.terrain { 2 } else { 0 } + 1;
+            let limit = ctx.limits.max_storage_buffers_per_shader_stage;
+            if needed > limit {
+                return Err(GpuError::TooLarge {
+                    what: "storage buffers of the Whitted shade pass",
+                    needed: u64::from(needed),
+                    limit: u64::from(limit),
+                });
+            }
+        }
         let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
         let setup = PassSetup {
@@ -320,6 +344,10 @@ impl<'a> GpuScene<'a> {
                 .media()
                 .then(|| MediaPass::new(&setup))
                 .transpose()?,
+            whitted: options
+                .whitted
+                .then(|| WhittedPasses::new(&setup))
+                .transpose()?,
             resolve: ResolvePass::new(&setup)?,
         };
         let pending_pipelines = cache.take_built();
@@ -342,6 +370,8 @@ impl<'a> GpuScene<'a> {
                 (counters::WORDS * 4) as u64,
             ),
             paths: bindings::empty(ctx, "paths", 0, U::STORAGE)?,
+            secondaries: bindings::empty(ctx, "secondary rays", 0, U::STORAGE)?,
+            queue_args: bindings::empty(ctx, "queue dispatch", 16, U::STORAGE | U::INDIRECT)?,
             items: bindings::empty(ctx, "work items", 0, U::STORAGE | U::COPY_DST)?,
             candidates: bindings::empty(ctx, "candidates", 0, U::STORAGE | U::COPY_DST)?,
             indices: bindings::empty(ctx, "indices", 0, U::STORAGE | U::COPY_DST)?,
@@ -360,6 +390,7 @@ impl<'a> GpuScene<'a> {
             rebased_for: None,
             sky_view_for: None,
             pending_pipelines,
+            queue_slots: QUEUE_SLOTS_PER_RAY,
         })
     }
 
@@ -368,8 +399,44 @@ impl<'a> GpuScene<'a> {
         self.specialisation
     }
 
-    /// Renders the resident scene as `view` shows it.
+    /// Renders the resident scene as `view` shows it. A Whitted frame whose queue of secondary
+    /// rays overflowed is rendered again with twice the queue per camera ray (in bands half as
+    /// tall), so every frame returned traced every secondary ray it should.
     pub fn render(&mut self, view: &View) -> Result<Frame, GpuError> {
+        let start = Instant::now();
+        loop {
+            let (mut frame, overflows) = self.render_frame(view)?;
+            if overflows == 0 {
+                frame.stats.elapsed = start.elapsed();
+                return Ok(frame);
+            }
+            // Past one tile row per band the queue cannot grow within the band's bytes.
+            let most = (BAND_BYTES / Self::bytes_per_ray(true, 1)) as u32;
+            if self.queue_slots >= most {
+                return Err(GpuError::TooLarge {
+                    what: "Whitted queue slots per camera ray (secondary rays of one band)",
+                    needed: u64::from(self.queue_slots) * 2,
+                    limit: u64::from(most),
+                });
+            }
+            self.queue_slots *= 2;
+        }
+    }
+
+    /// Device bytes per camera ray of a band: its path, and with Whitted (`whitted`) its record
+    /// and `queue_slots` queue slots of both.
+    fn bytes_per_ray(whitted: bool, queue_slots: u32) -> u64 {
+        let path = std::mem::size_of::<GpuPath>() as u64;
+        if whitted {
+            (path + std::mem::size_of::<GpuSecondary>() as u64) * (1 + u64::from(queue_slots))
+        } else {
+            path
+        }
+    }
+
+    /// One try at [`GpuScene::render`]: the frame and how many secondary rays found the queue
+    /// full (0 without Whitted).
+    fn render_frame(&mut self, view: &View) -> Result<(Frame, u64), GpuError> {
         let start = Instant::now();
         let ctx = &self.renderer.ctx;
         let (width, height) = (view.width, view.height);
@@ -413,9 +480,8 @@ impl<'a> GpuScene<'a> {
         uploaded += work.bytes();
         self.ensure_targets(width, height)?;
         let band_rows = self.band_rows(view)?;
-        self.ensure_paths(
-            u64::from(width) * u64::from(band_rows) * u64::from(view.rays_per_pixel()),
-        )?;
+        let band_rays = u64::from(width) * u64::from(band_rows) * u64::from(view.rays_per_pixel());
+        self.ensure_paths(band_rays)?;
         let mut params = params::frame_params(
             scene,
             view,
@@ -424,6 +490,9 @@ impl<'a> GpuScene<'a> {
             SHADOW_OFFSET_EPSILONS * epsilon,
         );
         params.programs_base = work.programs_base;
+        params.max_depth = scene.settings.max_depth;
+        params.min_contribution = scene.settings.min_contribution as f32;
+        params.queue_capacity = (band_rays * u64::from(self.queue_slots)) as u32;
         // Rebase the resident scene to this camera if it moved, and this view's terrain levels.
         let mut encoder = ctx
             .device
@@ -471,6 +540,15 @@ impl<'a> GpuScene<'a> {
             ctx.queue
                 .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
             uploaded += std::mem::size_of::<FrameParams>() as u64;
+            if self.passes.whitted.is_some() {
+                // An empty queue at level 0 for this band.
+                let at = (counters::QUEUE_TOP * 4) as u64;
+                ctx.queue.write_buffer(
+                    &self.buffers.counters,
+                    at,
+                    &[0u8; counters::QUEUE_WORDS * 4],
+                );
+            }
             let mut encoder = ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -508,6 +586,22 @@ impl<'a> GpuScene<'a> {
                     groups.surfaces.as_ref(),
                     rays,
                 );
+                if let (Some(whitted), Some(queue)) = (&self.passes.whitted, &groups.queue) {
+                    let whitted_groups = WhittedGroups {
+                        frame: &groups.frame,
+                        free_forms: &groups.free_forms,
+                        shading: &groups.shading,
+                        surfaces: groups.surfaces.as_ref(),
+                        queue,
+                    };
+                    whitted.encode(
+                        &mut pass,
+                        &self.passes.shade,
+                        &whitted_groups,
+                        &self.buffers.queue_args,
+                        scene.settings.max_depth,
+                    );
+                }
                 if let Some(media) = &self.passes.media {
                     // The shading group holds the media's parameters and tables.
                     media.encode(&mut pass, ctx, [&groups.frame, &groups.shading], rays);
@@ -581,6 +675,12 @@ impl<'a> GpuScene<'a> {
         if !self.specialisation.shadows {
             passes.retain(|p| p != "shadows");
         }
+        if self.passes.whitted.is_some() {
+            passes.push(format!(
+                "whitted queue: {} slots per camera ray",
+                self.queue_slots
+            ));
+        }
         let mut stats = RenderStats {
             backend: format!("gpu ({}, {})", ctx.adapter_name, ctx.backend),
             threads: 1,
@@ -600,6 +700,7 @@ impl<'a> GpuScene<'a> {
             terrain_stop_levels: Counter::TerrainStopLevels.read(&words),
             cloud_samples: Counter::CloudSamples.read(&words),
             mesh_rays: Counter::MeshRays.read(&words),
+            secondary_rays: Counter::SecondaryRays.read(&words),
             uploaded_bytes: uploaded + scene_uploaded,
             scene_uploaded_bytes: scene_uploaded,
             pipelines_built,
@@ -611,12 +712,16 @@ impl<'a> GpuScene<'a> {
             stats.cells_culled = w.cells_culled;
             stats.work_items = w.items;
         }
-        Ok(Frame {
-            colour,
-            depth,
-            normals,
-            stats,
-        })
+        let overflows = Counter::QueueOverflows.read(&words);
+        Ok((
+            Frame {
+                colour,
+                depth,
+                normals,
+                stats,
+            },
+            overflows,
+        ))
     }
 
     /// This view's media parameters, from f64: the fog's heights relative to the eye (and the
@@ -692,7 +797,7 @@ impl<'a> GpuScene<'a> {
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size)
             .min(BAND_BYTES);
-        let per_row = std::mem::size_of::<GpuPath>() as u64
+        let per_row = Self::bytes_per_ray(self.passes.whitted.is_some(), self.queue_slots)
             * u64::from(view.width)
             * u64::from(view.rays_per_pixel());
         let tile = u64::from(TILE);
@@ -707,11 +812,23 @@ impl<'a> GpuScene<'a> {
         Ok(rows.min(u64::from(view.height).next_multiple_of(tile)) as u32)
     }
 
-    /// Room for `rays` rays in flight.
+    /// Room for `rays` camera rays in flight, and with Whitted their records and queue.
     fn ensure_paths(&mut self, rays: u64) -> Result<(), GpuError> {
-        let bytes = rays * std::mem::size_of::<GpuPath>() as u64;
+        let slots = if self.passes.whitted.is_some() {
+            rays * (1 + u64::from(self.queue_slots))
+        } else {
+            rays
+        };
+        let bytes = slots * std::mem::size_of::<GpuPath>() as u64;
         if self.buffers.paths.size() < bytes {
             self.buffers.paths = bindings::empty(&self.renderer.ctx, "paths", bytes, U::STORAGE)?;
+        }
+        if self.passes.whitted.is_some() {
+            let bytes = slots * std::mem::size_of::<GpuSecondary>() as u64;
+            if self.buffers.secondaries.size() < bytes {
+                self.buffers.secondaries =
+                    bindings::empty(&self.renderer.ctx, "secondary rays", bytes, U::STORAGE)?;
+            }
         }
         Ok(())
     }
@@ -845,7 +962,13 @@ impl<'a> GpuScene<'a> {
             ],
         );
         // The lights and materials with the scene's media (`bindings::shading`), in its order.
-        let shading_group = bindings::shading(r.fog.is_some(), r.sky.is_some(), r.clouds.is_some());
+        let whitted = self.passes.whitted.is_some();
+        let shading_group = bindings::shading(
+            r.fog.is_some(),
+            r.sky.is_some(),
+            r.clouds.is_some(),
+            whitted,
+        );
         let sky_views = r.sky.as_ref().map(|s| {
             (
                 crate::sky_tables::view(&s.transmittance),
@@ -856,6 +979,9 @@ impl<'a> GpuScene<'a> {
             r.lights_table.as_entire_binding(),
             r.materials.as_entire_binding(),
         ];
+        if whitted {
+            resources.push(b.secondaries.as_entire_binding());
+        }
         if let Some(fog) = &r.fog {
             resources.push(fog.as_entire_binding());
         }
@@ -926,11 +1052,19 @@ impl<'a> GpuScene<'a> {
                 wgpu::BindingResource::TextureView(&d),
             ],
         );
+        let queue = whitted.then(|| {
+            QUEUE.bind(
+                device,
+                &cache.layout(ctx, &QUEUE),
+                &[b.queue_args.as_entire_binding()],
+            )
+        });
         Ok(Groups {
             frame,
             free_forms,
             work,
             shading,
+            queue,
             terrains,
             meshes,
             surfaces,
@@ -1096,6 +1230,8 @@ struct Groups {
     free_forms: wgpu::BindGroup,
     work: wgpu::BindGroup,
     shading: wgpu::BindGroup,
+    /// Whitted's queue passes' (with reflecting or transmitting materials).
+    queue: Option<wgpu::BindGroup>,
     /// The terrain pass's (with terrains).
     terrains: Option<wgpu::BindGroup>,
     /// The mesh pass's (with meshes).

@@ -176,6 +176,19 @@ impl ResidentScene {
                     .unwrap_or(material_count)
             });
         }
+        // Rays travel inside transmissive solids: those look for where they end, the first
+        // point of their complement (fray-trace's Interiors).
+        let transmits = |m: &u32| {
+            scene
+                .materials
+                .get(*m as usize)
+                .is_some_and(|m| m.transmits())
+        };
+        for (index, object) in scene.objects.iter().enumerate() {
+            if object.leaf_materials.iter().any(transmits) {
+                flat.push_complement(index);
+            }
+        }
         let mut bytes = 0;
         let (solids, b) = Rebased::new(ctx, cache, "solids", &flat.solids, SOLID_LAYOUT)?;
         bytes += b;

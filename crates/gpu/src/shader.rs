@@ -23,7 +23,7 @@ use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/`.
-pub const SHADER_FILES: [(&str, &str); 43] = [
+pub const SHADER_FILES: [(&str, &str); 51] = [
     ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../../../shaders/clouds.wgsl")),
     (
@@ -154,11 +154,44 @@ pub const SHADER_FILES: [(&str, &str); 43] = [
         "work_item.wgsl",
         include_str!("../../../shaders/work_item.wgsl"),
     ),
+    ("queue.wgsl", include_str!("../../../shaders/queue.wgsl")),
+    (
+        "queue_forward.wgsl",
+        include_str!("../../../shaders/queue_forward.wgsl"),
+    ),
+    (
+        "queue_gather.wgsl",
+        include_str!("../../../shaders/queue_gather.wgsl"),
+    ),
+    (
+        "secondary_hit.wgsl",
+        include_str!("../../../shaders/secondary_hit.wgsl"),
+    ),
+    (
+        "intersect_secondary.wgsl",
+        include_str!("../../../shaders/intersect_secondary.wgsl"),
+    ),
+    (
+        "whitted.wgsl",
+        include_str!("../../../shaders/whitted.wgsl"),
+    ),
+    (
+        "no_whitted.wgsl",
+        include_str!("../../../shaders/no_whitted.wgsl"),
+    ),
+    (
+        "whitted_gather.wgsl",
+        include_str!("../../../shaders/whitted_gather.wgsl"),
+    ),
 ];
 
 /// The entry modules, one per pass (`passes::*`, `TerrainPass`, `FogPass`, `SkyPass`,
 /// `CloudsPass` and `MeshPass`).
-pub const ENTRY_MODULES: [&str; 13] = [
+pub const ENTRY_MODULES: [&str; 17] = [
+    "queue_forward.wgsl",
+    "queue_gather.wgsl",
+    "intersect_secondary.wgsl",
+    "whitted_gather.wgsl",
     "raygen.wgsl",
     "intersect_freeform.wgsl",
     "intersect_terrain.wgsl",
@@ -172,6 +205,14 @@ pub const ENTRY_MODULES: [&str; 13] = [
     "sky_batch.wgsl",
     "clouds_batch.wgsl",
     "mesh_batch.wgsl",
+];
+
+/// The entry modules composed only for Whitted scenes (`ModuleOptions::whitted`).
+pub const WHITTED_ENTRY_MODULES: [&str; 4] = [
+    "queue_forward.wgsl",
+    "queue_gather.wgsl",
+    "intersect_secondary.wgsl",
+    "whitted_gather.wgsl",
 ];
 
 /// The text of shader file `name`.
@@ -238,6 +279,9 @@ pub struct ModuleOptions {
     pub sky: bool,
     /// The scene has a cloud volume (`if clouds` / `unless clouds`).
     pub clouds: bool,
+    /// The scene's materials reflect or transmit: Whitted's secondary rays (`if whitted` /
+    /// `unless whitted`).
+    pub whitted: bool,
 }
 
 impl ModuleOptions {
@@ -257,6 +301,7 @@ impl ModuleOptions {
         fog: false,
         sky: false,
         clouds: false,
+        whitted: false,
     };
 }
 
@@ -269,6 +314,7 @@ impl Default for ModuleOptions {
             fog: true,
             sky: true,
             clouds: true,
+            whitted: false,
         }
     }
 }
@@ -344,6 +390,8 @@ impl Compose {
             "unless sky" => !self.options.sky,
             "if clouds" => self.options.clouds,
             "unless clouds" => !self.options.clouds,
+            "if whitted" => self.options.whitted,
+            "unless whitted" => !self.options.whitted,
             _ => false,
         }
     }
@@ -383,7 +431,12 @@ impl Compose {
                     }
                     let g = if group == "shading" {
                         // The scene's lights with its media (see `bindings::shading`).
-                        bindings::shading(self.options.fog, self.options.sky, self.options.clouds)
+                        bindings::shading(
+                            self.options.fog,
+                            self.options.sky,
+                            self.options.clouds,
+                            self.options.whitted,
+                        )
                     } else if group == "surfaces" {
                         // The scene's terrains and meshes (see `bindings::surfaces`), if any.
                         match bindings::surfaces(self.options.terrain, self.options.meshes) {
@@ -487,6 +540,7 @@ pub fn prelude(sizes: &ArraySizes) -> String {
         params::GpuPath::declaration(),
         params::GpuLight::declaration(),
         params::GpuMaterial::declaration(),
+        params::GpuSecondary::declaration(),
         crate::passes::rebase::RebaseParams::declaration(),
     ] {
         s.push_str(&decl);
@@ -511,6 +565,10 @@ pub fn prelude(sizes: &ArraySizes) -> String {
         ("KIND_TERRAIN".to_owned(), PrimitiveKind::Terrain.code()),
         ("KIND_MESH".to_owned(), PrimitiveKind::Mesh.code()),
         ("TILE_THREADS".to_owned(), crate::work::TILE),
+        (
+            "MAX_SHADOW_CROSSINGS".to_owned(),
+            crate::passes::whitted::MAX_SHADOW_CROSSINGS,
+        ),
         (
             "MESH_TEXTURE_WIDTH".to_owned(),
             crate::mesh_pass::MESH_TEXTURE_WIDTH,
@@ -565,6 +623,10 @@ pub struct Specialisation {
     pub sky: bool,
     /// A cloud volume: likewise (the media pass marches it; shade dims light through it).
     pub clouds: bool,
+    /// Materials that reflect or transmit: Whitted's queue passes run after shade.
+    pub whitted: bool,
+    /// Materials that transmit: shadow rays pass through them, dimmed by `kt`.
+    pub transmission: bool,
 }
 
 impl Specialisation {
@@ -584,6 +646,8 @@ impl Specialisation {
             fog: scene.atmosphere.fog.is_some(),
             sky: scene.atmosphere.sky.is_some(),
             clouds: scene.clouds.is_some(),
+            whitted: f.reflection || f.transmission,
+            transmission: f.transmission,
         }
     }
 
@@ -597,7 +661,8 @@ impl Specialisation {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
         let free_form = [
             ("HAS_PERTURBATIONS", b(self.perturbations)),
-            ("HAS_CSG", b(self.csg)),
+            // A transmissive solid's complement is a program (its own, negated).
+            ("HAS_CSG", b(self.csg || self.transmission)),
         ];
         match entry {
             "raygen.wgsl" => vec![("PROJECTOR", f64::from(self.projector))],
@@ -611,8 +676,12 @@ impl Specialisation {
                     ("HAS_SUN", b(self.sun)),
                     ("HAS_POINT", b(self.point_lights)),
                 ]);
+                if self.whitted {
+                    c.push(("TRANSMISSION", b(self.transmission)));
+                }
                 c
             }
+            "intersect_secondary.wgsl" => free_form.to_vec(),
             _ => Vec::new(),
         }
     }
@@ -637,6 +706,8 @@ impl Specialisation {
             (self.fog, "fog"),
             (self.sky, "sky"),
             (self.clouds, "clouds"),
+            (self.whitted, "whitted"),
+            (self.transmission, "transmission"),
         ] {
             if on {
                 parts.push(name);
@@ -713,9 +784,13 @@ mod tests {
         embedded.sort();
         assert_eq!(on_disk, embedded, "every file in shaders/ must be embedded");
         let mut reached: Vec<String> = Vec::new();
-        for k in 0..32u32 {
+        for k in 0..64u32 {
             let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
-            let meshes = k & 16 != 0;
+            let (meshes, whitted) = (k & 16 != 0, k & 32 != 0);
+            if whitted && (fog || sky || clouds) {
+                // Refused before composition (render::unsupported_feature).
+                continue;
+            }
             for sizes in [
                 ArraySizes::default(),
                 ArraySizes {
@@ -734,12 +809,16 @@ mod tests {
                     fog,
                     sky,
                     clouds,
+                    whitted,
                 };
                 for entry in ENTRY_MODULES {
+                    if !whitted && WHITTED_ENTRY_MODULES.contains(&entry) {
+                        continue;
+                    }
                     let source = compose(entry, &options).unwrap();
                     validate(
                         &format!(
-                            "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds})"
+                            "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds}, whitted {whitted})"
                         ),
                         &source,
                     );

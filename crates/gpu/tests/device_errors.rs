@@ -35,44 +35,45 @@ fn uncaptured_validation_error_is_recorded_not_raised() {
     assert_eq!(ctx.take_uncaptured_error(), None, "taken once");
 }
 
-/// A scene with a reflecting or transmitting material is refused before anything is uploaded —
-/// `Unsupported`, naming what — until the GPU traces Whitted's secondary rays, so that `Auto`
-/// renders it on the CPU, and so is a textured material; a scene with a mesh is not (the GPU
-/// draws meshes).
-fn secondary_rays_are_refused_as_unsupported_meshes_are_not() {
-    let renderer = common::gpu("secondary_rays_are_refused_as_unsupported_meshes_are_not");
+/// What the GPU does not draw yet is refused before anything is uploaded — `Unsupported`,
+/// naming what — so that `Auto` renders it on the CPU: reflecting or transmitting materials in a
+/// scene with a medium (Whitted's rays through fog), and textured materials. Meshes, mirrors and
+/// glass are not refused (the GPU draws them).
+fn unsupported_features_are_refused_meshes_and_whitted_are_not() {
+    let renderer = common::gpu("unsupported_features_are_refused_meshes_and_whitted_are_not");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes");
+    let bunny = dir.join("bunny00.obj").display().to_string();
     let mesh = format!(
         "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
-         objects: [(shape: Mesh(path: {:?}))])",
-        dir.join("bunny00.obj").display().to_string()
+         objects: [(shape: Mesh(path: {bunny:?}))])"
     );
-    let scene = fray_scene::parse(&mesh, "inline.ron").unwrap();
-    assert!(fray_gpu::unsupported_feature(&scene).is_none());
-    let settings = fray_gpu::GpuSettings::for_scene(&scene);
-    if let Err(e) = renderer.upload(&scene, &settings) {
-        panic!("a mesh scene: {e}");
-    }
     let mirror = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
          materials: { \"m\": (reflect: (1, 1, 1)) }, \
          objects: [(material: \"m\", shape: Sphere(radius: 1))])";
     let glass_bunny = format!(
         "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
          materials: {{ \"g\": (transmit: (1, 1, 1), ior: 1.5) }}, \
-         objects: [(material: \"g\", shape: Mesh(path: {:?}))])",
-        dir.join("bunny00.obj").display().to_string()
+         objects: [(material: \"g\", shape: Mesh(path: {bunny:?}))])"
     );
+    for text in [mesh.as_str(), mirror, glass_bunny.as_str()] {
+        let scene = fray_scene::parse(text, "inline.ron").unwrap();
+        assert!(fray_gpu::unsupported_feature(&scene).is_none(), "{text}");
+        let settings = fray_gpu::GpuSettings::for_scene(&scene);
+        if let Err(e) = renderer.upload(&scene, &settings) {
+            panic!("{text}: {e}");
+        }
+    }
+    let foggy_mirror = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
+         materials: { \"m\": (reflect: (1, 1, 1)) }, \
+         atmosphere: (fog: (base: -1, top: 2, extinction: 0.1)), \
+         objects: [(material: \"m\", shape: Sphere(radius: 1))])";
     // A textured material too (until the GPU samples textures): drawn untextured it would be
     // a wrong picture, not a fallback.
     let ramp = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
          materials: { \"r\": (ramp: (height: [(0, (0, 0, 1)), (1, (1, 1, 1))])) }, \
          objects: [(material: \"r\", shape: Sphere(radius: 1))])";
-    for (text, feature) in [
-        (mirror, "reflection"),
-        (glass_bunny.as_str(), "refraction"),
-        (ramp, "textures"),
-    ] {
-        let scene = fray_scene::parse(text, "inline.ron").unwrap();
+    for (text, feature) in [(foggy_mirror, "through fog"), (ramp, "textures")] {
+        let scene = fray_scene::parse(text, "inline.ron").unwrap_or_else(|e| panic!("{e}"));
         let settings = fray_gpu::GpuSettings::for_scene(&scene);
         match renderer.upload(&scene, &settings) {
             Err(fray_gpu::GpuError::Unsupported { feature: f }) => {
@@ -91,8 +92,8 @@ fn main() {
                 uncaptured_validation_error_is_recorded_not_raised,
             ),
             (
-                "secondary_rays_are_refused_as_unsupported_meshes_are_not",
-                secondary_rays_are_refused_as_unsupported_meshes_are_not,
+                "unsupported_features_are_refused_meshes_and_whitted_are_not",
+                unsupported_features_are_refused_meshes_and_whitted_are_not,
             ),
         ],
         &[],

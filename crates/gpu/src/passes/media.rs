@@ -26,7 +26,7 @@ impl MediaPass {
     pub fn groups(options: &ModuleOptions) -> [Group; 2] {
         [
             FRAME,
-            bindings::shading(options.fog, options.sky, options.clouds),
+            bindings::shading(options.fog, options.sky, options.clouds, options.whitted),
         ]
     }
 

@@ -13,6 +13,7 @@ pub mod rebase;
 pub mod resolve;
 pub mod shade;
 pub mod terrain;
+pub mod whitted;
 
 use crate::bindings::Group;
 use crate::shader::{self, ModuleOptions, Specialisation};
@@ -195,6 +196,21 @@ impl Kernel {
         dispatch(pass, ctx, workgroups);
     }
 
+    /// Binds `groups` and dispatches the workgroups `args` (x, y, z at offset 0) says — written
+    /// on the GPU by an earlier pass.
+    pub(crate) fn run_indirect(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        groups: &[&wgpu::BindGroup],
+        args: &wgpu::Buffer,
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        for (k, g) in groups.iter().enumerate() {
+            pass.set_bind_group(k as u32, *g, &[]);
+        }
+        pass.dispatch_workgroups_indirect(args, 0);
+    }
+
     /// Binds `groups` and dispatches a 2D grid of `x × y` workgroups.
     pub(crate) fn run_2d(
         &self,
@@ -276,6 +292,32 @@ mod tests {
                     declared, groups,
                     "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds})"
                 );
+            }
+        }
+        // Whitted's passes (never with media: refused before composition).
+        for k in 0..4u32 {
+            let options = ModuleOptions {
+                terrain: k & 1 != 0,
+                meshes: k & 2 != 0,
+                fog: false,
+                sky: false,
+                clouds: false,
+                whitted: true,
+                ..ModuleOptions::default()
+            };
+            let shade = super::shade::ShadePass::groups(&options);
+            let intersect = super::whitted::WhittedPasses::intersect_groups(&options);
+            let gather = super::whitted::WhittedPasses::gather_groups(&options);
+            let queue = &super::whitted::WhittedPasses::QUEUE_GROUPS[..];
+            for (entry, groups) in [
+                ("shade.wgsl", &shade[..]),
+                ("intersect_secondary.wgsl", &intersect[..]),
+                ("whitted_gather.wgsl", &gather[..]),
+                ("queue_forward.wgsl", queue),
+                ("queue_gather.wgsl", queue),
+            ] {
+                let declared = shader::module_groups(entry, &options).unwrap();
+                assert_eq!(declared, groups, "{entry} ({options:?})");
             }
         }
     }

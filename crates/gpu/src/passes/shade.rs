@@ -24,7 +24,7 @@ impl ShadePass {
     /// where the scene has them: `bindings::shading`), and only with terrains or meshes their
     /// group (`bindings::surfaces`: the terrains', the meshes' or both).
     pub fn groups(options: &ModuleOptions) -> Vec<Group> {
-        let shading = bindings::shading(options.fog, options.sky, options.clouds);
+        let shading = bindings::shading(options.fog, options.sky, options.clouds, options.whitted);
         let mut groups = vec![FRAME, FREE_FORMS, shading];
         groups.extend(bindings::surfaces(options.terrain, options.meshes));
         groups
@@ -56,6 +56,26 @@ impl ShadePass {
             _ => self
                 .kernel
                 .run(pass, ctx, &[frame, free_forms, shading], workgroups),
+        }
+    }
+
+    /// Shades the queue's current level of secondary rays (`crate::passes::whitted`), as many
+    /// workgroups as `args` says.
+    pub fn encode_indirect(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        [frame, free_forms, shading]: [&wgpu::BindGroup; 3],
+        surfaces: Option<&wgpu::BindGroup>,
+        args: &wgpu::Buffer,
+    ) {
+        match (self.surfaces, surfaces) {
+            (true, Some(s)) => {
+                self.kernel
+                    .run_indirect(pass, &[frame, free_forms, shading, s], args)
+            }
+            _ => self
+                .kernel
+                .run_indirect(pass, &[frame, free_forms, shading], args),
         }
     }
 }
