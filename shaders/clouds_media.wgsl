@@ -15,11 +15,12 @@ fn media_terms(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, hit: bool, ray: u32
     let clipped = span.x <= span.y;
     let a = select(lo, span.x, clipped);
     let b = select(lo, span.y, clipped);
-    // The jitter of the ray's pixel (Media::camera_jitter): every sample of a pixel takes it.
+    // The jitter of the ray's pixel (Media::camera_jitter): every sample of a pixel takes it; a
+    // ray of no pixel (NO_PIXEL: Whitted's) the middle, as Media::terms.
     let pixel = ray / frame.rays_per_pixel;
     let px = pixel % frame.width;
     let py = frame.band_y0 + pixel / frame.width;
-    let jitter = select(0.5, cloud_pixel_jitter(px, py), clouds.jitter != 0u);
+    let jitter = select(0.5, cloud_pixel_jitter(px, py), clouds.jitter != 0u && ray != NO_PIXEL);
     let marched = cloud_march(o, d, a, b, jitter);
     cloud_samples = select(0u, marched.samples, clipped);
     let cloud = MediaTerms(vec3<f32>(marched.transmittance), marched.in_scatter);

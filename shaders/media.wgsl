@@ -10,7 +10,10 @@
 // atmosphere in front of it and behind it. A scene without one of them includes its
 // no_*_media.wgsl twin (clear terms; the plain background; the atmosphere alone). Built only
 // for scenes with fog, a sky or clouds; resolve then takes every ray's radiance, misses
-// included (its HAS_MEDIA). Counts the cloud march's density samples.
+// included (its HAS_MEDIA). Counts the cloud march's density samples of camera rays. In a
+// Whitted scene it also takes each level of secondary rays through the media before their
+// parents gather them (whitted_media.wgsl; fray-trace's through_media and miss_radiance: no
+// pixel's jitter, no samples counted).
 //
 // #bindings frame, shading
 // #include "ray.wgsl"
@@ -20,6 +23,8 @@
 // #include "no_sky_media.wgsl" unless sky
 // #include "clouds_media.wgsl" if clouds
 // #include "no_clouds_media.wgsl" unless clouds
+// #include "whitted_media.wgsl" if whitted
+// #include "no_whitted_media.wgsl" unless whitted
 // #include "counters.wgsl"
 
 // What a medium does to a ray segment: L_eye = transmittance · L_behind + in_scatter
@@ -58,18 +63,23 @@ fn main(
     workgroupBarrier();
     let k = id.x + id.y * groups.x * 64u;
     cloud_samples = 0u;
+    let range = media_range();
+    let slot = range.x + k;
     // No ray (a degenerate projector pair, origin.w < 0): resolve shows the background, as the
     // CPU does. With anti-aliasing the centre ray (ray 0 of its pixel) gives depth and normal
     // only: its colour is never read, so its media are not computed (nor counted).
-    let colour_ray = frame.rays_per_pixel == 1u || k % frame.rays_per_pixel != 0u;
-    if k < frame.width * frame.band_rows * frame.rays_per_pixel && colour_ray && paths[k].origin.w >= 0.0 {
-        let path = paths[k];
+    if k < range.y && media_colour_ray(slot) && paths[slot].origin.w >= 0.0 {
+        let path = paths[slot];
         let o = path.origin.xyz;
         let d = path.dir.xyz;
         let hit = path.hit.x >= 0.0;
         let behind = select(media_background(d), path.radiance.xyz, hit);
-        let terms = media_terms(o, d, path.origin.w, select(BIG, path.hit.x, hit), hit, k);
-        paths[k].radiance = vec4<f32>(behind * terms.transmittance + terms.in_scatter, 0.0);
+        let pixel_ray = media_pixel_ray(slot);
+        let terms = media_terms(o, d, path.origin.w, select(BIG, path.hit.x, hit), hit, pixel_ray);
+        paths[slot].radiance = vec4<f32>(behind * terms.transmittance + terms.in_scatter, 0.0);
+        if pixel_ray == NO_PIXEL {
+            cloud_samples = 0u;
+        }
     }
     count(COUNT_CLOUD_SAMPLES, cloud_samples);
     workgroupBarrier();

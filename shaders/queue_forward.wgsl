@@ -6,22 +6,7 @@
 //
 // #bindings frame, queue
 // #include "queue.wgsl"
-
-// WebGPU's least maximum of workgroups per dispatch dimension.
-const MAX_GROUPS_PER_DIMENSION: u32 = 65535u;
-
-// The indirect dispatch of `rays` rays, 64 a workgroup.
-fn dispatch_args(rays: u32) {
-    let groups = (rays + 63u) / 64u;
-    let x = min(groups, MAX_GROUPS_PER_DIMENSION);
-    var y = 0u;
-    if x > 0u {
-        y = (groups + x - 1u) / x;
-    }
-    queue_args[0] = x;
-    queue_args[1] = y;
-    queue_args[2] = 1u;
-}
+// #include "queue_dispatch.wgsl"
 
 @compute @workgroup_size(1)
 fn main() {
@@ -37,5 +22,5 @@ fn main() {
     atomicStore(&counters[WORD_LEVEL_END + depth], end);
     atomicStore(&counters[WORD_QUEUE_CURRENT_START], start);
     atomicStore(&counters[WORD_QUEUE_CURRENT_COUNT], end - start);
-    dispatch_args(end - start);
+    write_dispatch(end - start);
 }

@@ -5,8 +5,7 @@
 //
 // #bindings frame, queue
 // #include "queue.wgsl"
-
-const MAX_GROUPS_PER_DIMENSION: u32 = 65535u;
+// #include "queue_dispatch.wgsl"
 
 @compute @workgroup_size(1)
 fn main() {
@@ -23,13 +22,5 @@ fn main() {
     }
     atomicStore(&counters[WORD_QUEUE_CURRENT_START], start);
     atomicStore(&counters[WORD_QUEUE_CURRENT_COUNT], rays);
-    let groups = (rays + 63u) / 64u;
-    let x = min(groups, MAX_GROUPS_PER_DIMENSION);
-    var y = 0u;
-    if x > 0u {
-        y = (groups + x - 1u) / x;
-    }
-    queue_args[0] = x;
-    queue_args[1] = y;
-    queue_args[2] = 1u;
+    write_dispatch(rays);
 }

@@ -45,3 +45,6 @@ struct SurfaceHit {
 }
 
 const FREE_FORM_BOX_EXIT: u32 = 1u;
+
+// A ray that belongs to no pixel (a secondary ray): its media take no pixel's jitter.
+const NO_PIXEL: u32 = 0xffffffffu;

@@ -6,7 +6,7 @@
 //! have no gaps. Every pipeline stays within wgpu's default limits — at most 4 groups and 8 storage
 //! buffers per stage (uniform arrays hold the small per-scene tables; the sky's tables, too
 //! large for a uniform, are sampled textures, which have a limit of their own) — except the
-//! shade pass of a Whitted scene (reflecting or transmitting materials: [`SHADING_WHITTED`]),
+//! shade pass of a Whitted scene (reflecting or transmitting materials: [`shading`]`(…, true)`),
 //! which binds one more storage buffer, its secondary rays' records: a device that cannot bind
 //! nine is refused before upload (`crate::render`), and the CPU renders the scene.
 //!
@@ -196,13 +196,37 @@ pub const SHADING_FOG_SKY_CLOUDS: Group = Group {
 
 /// The lights-and-materials group of a scene with (or without) fog, a sky and clouds: what a
 /// module's `shading` stands for. A scene without a medium binds none of its buffers or
-/// textures. A Whitted scene (`whitted`: its materials reflect or transmit) has no media — the
-/// GPU refuses the two together (`crate::render::unsupported_feature`) — and binds
-/// [`SHADING_WHITTED`].
-pub const fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
+/// textures. A Whitted scene (`whitted`: its materials reflect or transmit) binds the same and
+/// its rays' records (`secondaries`, last), as a group named `<medium's>_whitted`.
+pub fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
+    let media = shading_of_media(fog, sky, clouds);
     if whitted {
-        return SHADING_WHITTED;
+        with_secondaries(media)
+    } else {
+        media
     }
+}
+
+/// `group` and Whitted's records: made once per group (the layouts are cached by name, so each
+/// is its own name) and kept for the process, as the constant groups are.
+fn with_secondaries(group: Group) -> Group {
+    static MADE: std::sync::Mutex<Vec<Group>> = std::sync::Mutex::new(Vec::new());
+    let mut made = MADE.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let name = format!("{}_whitted", group.name);
+    if let Some(g) = made.iter().find(|g| g.name == name) {
+        return *g;
+    }
+    let mut bindings = group.bindings.to_vec();
+    bindings.push(SECONDARIES);
+    let g = Group {
+        name: Box::leak(name.into_boxed_str()),
+        bindings: Box::leak(bindings.into_boxed_slice()),
+    };
+    made.push(g);
+    g
+}
+
+const fn shading_of_media(fog: bool, sky: bool, clouds: bool) -> Group {
     match (fog, sky, clouds) {
         (false, false, false) => SHADING,
         (true, false, false) => SHADING_FOG,
@@ -215,14 +239,9 @@ pub const fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group
     }
 }
 
-/// Whitted's per-ray records (`crate::params::GpuSecondary`), slot for slot with `paths`.
-const SECONDARIES: Binding = binding(2, "secondaries", "array<GpuSecondary>", StorageReadWrite);
-
-/// The lights and materials of a Whitted scene, with its rays' records.
-pub const SHADING_WHITTED: Group = Group {
-    name: "shading_whitted",
-    bindings: &[LIGHTS, MATERIALS, SECONDARIES],
-};
+/// Whitted's per-ray records (`crate::params::GpuSecondary`), slot for slot with `paths` (after
+/// every medium's binding).
+const SECONDARIES: Binding = binding(9, "secondaries", "array<GpuSecondary>", StorageReadWrite);
 
 /// Whitted's queue passes (`crate::passes::whitted`): the indirect dispatch arguments of the
 /// current level (x, y, z workgroups), written on the GPU from the queue's state.
@@ -393,9 +412,8 @@ pub const MESH_BATCH: Group = Group {
 };
 
 /// Every group, for the include step.
-pub const GROUPS: [Group; 23] = [
+pub const GROUPS: [Group; 22] = [
     FRAME,
-    SHADING_WHITTED,
     QUEUE,
     FREE_FORMS,
     WORK,
@@ -661,11 +679,19 @@ mod tests {
             sets.push(shade);
             sets.push(vec![FRAME, shading(fog, sky, clouds, false)]);
         }
-        // Whitted's passes (no media with them); its shade pass is the one past the defaults,
-        // by its records (checked against the device before upload, render.rs).
-        for k in 0..4 {
+        // Whitted's passes; its shade pass is the one past the defaults, by its records
+        // (checked against the device before upload, render.rs).
+        for k in 0..32 {
             let (terrain, meshes) = (k & 1 != 0, k & 2 != 0);
-            let mut shade = vec![FRAME, FREE_FORMS, shading(false, false, false, true)];
+            let (fog, sky, clouds) = (k & 4 != 0, k & 8 != 0, k & 16 != 0);
+            let whitted = shading(fog, sky, clouds, true);
+            assert_eq!(
+                whitted.name,
+                format!("{}_whitted", shading(fog, sky, clouds, false).name)
+            );
+            assert_eq!(whitted.bindings.last().map(|b| b.name), Some("secondaries"));
+            assert_eq!(shading(fog, sky, clouds, true), whitted, "made once");
+            let mut shade = vec![FRAME, FREE_FORMS, whitted];
             shade.extend(surfaces(terrain, meshes));
             let storage: u32 = shade.iter().map(Group::storage_buffers).sum();
             assert_eq!(storage, 7 + if terrain { 2 } else { 0 });
@@ -674,7 +700,7 @@ mod tests {
             intersect.extend(surfaces(terrain, meshes));
             sets.push(intersect);
             sets.push(vec![FRAME, QUEUE]);
-            sets.push(vec![FRAME, shading(false, false, false, true)]);
+            sets.push(vec![FRAME, whitted]);
         }
         for set in sets {
             let storage: u32 = set.iter().map(Group::storage_buffers).sum();

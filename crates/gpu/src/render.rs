@@ -177,14 +177,10 @@ impl GpuRenderer {
     }
 }
 
-/// What of `scene` this backend does not draw yet, if anything: Whitted's secondary rays
-/// through media (reflecting or transmitting materials in a scene with fog, a sky or clouds),
-/// and image textures or colour ramps (the CPU backend draws them; `Auto` falls back to it).
+/// What of `scene` this backend does not draw yet, if anything: image textures or colour ramps
+/// (the CPU backend draws them; `Auto` falls back to it).
 pub fn unsupported_feature(scene: &Scene) -> Option<&'static str> {
-    let f = &scene.features;
-    if (f.reflection || f.transmission) && (f.fog || f.sky || f.clouds) {
-        Some("reflection and refraction (Whitted secondary rays) through fog, sky or clouds")
-    } else if scene.features.textures {
+    if scene.features.textures {
         Some("image textures and colour ramps")
     } else {
         None
@@ -596,7 +592,7 @@ impl<'a> GpuScene<'a> {
                     };
                     whitted.encode(
                         &mut pass,
-                        &self.passes.shade,
+                        (&self.passes.shade, self.passes.media.as_ref()),
                         &whitted_groups,
                         &self.buffers.queue_args,
                         scene.settings.max_depth,
@@ -979,9 +975,6 @@ impl<'a> GpuScene<'a> {
             r.lights_table.as_entire_binding(),
             r.materials.as_entire_binding(),
         ];
-        if whitted {
-            resources.push(b.secondaries.as_entire_binding());
-        }
         if let Some(fog) = &r.fog {
             resources.push(fog.as_entire_binding());
         }
@@ -999,6 +992,10 @@ impl<'a> GpuScene<'a> {
                 wgpu::BindingResource::TextureView(density),
                 wgpu::BindingResource::TextureView(max),
             ]);
+        }
+        if whitted {
+            // Last: after every medium's bindings (`bindings::shading`).
+            resources.push(b.secondaries.as_entire_binding());
         }
         let shading = shading_group.bind(device, &cache.layout(ctx, &shading_group), &resources);
         let terrain_resources = r.terrains.as_ref().map(|t| {

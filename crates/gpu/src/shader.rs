@@ -23,7 +23,7 @@ use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/`.
-pub const SHADER_FILES: [(&str, &str); 51] = [
+pub const SHADER_FILES: [(&str, &str); 55] = [
     ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../../../shaders/clouds.wgsl")),
     (
@@ -156,6 +156,22 @@ pub const SHADER_FILES: [(&str, &str); 51] = [
     ),
     ("queue.wgsl", include_str!("../../../shaders/queue.wgsl")),
     (
+        "queue_dispatch.wgsl",
+        include_str!("../../../shaders/queue_dispatch.wgsl"),
+    ),
+    (
+        "queue_level.wgsl",
+        include_str!("../../../shaders/queue_level.wgsl"),
+    ),
+    (
+        "whitted_media.wgsl",
+        include_str!("../../../shaders/whitted_media.wgsl"),
+    ),
+    (
+        "no_whitted_media.wgsl",
+        include_str!("../../../shaders/no_whitted_media.wgsl"),
+    ),
+    (
         "queue_forward.wgsl",
         include_str!("../../../shaders/queue_forward.wgsl"),
     ),
@@ -187,8 +203,9 @@ pub const SHADER_FILES: [(&str, &str); 51] = [
 
 /// The entry modules, one per pass (`passes::*`, `TerrainPass`, `FogPass`, `SkyPass`,
 /// `CloudsPass` and `MeshPass`).
-pub const ENTRY_MODULES: [&str; 17] = [
+pub const ENTRY_MODULES: [&str; 18] = [
     "queue_forward.wgsl",
+    "queue_level.wgsl",
     "queue_gather.wgsl",
     "intersect_secondary.wgsl",
     "whitted_gather.wgsl",
@@ -208,8 +225,9 @@ pub const ENTRY_MODULES: [&str; 17] = [
 ];
 
 /// The entry modules composed only for Whitted scenes (`ModuleOptions::whitted`).
-pub const WHITTED_ENTRY_MODULES: [&str; 4] = [
+pub const WHITTED_ENTRY_MODULES: [&str; 5] = [
     "queue_forward.wgsl",
+    "queue_level.wgsl",
     "queue_gather.wgsl",
     "intersect_secondary.wgsl",
     "whitted_gather.wgsl",
@@ -787,10 +805,6 @@ mod tests {
         for k in 0..64u32 {
             let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
             let (meshes, whitted) = (k & 16 != 0, k & 32 != 0);
-            if whitted && (fog || sky || clouds) {
-                // Refused before composition (render::unsupported_feature).
-                continue;
-            }
             for sizes in [
                 ArraySizes::default(),
                 ArraySizes {

@@ -36,9 +36,8 @@ fn uncaptured_validation_error_is_recorded_not_raised() {
 }
 
 /// What the GPU does not draw yet is refused before anything is uploaded — `Unsupported`,
-/// naming what — so that `Auto` renders it on the CPU: reflecting or transmitting materials in a
-/// scene with a medium (Whitted's rays through fog), and textured materials. Meshes, mirrors and
-/// glass are not refused (the GPU draws them).
+/// naming what — so that `Auto` renders it on the CPU: textured materials. Meshes, mirrors and
+/// glass, in fog too, are not refused (the GPU draws them).
 fn unsupported_features_are_refused_meshes_and_whitted_are_not() {
     let renderer = common::gpu("unsupported_features_are_refused_meshes_and_whitted_are_not");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes");
@@ -55,7 +54,11 @@ fn unsupported_features_are_refused_meshes_and_whitted_are_not() {
          materials: {{ \"g\": (transmit: (1, 1, 1), ior: 1.5) }}, \
          objects: [(material: \"g\", shape: Mesh(path: {bunny:?}))])"
     );
-    for text in [mesh.as_str(), mirror, glass_bunny.as_str()] {
+    let foggy_mirror = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
+         materials: { \"m\": (reflect: (1, 1, 1)) }, \
+         atmosphere: (fog: (base: -1, top: 2, extinction: 0.1)), \
+         objects: [(material: \"m\", shape: Sphere(radius: 1))])";
+    for text in [mesh.as_str(), mirror, glass_bunny.as_str(), foggy_mirror] {
         let scene = fray_scene::parse(text, "inline.ron").unwrap();
         assert!(fray_gpu::unsupported_feature(&scene).is_none(), "{text}");
         let settings = fray_gpu::GpuSettings::for_scene(&scene);
@@ -63,16 +66,12 @@ fn unsupported_features_are_refused_meshes_and_whitted_are_not() {
             panic!("{text}: {e}");
         }
     }
-    let foggy_mirror = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
-         materials: { \"m\": (reflect: (1, 1, 1)) }, \
-         atmosphere: (fog: (base: -1, top: 2, extinction: 0.1)), \
-         objects: [(material: \"m\", shape: Sphere(radius: 1))])";
     // A textured material too (until the GPU samples textures): drawn untextured it would be
     // a wrong picture, not a fallback.
     let ramp = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
          materials: { \"r\": (ramp: (height: [(0, (0, 0, 1)), (1, (1, 1, 1))])) }, \
          objects: [(material: \"r\", shape: Sphere(radius: 1))])";
-    for (text, feature) in [(foggy_mirror, "through fog"), (ramp, "textures")] {
+    for (text, feature) in [(ramp, "textures")] {
         let scene = fray_scene::parse(text, "inline.ron").unwrap_or_else(|e| panic!("{e}"));
         let settings = fray_gpu::GpuSettings::for_scene(&scene);
         match renderer.upload(&scene, &settings) {

@@ -3,7 +3,8 @@
 //!
 //! - frames of synthetic scenes — mirror and glass free forms (rays inside a glass solid leave
 //!   it through its complement), Fresnel, total internal reflection in a dense ball, a glass
-//!   mesh (the bunny) and a mirror beside it, shadows through glass — and the data scenes whose
+//!   mesh (the bunny) and a mirror beside it, shadows through glass; secondary rays through fog,
+//!   under a sky (misses see the sky, hits its air) and through clouds — and the data scenes whose
 //!   materials reflect or transmit and which the GPU draws (`mesh_bunny_freeform`,
 //!   `mesh_aircraft_pair`), at a small width;
 //! - a scene whose secondary rays overflow the first queue (two glass balls at depth 8): the
@@ -36,7 +37,7 @@ const WHITTED_COLOUR_OFF: f64 = 0.03;
 /// The secondary rays' count may differ from the CPU's by this share.
 const SECONDARY_COUNT_OFF: f64 = 0.02;
 
-const SCENES: [(&str, &str); 4] = [
+const SCENES: [(&str, &str); 7] = [
     (
         "mirror and diffuse free forms",
         "Scene(image: (width: 160, height: 100),
@@ -116,6 +117,68 @@ const SCENES: [(&str, &str); 4] = [
                 bounds: (min: (-6, -0.1, -6), max: (6, 0, 6)))),
            ],
            settings: (max_depth: 8, min_contribution: 1e-4))",
+    ),
+    (
+        "a mirror and a glass ball in fog",
+        "Scene(image: (width: 160, height: 100),
+           camera: Pinhole(eye: (0, 1.2, -5), look_at: (0, 0.6, 0), fov_y: 45),
+           background: (0.5, 0.6, 0.7), ambient: (0.1, 0.1, 0.1),
+           lights: [Sun(direction: (0.3, 1, -0.4), irradiance: (2.5, 2.4, 2.2)),
+                    Point(position: (-2, 3, -2), intensity: (4, 4, 4))],
+           atmosphere: (fog: (base: -1, top: 1.2, extinction: 0.15, phase: HenyeyGreenstein(g: 0.5))),
+           materials: {
+             \"mirror\": (diffuse: (0.05, 0.05, 0.05), reflect: (0.8, 0.8, 0.8)),
+             \"glass\": (diffuse: (0, 0, 0), transmit: (0.95, 0.95, 0.95), ior: 1.5, fresnel: true),
+             \"red\": (diffuse: (0.8, 0.15, 0.1)),
+             \"floor\": (diffuse: (0.5, 0.5, 0.5)),
+           },
+           objects: [
+             (material: \"mirror\", shape: Sphere(center: (-0.8, 0.7, 0.5), radius: 0.7)),
+             (material: \"glass\", shape: Sphere(center: (0.9, 0.5, -0.2), radius: 0.5)),
+             (material: \"red\", shape: Sphere(center: (0.4, 0.5, 2.5), radius: 0.5)),
+             (material: \"floor\", shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)),
+                bounds: (min: (-20, -0.1, -20), max: (20, 0, 20)))),
+           ],
+           settings: (max_depth: 4))",
+    ),
+    (
+        "a mirror under the sky: reflected rays see the sky and its air",
+        "Scene(image: (width: 96, height: 64),
+           camera: Pinhole(eye: (0, 2, 0), look_at: (930, 172, 300), fov_y: 40, near: 0.1),
+           ambient: (0.02, 0.02, 0.03),
+           lights: [Sun(direction: (0.93, 0.17, 0.3), irradiance: (20, 20, 20))],
+           materials: {
+             \"ground\": (diffuse: (0.3, 0.3, 0.25), reflect: (0.3, 0.3, 0.3)),
+             \"mirror\": (diffuse: (0.05, 0.05, 0.05), reflect: (0.9, 0.9, 0.9)),
+           },
+           atmosphere: (sky: (haze: 2)),
+           objects: [
+             (material: \"ground\", shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)),
+                bounds: (min: (-20000, -1, -20000), max: (20000, 0, 20000)))),
+             (material: \"mirror\", shape: Sphere(center: (3000, 300, -400), radius: 300)),
+             (shape: Sphere(center: (1200, 50, -200), radius: 60)),
+           ],
+           settings: (max_depth: 3))",
+    ),
+    (
+        "a mirror ball under clouds",
+        "Scene(image: (width: 64, height: 40),
+           camera: Pinhole(eye: (0, 7, -48), look_at: (0, 4, 0), fov_y: 50, near: 0.1),
+           background: (0.4, 0.55, 0.8), ambient: (0.15, 0.17, 0.2),
+           lights: [Sun(direction: (0.5, 0.45, 0.3), irradiance: (3, 2.9, 2.7))],
+           materials: { \"ground\": (diffuse: (0.4, 0.38, 0.3)),
+                        \"mirror\": (diffuse: (0.02, 0.02, 0.02), reflect: (0.85, 0.85, 0.85)) },
+           clouds: (
+             region: (min: (-20, 2, -20), max: (20, 12, 20)),
+             density: Layer((resolution: (32, 10, 32), feature_size: 14, octaves: 3, seed: 5, coverage: 0.6)),
+             scattering: 0.4, step: 0.6,
+           ),
+           objects: [
+             (material: \"ground\", shape: FreeForm(base: HalfSpace(point: (0, 0, 0), normal: (0, 1, 0)),
+                bounds: (min: (-80, -1, -80), max: (80, 0, 80)))),
+             (material: \"mirror\", shape: Sphere(center: (-2, 5, -10), radius: 5)),
+           ],
+           settings: (max_depth: 3))",
     ),
 ];
 

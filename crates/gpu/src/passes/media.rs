@@ -45,4 +45,15 @@ impl MediaPass {
     ) {
         self.kernel.run(pass, ctx, &groups, rays.div_ceil(64));
     }
+
+    /// Takes the queue's current level of secondary rays through the media
+    /// (`crate::passes::whitted`), as many workgroups as `args` says.
+    pub fn encode_indirect(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        groups: [&wgpu::BindGroup; 2],
+        args: &wgpu::Buffer,
+    ) {
+        self.kernel.run_indirect(pass, &groups, args);
+    }
 }

@@ -294,17 +294,18 @@ mod tests {
                 );
             }
         }
-        // Whitted's passes (never with media: refused before composition).
-        for k in 0..4u32 {
+        // Whitted's passes, with and without media.
+        for k in 0..32u32 {
             let options = ModuleOptions {
                 terrain: k & 1 != 0,
                 meshes: k & 2 != 0,
-                fog: false,
-                sky: false,
-                clouds: false,
+                fog: k & 4 != 0,
+                sky: k & 8 != 0,
+                clouds: k & 16 != 0,
                 whitted: true,
                 ..ModuleOptions::default()
             };
+            let media = super::media::MediaPass::groups(&options);
             let shade = super::shade::ShadePass::groups(&options);
             let intersect = super::whitted::WhittedPasses::intersect_groups(&options);
             let gather = super::whitted::WhittedPasses::gather_groups(&options);
@@ -313,7 +314,9 @@ mod tests {
                 ("shade.wgsl", &shade[..]),
                 ("intersect_secondary.wgsl", &intersect[..]),
                 ("whitted_gather.wgsl", &gather[..]),
+                ("media.wgsl", &media[..]),
                 ("queue_forward.wgsl", queue),
+                ("queue_level.wgsl", queue),
                 ("queue_gather.wgsl", queue),
             ] {
                 let declared = shader::module_groups(entry, &options).unwrap();

@@ -3,13 +3,16 @@
 //! reflected and refracted rays the level before spawned is made current (`queue_forward.wgsl`),
 //! intersected with every primitive kind (`intersect_secondary.wgsl`) and shaded — spawning the
 //! next level — by the shade pass; then, deepest level first, each level's parents add their
-//! children's radiance weighted by `kr` or `kt` (`queue_gather.wgsl`, `whitted_gather.wgsl`).
+//! children's radiance weighted by `kr` or `kt` (`queue_gather.wgsl`, `whitted_gather.wgsl`) —
+//! in a scene with media after the level's rays have been taken through them
+//! (`queue_level.wgsl`, then the media pass over the level).
 //! The levels' sizes are known only on the GPU: their passes are dispatched indirectly from
 //! arguments the queue passes write, so a band is one submission with no readback. A band's
 //! queue holds every level's rays at once (the gather needs them); a frame whose queue overflows
 //! is rendered again in smaller bands (`crate::render`). Built only for scenes whose materials
 //! reflect or transmit.
 
+use super::media::MediaPass;
 use super::shade::ShadePass;
 use super::{Kernel, PassSetup};
 use crate::GpuError;
@@ -31,6 +34,8 @@ pub struct WhittedPasses {
     intersect: Kernel,
     select_parents: Kernel,
     gather: Kernel,
+    /// Only with media: makes the level being gathered current for the media pass.
+    select_level: Option<Kernel>,
     /// Whether the intersection pass binds the terrains-and-meshes group.
     surfaces: bool,
 }
@@ -75,16 +80,20 @@ impl WhittedPasses {
             )?,
             select_parents: Kernel::new(setup, "queue_gather.wgsl", &Self::QUEUE_GROUPS)?,
             gather: Kernel::new(setup, "whitted_gather.wgsl", &Self::gather_groups(options))?,
+            select_level: (options.fog || options.sky || options.clouds)
+                .then(|| Kernel::new(setup, "queue_level.wgsl", &Self::QUEUE_GROUPS))
+                .transpose()?,
             surfaces: bindings::surfaces(options.terrain, options.meshes).is_some(),
         })
     }
 
     /// Encodes `max_depth` levels of secondary rays after the band's shade pass, then their
-    /// gathers: `args` holds the indirect dispatch the queue passes write (bound in `queue`).
+    /// gathers — each level first through `media` where the scene has them: `args` holds the
+    /// indirect dispatch the queue passes write (bound in `queue`).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
-        shade: &ShadePass,
+        (shade, media): (&ShadePass, Option<&MediaPass>),
         groups: &WhittedGroups<'_>,
         args: &wgpu::Buffer,
         max_depth: u32,
@@ -107,6 +116,10 @@ impl WhittedPasses {
             );
         }
         for _ in 0..max_depth {
+            if let (Some(select_level), Some(media)) = (&self.select_level, media) {
+                select_level.run_2d(pass, &queue, 1, 1);
+                media.encode_indirect(pass, [groups.frame, groups.shading], args);
+            }
             self.select_parents.run_2d(pass, &queue, 1, 1);
             self.gather
                 .run_indirect(pass, &[groups.frame, groups.shading], args);
