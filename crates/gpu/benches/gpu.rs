@@ -125,5 +125,41 @@ fn orbit(scene: &fray_scene::Scene, angle: f64) -> fray_core::Projector {
     }
 }
 
-criterion_group!(benches, frames);
+/// Whitted frame time by depth on the GPU: the bunny, the perturbed free form and the mirror
+/// ball (`data/scenes/mesh_bunny_freeform.ron`, made glass so every level spawns both rays) at
+/// 512 × 320, resident, `max_depth` 0 (no queue passes' work) to 6.
+fn whitted_by_depth(c: &mut Criterion) {
+    let Ok(gpu) = GpuRenderer::new() else {
+        eprintln!("gpu bench: skipped: no GPU adapter");
+        return;
+    };
+    let adapter = gpu.context().adapter_name.clone();
+    let mut group = c.benchmark_group(format!("gpu_whitted_depth_512x320 [{adapter}]"));
+    group.sample_size(10);
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes/mesh_bunny_freeform.ron");
+    let mut scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    (scene.width, scene.height) = (512, 320);
+    for m in &mut scene.materials {
+        if m.reflect != fray_core::Rgb::ZERO {
+            // The mirror ball becomes glass: reflected and refracted rays at every level.
+            (m.transmit, m.ior, m.fresnel) = (fray_core::Rgb::splat(0.9), 1.5, true);
+        }
+    }
+    scene.features.transmission = true;
+    for depth in [0, 1, 2, 4, 6] {
+        scene.settings.max_depth = depth;
+        let settings = GpuSettings::for_scene(&scene);
+        let mut resident = gpu
+            .upload(&scene, &settings)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let view = View::of_scene(&scene, settings.samples);
+        group.bench_function(format!("depth_{depth}"), |b| {
+            b.iter(|| resident.render(&view).map(|f| f.stats.secondary_rays))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, frames, whitted_by_depth);
 criterion_main!(benches);
