@@ -23,6 +23,8 @@
 // #include "no_sky.wgsl" unless sky
 // #include "clouds_shading.wgsl" if clouds
 // #include "no_clouds.wgsl" unless clouds
+// #include "texture.wgsl" if textures
+// #include "no_texture.wgsl" unless textures
 // #include "counters.wgsl"
 
 override HAS_FREE_FORMS: bool = true;
@@ -148,7 +150,10 @@ fn main(
             if dot(normal, to_viewer) < 0.0 {
                 shading_normal = -normal;
             }
-            let colour = radiance(p, shading_normal, to_viewer, materials[material], frame.epsilon);
+            // The texture's or ramp's colour C times ka and kd (texture.wgsl; primary rays: the
+            // path length is t).
+            let m = textured(materials[material], material, path, p, normal, t);
+            let colour = radiance(p, shading_normal, to_viewer, m, frame.epsilon);
             paths[k].radiance = vec4<f32>(colour, 0.0);
             paths[k].hit = vec4<f32>(t, normal);
         }
