@@ -319,6 +319,30 @@ impl TextureLayout {
     }
 }
 
+/// The rows of a data texture of `texels` texels, [`TEXTURE_DATA_WIDTH`] a row, or
+/// [`GpuError::TooLarge`] where the row or the rows exceed the device's 2D texture side.
+pub fn data_rows(texels: u64, limits: &wgpu::Limits) -> Result<u32, GpuError> {
+    let w = u64::from(TEXTURE_DATA_WIDTH);
+    let rows = texels.div_ceil(w).max(1);
+    let limit = u64::from(limits.max_texture_dimension_2d);
+    for (what, needed) in [
+        ("texels per row of the texture data", w),
+        (
+            "rows of the texture data (4096 texels of 16 bytes each)",
+            rows,
+        ),
+    ] {
+        if needed > limit {
+            return Err(GpuError::TooLarge {
+                what,
+                needed,
+                limit,
+            });
+        }
+    }
+    Ok(rows as u32)
+}
+
 /// A scene's textures on the GPU: the layout uniform and the data texture.
 #[derive(Debug)]
 pub struct ResidentTextures {
@@ -340,25 +364,7 @@ impl ResidentTextures {
         reference: DVec3,
     ) -> Result<Self, GpuError> {
         use wgpu::BufferUsages as U;
-        let total = layout.texels();
-        let w = u64::from(TEXTURE_DATA_WIDTH);
-        let rows = total.div_ceil(w).max(1);
-        let limit = u64::from(ctx.limits.max_texture_dimension_2d);
-        for (what, needed) in [
-            ("texels per row of the texture data", w),
-            (
-                "rows of the texture data (4096 texels of 16 bytes each)",
-                rows,
-            ),
-        ] {
-            if needed > limit {
-                return Err(GpuError::TooLarge {
-                    what,
-                    needed,
-                    limit,
-                });
-            }
-        }
+        let rows = data_rows(layout.texels(), &ctx.limits)?;
         let info = bindings::upload(
             ctx,
             "texture layout",
@@ -370,7 +376,7 @@ impl ResidentTextures {
             label: Some("textures"),
             size: wgpu::Extent3d {
                 width: TEXTURE_DATA_WIDTH,
-                height: rows as u32,
+                height: rows,
                 depth_or_array_layers: 1,
             },
             mip_level_count: 1,
@@ -507,6 +513,38 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuMapping>(), 5 * 16);
         assert_eq!(MAPPING_TEXELS, 5);
         assert_eq!(MATERIAL_TEXELS, 3);
+    }
+
+    /// Texture data past the device's 2D texture side is refused, naming the rows; at the
+    /// limit it is not.
+    #[test]
+    fn data_past_the_device_limit_is_refused() {
+        let limits = wgpu::Limits {
+            max_texture_dimension_2d: 8192,
+            ..wgpu::Limits::default()
+        };
+        let w = u64::from(TEXTURE_DATA_WIDTH);
+        assert_eq!(data_rows(0, &limits).unwrap(), 1);
+        assert_eq!(data_rows(8192 * w, &limits).unwrap(), 8192);
+        match data_rows(8192 * w + 1, &limits) {
+            Err(GpuError::TooLarge {
+                what,
+                needed,
+                limit,
+            }) => {
+                assert!(what.contains("rows of the texture data"), "{what}");
+                assert_eq!((needed, limit), (8193, 8192));
+            }
+            other => panic!("expected TooLarge, got {other:?}"),
+        }
+        let narrow = wgpu::Limits {
+            max_texture_dimension_2d: 2048,
+            ..limits
+        };
+        assert!(matches!(
+            data_rows(1, &narrow),
+            Err(GpuError::TooLarge { what, .. }) if what.contains("per row")
+        ));
     }
 
     /// The WGSL's constants are fray_mesh's.

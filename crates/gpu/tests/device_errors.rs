@@ -37,8 +37,8 @@ fn uncaptured_validation_error_is_recorded_not_raised() {
 
 /// A scene with a reflecting or transmitting material is refused before anything is uploaded —
 /// `Unsupported`, naming what — until the GPU traces Whitted's secondary rays, so that `Auto`
-/// renders it on the CPU, and so is a textured material; a scene with a mesh is not (the GPU
-/// draws meshes).
+/// renders it on the CPU; a scene with a mesh or a textured material is not (the GPU draws
+/// meshes and samples textures and ramps).
 fn secondary_rays_are_refused_as_unsupported_meshes_are_not() {
     let renderer = common::gpu("secondary_rays_are_refused_as_unsupported_meshes_are_not");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes");
@@ -62,16 +62,18 @@ fn secondary_rays_are_refused_as_unsupported_meshes_are_not() {
          objects: [(material: \"g\", shape: Mesh(path: {:?}))])",
         dir.join("bunny00.obj").display().to_string()
     );
-    // A textured material too (until the GPU samples textures): drawn untextured it would be
-    // a wrong picture, not a fallback.
+    // A textured material is not (the GPU samples textures and ramps).
     let ramp = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
          materials: { \"r\": (ramp: (height: [(0, (0, 0, 1)), (1, (1, 1, 1))])) }, \
          objects: [(material: \"r\", shape: Sphere(radius: 1))])";
-    for (text, feature) in [
-        (mirror, "reflection"),
-        (glass_bunny.as_str(), "refraction"),
-        (ramp, "textures"),
-    ] {
+    let scene = fray_scene::parse(ramp, "inline.ron").unwrap();
+    assert!(scene.features.textures && fray_gpu::unsupported_feature(&scene).is_none());
+    let settings = fray_gpu::GpuSettings::for_scene(&scene);
+    match renderer.upload(&scene, &settings) {
+        Ok(resident) => assert!(resident.specialisation().textures),
+        Err(e) => panic!("a ramp scene: {e}"),
+    }
+    for (text, feature) in [(mirror, "reflection"), (glass_bunny.as_str(), "refraction")] {
         let scene = fray_scene::parse(text, "inline.ron").unwrap();
         let settings = fray_gpu::GpuSettings::for_scene(&scene);
         match renderer.upload(&scene, &settings) {
