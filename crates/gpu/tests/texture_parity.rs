@@ -271,9 +271,13 @@ fn untextured_mismatch(scene: &Scene, gpu: &GpuRenderer) -> Vec<bool> {
 /// edges (and from where the untextured frames already differ) within the bound, but for at
 /// most `boundary` of them (texel boundaries).
 fn compare(name: &str, scene: &Scene, gpu: &GpuRenderer, boundary: f64) -> Report {
+    compare_frame(name, scene, &gpu_frame(gpu, scene), gpu, boundary)
+}
+
+/// [`compare`] for the GPU frame `g` of `scene` (rendered however: a resident scene's view).
+fn compare_frame(name: &str, scene: &Scene, g: &Frame, gpu: &GpuRenderer, boundary: f64) -> Report {
     let settings = TraceSettings::for_scene(scene);
     let cpu = fray_trace::render(scene, &settings, None).unwrap();
-    let g = gpu_frame(gpu, scene);
     let geometry = untextured_mismatch(scene, gpu);
     assert!(
         g.stats.passes.iter().any(|p| p == "textures"),
@@ -523,6 +527,58 @@ fn a_receding_floor_reads_the_far_levels_as_the_cpu_does() {
     assert!(n > 200 && rms > 0.02, "{n} pixels, RMS {rms}");
 }
 
+/// A resident textured scene seen from a moved (and raised) camera: the mapping blocks and the
+/// ramp's reference height are rewritten from f64 for it, nothing else of the textures is
+/// uploaded, and the frame matches the CPU's from that camera (a planar-mapped floor, trilinear,
+/// coloured also by a height ramp about its own height, so a wrong reference shifts it).
+fn a_moved_camera_rewrites_the_mappings() {
+    let gpu = common::gpu("a_moved_camera_rewrites_the_mappings");
+    let chelsea = data("textures/chelsea.png");
+    let material = format!(
+        "{}, ramp: (height: [(-1, (1, 0.3, 0.3)), (1, (0.3, 1, 0.3))])",
+        texture(
+            &chelsea,
+            "Trilinear",
+            "Repeat",
+            ", mapping: Planar(origin: (0.4, 0, 0.3), u_axis: (1, 0, 0), v_axis: (0, 0, 1), scale: (0.5, 0.5))",
+        )
+    );
+    let objects = format!("{FLOOR}, {BALL}");
+    let scene = lit(FLOOR_CAMERA, &material, &objects);
+    let moved = lit(
+        "Pinhole(eye: (1.7, 2.6, -1.2), look_at: (0.2, 0, 3.5), fov_y: 50)",
+        &material,
+        &objects,
+    );
+    let settings = GpuSettings::for_scene(&scene);
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let view = fray_gpu::View::of_scene(&scene, settings.samples);
+    let first = resident.render(&view).unwrap();
+    let r = compare_frame("floor, first view", &scene, &first, &gpu, BOUNDARY_FILTERED);
+    assert_eq!(r.boundary, 0);
+    let second = resident
+        .render(&fray_gpu::View {
+            camera: moved.camera,
+            ..view
+        })
+        .unwrap();
+    assert_eq!(
+        (
+            second.stats.scene_uploaded_bytes,
+            second.stats.pipelines_built
+        ),
+        (0, 0)
+    );
+    let r = compare_frame(
+        "floor, moved camera",
+        &moved,
+        &second,
+        &gpu,
+        BOUNDARY_FILTERED,
+    );
+    assert_eq!(r.boundary, 0);
+}
+
 /// A scene without textures or ramps allocates, uploads and compiles none of them: the same
 /// scene with a texture uploads exactly the texture data's bytes more (every texel of its
 /// chain, records and mapping blocks, 16 bytes each, and the layout uniform), and only the
@@ -599,6 +655,10 @@ fn main() {
             (
                 "a_receding_floor_reads_the_far_levels_as_the_cpu_does",
                 a_receding_floor_reads_the_far_levels_as_the_cpu_does,
+            ),
+            (
+                "a_moved_camera_rewrites_the_mappings",
+                a_moved_camera_rewrites_the_mappings,
             ),
             (
                 "a_scene_without_textures_builds_none_of_them",
