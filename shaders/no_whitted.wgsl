@@ -8,6 +8,11 @@ fn shade_range() -> vec2<u32> {
 
 fn whitted_begin(slot: u32) {}
 
+// The path's length from the camera to a hit at `t` along the ray of `slot`: t.
+fn whitted_path_length(slot: u32, t: f32) -> f32 {
+    return t;
+}
+
 fn whitted_miss(slot: u32) {}
 
 fn whitted_spawn(slot: u32, p: vec3<f32>, d: vec3<f32>, geometric: vec3<f32>, shading: vec3<f32>, m: GpuMaterial, t: f32) {}

@@ -27,6 +27,8 @@
 // #include "no_clouds.wgsl" unless clouds
 // #include "whitted.wgsl" if whitted
 // #include "no_whitted.wgsl" unless whitted
+// #include "texture.wgsl" if textures
+// #include "no_texture.wgsl" unless textures
 // #include "counters.wgsl"
 
 override HAS_FREE_FORMS: bool = true;
@@ -167,7 +169,9 @@ fn main(
             if dot(normal, to_viewer) < 0.0 {
                 shading_normal = -normal;
             }
-            let m = materials[material];
+            // The texture's or ramp's colour C times ka and kd (texture.wgsl), its footprint at
+            // the path's length from the camera (t for a camera ray).
+            let m = textured(materials[material], material, path, p, normal, whitted_path_length(slot, t));
             let colour = radiance(p, shading_normal, to_viewer, m, frame.epsilon);
             paths[slot].radiance = vec4<f32>(colour, 0.0);
             paths[slot].hit = vec4<f32>(t, normal);

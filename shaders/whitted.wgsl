@@ -31,6 +31,12 @@ fn whitted_begin(slot: u32) {
     }
 }
 
+// The path's length from the camera to a hit at `t` along the ray of `slot` (what a texture's
+// footprint grows with): the length to the ray's origin plus t.
+fn whitted_path_length(slot: u32, t: f32) -> f32 {
+    return secondaries[slot].weight.w + t;
+}
+
 // A secondary ray that hits nothing brings back the background (no media: fray-trace's
 // miss_radiance without them).
 fn whitted_miss(slot: u32) {

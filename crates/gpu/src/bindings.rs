@@ -14,12 +14,13 @@
 //! [`SHADING_FOG`], [`SHADING_SKY`] or [`SHADING_FOG_SKY`], picked by [`shading`] — since the
 //! shade pass of a scene with free forms and terrains already binds four groups. A module names
 //! that group `shading` in its `#bindings` line and `shader::compose` substitutes the scene's.
-//! Likewise the shade pass's fourth group holds the terrains, the meshes or both
-//! ([`TERRAINS`], [`MESHES`], [`TERRAINS_MESHES`], picked by [`surfaces`]; a module names it
-//! `surfaces`). The meshes bind no storage buffer — the shade pass's eight are the frame's two,
-//! the free forms' four and the terrains' two —: their arrays are packed into one `Rgba32Uint`
-//! texture read with `textureLoad`, with the sections' first texels in a uniform
-//! (`crate::mesh_pass::MeshBuffers`).
+//! Likewise the shade pass's fourth group holds the terrains, the meshes, the textures or any
+//! of them together ([`TERRAINS`], [`MESHES`], [`TERRAINS_MESHES`], [`TEXTURES`] and the
+//! `…_TEXTURES` groups, picked by [`surfaces`]; a module names it `surfaces`). The meshes and
+//! the textures bind no storage buffer — the shade pass's eight are the frame's two, the free
+//! forms' four and the terrains' two —: their arrays are packed into `Rgba32Uint` textures read
+//! with `textureLoad`, with the sections' first texels in a uniform
+//! (`crate::mesh_pass::MeshBuffers`, `crate::textures::ResidentTextures`).
 
 use crate::GpuContext;
 use bytemuck::Pod;
@@ -304,14 +305,71 @@ pub const TERRAINS_MESHES: Group = Group {
     ],
 };
 
-/// The shade pass's group of the primitive kinds beyond free forms that a scene has (what a
-/// module's `surfaces` stands for): the terrains', the meshes', both, or none.
-pub const fn surfaces(terrain: bool, meshes: bool) -> Option<Group> {
-    match (terrain, meshes) {
-        (false, false) => None,
-        (true, false) => Some(TERRAINS),
-        (false, true) => Some(MESHES),
-        (true, true) => Some(TERRAINS_MESHES),
+/// The textures' layout (`crate::textures::GpuTextureInfo`, written per frame) and every
+/// image level, material record, mapping block and ramp stop packed into one texture of 16-byte
+/// texels, `TEXTURE_DATA_WIDTH` per row (`crate::textures`; the mapping blocks, camera-relative,
+/// are the only part a moved camera rewrites).
+const TEXTURE_INFO: Binding = binding(0, "texture_info", "GpuTextureInfo", Uniform);
+const TEXTURE_DATA: Binding = binding(1, "texture_data", "texture_2d<u32>", Access::SampledUint);
+
+/// The textures alone (a scene whose only kind is free forms).
+pub const TEXTURES: Group = Group {
+    name: "textures",
+    bindings: &[TEXTURE_INFO, TEXTURE_DATA],
+};
+
+/// [`TERRAINS`] and the textures.
+pub const TERRAINS_TEXTURES: Group = Group {
+    name: "terrains_textures",
+    bindings: &[
+        TERRAIN_TABLE,
+        TERRAIN_LODS,
+        PYRAMID,
+        SAMPLES,
+        renumbered(TEXTURE_INFO, 4),
+        renumbered(TEXTURE_DATA, 5),
+    ],
+};
+
+/// [`MESHES`] and the textures.
+pub const MESHES_TEXTURES: Group = Group {
+    name: "meshes_textures",
+    bindings: &[
+        MESH_INFO,
+        MESH_DATA,
+        renumbered(TEXTURE_INFO, 2),
+        renumbered(TEXTURE_DATA, 3),
+    ],
+};
+
+/// [`TERRAINS_MESHES`] and the textures.
+pub const TERRAINS_MESHES_TEXTURES: Group = Group {
+    name: "terrains_meshes_textures",
+    bindings: &[
+        TERRAIN_TABLE,
+        TERRAIN_LODS,
+        PYRAMID,
+        SAMPLES,
+        renumbered(MESH_INFO, 4),
+        renumbered(MESH_DATA, 5),
+        renumbered(TEXTURE_INFO, 6),
+        renumbered(TEXTURE_DATA, 7),
+    ],
+};
+
+/// The shade pass's group of what a scene has beyond free forms (what a module's `surfaces`
+/// stands for): its terrains', its meshes' and its textures' bindings, in that order, in one
+/// group — or none without any of them.
+pub const fn surfaces(terrain: bool, meshes: bool, textures: bool) -> Option<Group> {
+    match (terrain, meshes, textures) {
+        (false, false, false) => None,
+        (true, false, false) => Some(TERRAINS),
+        (false, true, false) => Some(MESHES),
+        (true, true, false) => Some(TERRAINS_MESHES),
+        (false, false, true) => Some(TEXTURES),
+        (true, false, true) => Some(TERRAINS_TEXTURES),
+        (false, true, true) => Some(MESHES_TEXTURES),
+        (true, true, true) => Some(TERRAINS_MESHES_TEXTURES),
     }
 }
 
@@ -412,7 +470,7 @@ pub const MESH_BATCH: Group = Group {
 };
 
 /// Every group, for the include step.
-pub const GROUPS: [Group; 22] = [
+pub const GROUPS: [Group; 26] = [
     FRAME,
     QUEUE,
     FREE_FORMS,
@@ -435,6 +493,10 @@ pub const GROUPS: [Group; 22] = [
     SKY_BATCH,
     MESHES,
     MESH_BATCH,
+    TEXTURES,
+    TERRAINS_TEXTURES,
+    MESHES_TEXTURES,
+    TERRAINS_MESHES_TEXTURES,
 ];
 
 impl Group {
@@ -671,18 +733,18 @@ mod tests {
             vec![MESH_BATCH, MESHES],
             vec![FRAME, WORK, MESHES],
         ];
-        for k in 0..32 {
+        for k in 0..64 {
             let (fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
-            let (terrain, meshes) = (k & 8 != 0, k & 16 != 0);
+            let (terrain, meshes, textures) = (k & 8 != 0, k & 16 != 0, k & 32 != 0);
             let mut shade = vec![FRAME, FREE_FORMS, shading(fog, sky, clouds, false)];
-            shade.extend(surfaces(terrain, meshes));
+            shade.extend(surfaces(terrain, meshes, textures));
             sets.push(shade);
             sets.push(vec![FRAME, shading(fog, sky, clouds, false)]);
         }
         // Whitted's passes; its shade pass is the one past the defaults, by its records
         // (checked against the device before upload, render.rs).
-        for k in 0..32 {
-            let (terrain, meshes) = (k & 1 != 0, k & 2 != 0);
+        for k in 0..64 {
+            let (terrain, meshes, textures) = (k & 1 != 0, k & 2 != 0, k & 32 != 0);
             let (fog, sky, clouds) = (k & 4 != 0, k & 8 != 0, k & 16 != 0);
             let whitted = shading(fog, sky, clouds, true);
             assert_eq!(
@@ -692,12 +754,12 @@ mod tests {
             assert_eq!(whitted.bindings.last().map(|b| b.name), Some("secondaries"));
             assert_eq!(shading(fog, sky, clouds, true), whitted, "made once");
             let mut shade = vec![FRAME, FREE_FORMS, whitted];
-            shade.extend(surfaces(terrain, meshes));
+            shade.extend(surfaces(terrain, meshes, textures));
             let storage: u32 = shade.iter().map(Group::storage_buffers).sum();
             assert_eq!(storage, 7 + if terrain { 2 } else { 0 });
             assert!(shade.len() as u32 <= defaults.max_bind_groups);
             let mut intersect = vec![FRAME, FREE_FORMS];
-            intersect.extend(surfaces(terrain, meshes));
+            intersect.extend(surfaces(terrain, meshes, textures));
             sets.push(intersect);
             sets.push(vec![FRAME, QUEUE]);
             sets.push(vec![FRAME, whitted]);
@@ -721,7 +783,7 @@ mod tests {
             FRAME,
             FREE_FORMS,
             shading(true, true, true, false),
-            TERRAINS_MESHES,
+            TERRAINS_MESHES_TEXTURES,
         ];
         assert_eq!(
             full.iter().map(Group::storage_buffers).sum::<u32>(),
@@ -732,8 +794,20 @@ mod tests {
         let mut both = names(TERRAINS);
         both.extend(names(MESHES));
         assert_eq!(names(TERRAINS_MESHES), both);
-        assert_eq!(surfaces(false, false), None);
-        assert_eq!(surfaces(true, false), Some(TERRAINS));
+        both.extend(names(TEXTURES));
+        assert_eq!(names(TERRAINS_MESHES_TEXTURES), both);
+        assert_eq!(surfaces(false, false, false), None);
+        assert_eq!(surfaces(true, false, false), Some(TERRAINS));
+        // The textures bind no storage buffer, and a scene without them none of their
+        // bindings.
+        assert_eq!(TERRAINS_MESHES_TEXTURES.storage_buffers(), 2);
+        for k in 0..4 {
+            let g = surfaces(k & 1 != 0, k & 2 != 0, false);
+            assert!(g.is_none_or(|g| g.bindings.iter().all(|b| !b.name.starts_with("texture"))));
+            let t = surfaces(k & 1 != 0, k & 2 != 0, true).unwrap();
+            let names = names(t);
+            assert_eq!(&names[names.len() - 2..], ["texture_info", "texture_data"]);
+        }
         // A scene without a medium binds none of its parameters or tables.
         assert_eq!(shading(false, false, false, false), SHADING);
         // Every combination is its own group (layouts are cached by name).

@@ -148,7 +148,12 @@ impl MeshBuffers {
 /// Writes `data` (16-byte texels) into `texture` from texel `first` on, row-major with
 /// [`MESH_TEXTURE_WIDTH`] per row: a partial first row, whole rows, a partial last row — no
 /// texel outside the range is touched. Returns the bytes written.
-fn write_texels(ctx: &GpuContext, texture: &wgpu::Texture, first: u64, data: &[[u32; 4]]) -> u64 {
+pub(crate) fn write_texels(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    first: u64,
+    data: &[[u32; 4]],
+) -> u64 {
     let w = u64::from(MESH_TEXTURE_WIDTH);
     let mut at = first;
     let mut rest = data;

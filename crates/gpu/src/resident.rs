@@ -150,6 +150,9 @@ pub struct ResidentScene {
     pub clouds: Option<ResidentClouds>,
     /// The meshes; `None` without meshes (nothing of them is allocated).
     pub meshes: Option<ResidentMeshes>,
+    /// The materials' image textures and colour ramps; `None` without them (nothing of them is
+    /// allocated).
+    pub textures: Option<crate::textures::ResidentTextures>,
     /// Bytes uploaded.
     pub bytes: u64,
 }
@@ -266,6 +269,14 @@ impl ResidentScene {
             bytes += m.buffers.bytes;
             Some(m)
         };
+        let textures = if scene.features.textures {
+            let layout = crate::textures::TextureLayout::build(scene, budget)?;
+            let t = crate::textures::ResidentTextures::upload(ctx, layout, anchor)?;
+            bytes += t.bytes;
+            Some(t)
+        } else {
+            None
+        };
         Ok(Self {
             anchor,
             flat,
@@ -281,6 +292,7 @@ impl ResidentScene {
             sky,
             clouds,
             meshes,
+            textures,
             bytes,
         })
     }

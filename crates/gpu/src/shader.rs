@@ -8,14 +8,15 @@
 //! - `// #include "file.wgsl" if terrain` / `… unless terrain` — only with / without a terrain
 //!   (likewise `if meshes` / `unless meshes`: with / without triangle meshes; `if fog` /
 //!   `unless fog`: with / without a fog layer; `if sky` / `unless sky`: with / without a
-//!   physically based sky; `if clouds` / `unless clouds`: with / without a cloud volume);
+//!   physically based sky; `if clouds` / `unless clouds`: with / without a cloud volume;
+//!   `if textures` / `unless textures`: with / without image textures or colour ramps);
 //! - `// #instantiate "file.wgsl" { KEY: value; … }` — the file as a template, each `{{KEY}}`
 //!   replaced (the CSG evaluator, once per algebra);
 //! - `// #bindings frame, work, terrains if terrain` — the generated declarations of those bind
 //!   groups (`bindings::GROUPS`), under the same conditions; `shading` stands for the scene's
 //!   lights-and-media group (`bindings::shading`: with the fog's, the sky's and the clouds'
-//!   bindings only where the scene has them), `surfaces` for the terrains' and the meshes'
-//!   group (`bindings::surfaces`: either, both, or no group at all).
+//!   bindings only where the scene has them), `surfaces` for the terrains', the meshes' and
+//!   the textures' group (`bindings::surfaces`: any of them together, or no group at all).
 
 use crate::{bindings, counters, params};
 use fray_core::gpu_struct::GpuStruct;
@@ -23,7 +24,7 @@ use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/`.
-pub const SHADER_FILES: [(&str, &str); 55] = [
+pub const SHADER_FILES: [(&str, &str); 61] = [
     ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../../../shaders/clouds.wgsl")),
     (
@@ -84,6 +85,10 @@ pub const SHADER_FILES: [(&str, &str); 55] = [
         include_str!("../../../shaders/mesh_shading.wgsl"),
     ),
     (
+        "mesh_texture.wgsl",
+        include_str!("../../../shaders/mesh_texture.wgsl"),
+    ),
+    (
         "no_clouds.wgsl",
         include_str!("../../../shaders/no_clouds.wgsl"),
     ),
@@ -97,6 +102,10 @@ pub const SHADER_FILES: [(&str, &str); 55] = [
         include_str!("../../../shaders/no_mesh.wgsl"),
     ),
     (
+        "no_mesh_texture.wgsl",
+        include_str!("../../../shaders/no_mesh_texture.wgsl"),
+    ),
+    (
         "no_fog_media.wgsl",
         include_str!("../../../shaders/no_fog_media.wgsl"),
     ),
@@ -108,6 +117,14 @@ pub const SHADER_FILES: [(&str, &str); 55] = [
     (
         "no_terrain.wgsl",
         include_str!("../../../shaders/no_terrain.wgsl"),
+    ),
+    (
+        "no_terrain_texture.wgsl",
+        include_str!("../../../shaders/no_terrain_texture.wgsl"),
+    ),
+    (
+        "no_texture.wgsl",
+        include_str!("../../../shaders/no_texture.wgsl"),
     ),
     (
         "quadric.wgsl",
@@ -149,6 +166,14 @@ pub const SHADER_FILES: [(&str, &str); 55] = [
     (
         "terrain_shadows.wgsl",
         include_str!("../../../shaders/terrain_shadows.wgsl"),
+    ),
+    (
+        "terrain_texture.wgsl",
+        include_str!("../../../shaders/terrain_texture.wgsl"),
+    ),
+    (
+        "texture.wgsl",
+        include_str!("../../../shaders/texture.wgsl"),
     ),
     (
         "work_item.wgsl",
@@ -300,6 +325,8 @@ pub struct ModuleOptions {
     /// The scene's materials reflect or transmit: Whitted's secondary rays (`if whitted` /
     /// `unless whitted`).
     pub whitted: bool,
+    /// The scene has image textures or colour ramps (`if textures` / `unless textures`).
+    pub textures: bool,
 }
 
 impl ModuleOptions {
@@ -320,6 +347,7 @@ impl ModuleOptions {
         sky: false,
         clouds: false,
         whitted: false,
+        textures: false,
     };
 }
 
@@ -333,6 +361,7 @@ impl Default for ModuleOptions {
             sky: true,
             clouds: true,
             whitted: false,
+            textures: true,
         }
     }
 }
@@ -410,6 +439,8 @@ impl Compose {
             "unless clouds" => !self.options.clouds,
             "if whitted" => self.options.whitted,
             "unless whitted" => !self.options.whitted,
+            "if textures" => self.options.textures,
+            "unless textures" => !self.options.textures,
             _ => false,
         }
     }
@@ -456,8 +487,10 @@ impl Compose {
                             self.options.whitted,
                         )
                     } else if group == "surfaces" {
-                        // The scene's terrains and meshes (see `bindings::surfaces`), if any.
-                        match bindings::surfaces(self.options.terrain, self.options.meshes) {
+                        // The scene's terrains, meshes and textures (see
+                        // `bindings::surfaces`), if any.
+                        let o = &self.options;
+                        match bindings::surfaces(o.terrain, o.meshes, o.textures) {
                             Some(g) => g,
                             None => continue,
                         }
@@ -550,6 +583,7 @@ pub fn prelude(sizes: &ArraySizes) -> String {
     s.push_str(&fray_atmosphere::gpu_layout::wgsl_declaration());
     s.push_str(&fray_clouds::gpu_layout::wgsl_declaration());
     s.push_str(&fray_mesh::gpu_layout::wgsl_declarations());
+    s.push_str(&crate::textures::wgsl_declarations());
     s.push_str("// Generated by fray_gpu::shader — do not edit.\n");
     for decl in [
         fray_quadtree::WorkItem::declaration(),
@@ -575,6 +609,11 @@ pub fn prelude(sizes: &ArraySizes) -> String {
     );
     constants.extend(
         fray_mesh::gpu_layout::wgsl_constants()
+            .into_iter()
+            .map(|(n, v)| (n.to_owned(), v)),
+    );
+    constants.extend(
+        crate::textures::wgsl_constants()
             .into_iter()
             .map(|(n, v)| (n.to_owned(), v)),
     );
@@ -645,6 +684,8 @@ pub struct Specialisation {
     pub whitted: bool,
     /// Materials that transmit: shadow rays pass through them, dimmed by `kt`.
     pub transmission: bool,
+    /// Image textures or colour ramps: shade reads them (`crate::textures`).
+    pub textures: bool,
 }
 
 impl Specialisation {
@@ -666,6 +707,7 @@ impl Specialisation {
             clouds: scene.clouds.is_some(),
             whitted: f.reflection || f.transmission,
             transmission: f.transmission,
+            textures: f.textures,
         }
     }
 
@@ -726,6 +768,7 @@ impl Specialisation {
             (self.clouds, "clouds"),
             (self.whitted, "whitted"),
             (self.transmission, "transmission"),
+            (self.textures, "textures"),
         ] {
             if on {
                 parts.push(name);
@@ -802,9 +845,9 @@ mod tests {
         embedded.sort();
         assert_eq!(on_disk, embedded, "every file in shaders/ must be embedded");
         let mut reached: Vec<String> = Vec::new();
-        for k in 0..64u32 {
+        for k in 0..128u32 {
             let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
-            let (meshes, whitted) = (k & 16 != 0, k & 32 != 0);
+            let (meshes, whitted, textures) = (k & 16 != 0, k & 32 != 0, k & 64 != 0);
             for sizes in [
                 ArraySizes::default(),
                 ArraySizes {
@@ -824,6 +867,7 @@ mod tests {
                     sky,
                     clouds,
                     whitted,
+                    textures,
                 };
                 for entry in ENTRY_MODULES {
                     if !whitted && WHITTED_ENTRY_MODULES.contains(&entry) {
@@ -832,7 +876,7 @@ mod tests {
                     let source = compose(entry, &options).unwrap();
                     validate(
                         &format!(
-                            "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds}, whitted {whitted})"
+                            "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds}, whitted {whitted}, textures {textures})"
                         ),
                         &source,
                     );
@@ -854,7 +898,11 @@ mod tests {
 
     #[test]
     fn the_include_step_resolves_once_instantiates_and_reports_errors() {
-        let options = ModuleOptions::default();
+        // Every feature but the textures (whose switch is checked on its own below).
+        let options = ModuleOptions {
+            textures: false,
+            ..ModuleOptions::default()
+        };
         let shade = compose("shade.wgsl", &options).unwrap();
         // freeform.wgsl is included by shade.wgsl and reached again through nothing else: once.
         assert_eq!(shade.matches("// ---- freeform.wgsl ----").count(), 1);
@@ -1043,6 +1091,57 @@ mod tests {
             .unwrap()[1],
             bindings::SHADING_FOG_SKY
         );
+        // And the textures': with them shade reads the texture data through the surfaces
+        // group (alone for free forms only, after the terrains' and the meshes' bindings), with
+        // the mesh and terrain hooks only where the scene has those kinds; without, no module
+        // has texture code, the uniform or the data texture.
+        let textured = ModuleOptions {
+            textures: true,
+            ..options
+        };
+        let shade_textured = compose("shade.wgsl", &textured).unwrap();
+        assert!(
+            shade_textured.contains("// ---- texture.wgsl ----")
+                && shade_textured.contains("// ---- mesh_texture.wgsl ----")
+                && shade_textured.contains("// ---- terrain_texture.wgsl ----")
+                && shade_textured.contains("var texture_data: texture_2d<u32>")
+                && shade_textured.contains("var<uniform> texture_info: GpuTextureInfo")
+                && !shade_textured.contains("// ---- no_texture.wgsl ----")
+        );
+        assert_eq!(
+            module_groups("shade.wgsl", &textured).unwrap()[3],
+            bindings::TERRAINS_MESHES_TEXTURES
+        );
+        let free_forms_textured = ModuleOptions {
+            terrain: false,
+            meshes: false,
+            ..textured
+        };
+        let ff = compose("shade.wgsl", &free_forms_textured).unwrap();
+        assert!(
+            ff.contains("// ---- no_mesh_texture.wgsl ----")
+                && ff.contains("// ---- no_terrain_texture.wgsl ----")
+                && !ff.contains("// ---- mesh_texture.wgsl ----")
+        );
+        assert_eq!(
+            module_groups("shade.wgsl", &free_forms_textured).unwrap()[3],
+            bindings::TEXTURES
+        );
+        for entry in ENTRY_MODULES {
+            let source = compose(entry, &options).unwrap();
+            assert!(
+                !source.contains("// ---- texture.wgsl")
+                    && !source.contains("// ---- mesh_texture.wgsl")
+                    && !source.contains("// ---- terrain_texture.wgsl")
+                    && !source.contains("// ---- no_mesh_texture.wgsl")
+                    && !source.contains("// ---- no_terrain_texture.wgsl")
+                    && !source.contains("texture_data")
+                    && !source.contains("texture_info")
+                    && !source.contains("fn texture_"),
+                "{entry}"
+            );
+        }
+        assert!(shade.contains("// ---- no_texture.wgsl ----"));
         assert!(matches!(
             compose("nonexistent.wgsl", &options),
             Err(ComposeError::Missing { .. })
@@ -1097,6 +1196,10 @@ mod tests {
         expect::<fray_mesh::gpu_layout::GpuMeshTriangle>(&found);
         expect::<fray_mesh::gpu_layout::GpuMeshVertex>(&found);
         expect::<fray_mesh::gpu_layout::GpuMeshInstance>(&found);
+        expect::<fray_mesh::texture::gpu_layout::GpuMapping>(&found);
+        expect::<crate::textures::GpuTextureMaterial>(&found);
+        expect::<crate::textures::GpuTextureLevel>(&found);
+        expect::<crate::textures::GpuTextureInfo>(&found);
         let constants: HashMap<String, naga::Handle<naga::Expression>> = module
             .constants
             .iter()
@@ -1122,6 +1225,16 @@ mod tests {
             ("NO_LIGHT", fray_atmosphere::gpu_layout::NO_LIGHT),
             ("MESH_STACK", fray_mesh::gpu_layout::MESH_STACK),
             ("MESH_NO_HIT", fray_mesh::gpu_layout::MESH_NO_HIT),
+            (
+                "MAPPING_TRIPLANAR",
+                fray_mesh::texture::gpu_layout::MAPPING_TRIPLANAR,
+            ),
+            ("TEXTURE_WRAP_MIRROR", crate::textures::TEXTURE_WRAP_MIRROR),
+            (
+                "TEXTURE_FILTER_TRILINEAR",
+                crate::textures::TEXTURE_FILTER_TRILINEAR,
+            ),
+            ("TEXTURE_DATA_WIDTH", crate::textures::TEXTURE_DATA_WIDTH),
             (
                 "SKY_AERIAL_PERSPECTIVE",
                 fray_atmosphere::gpu_layout::SKY_AERIAL_PERSPECTIVE,

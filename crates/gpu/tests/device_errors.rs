@@ -35,11 +35,11 @@ fn uncaptured_validation_error_is_recorded_not_raised() {
     assert_eq!(ctx.take_uncaptured_error(), None, "taken once");
 }
 
-/// What the GPU does not draw yet is refused before anything is uploaded — `Unsupported`,
-/// naming what — so that `Auto` renders it on the CPU: textured materials. Meshes, mirrors and
-/// glass, in fog too, are not refused (the GPU draws them).
-fn unsupported_features_are_refused_meshes_and_whitted_are_not() {
-    let renderer = common::gpu("unsupported_features_are_refused_meshes_and_whitted_are_not");
+/// Every feature a scene can use is drawn by the GPU, so none is refused as `Unsupported`:
+/// meshes, mirrors and glass (Whitted's queue passes), in fog too, and textured materials
+/// (the texture sampling) all upload, specialised for what they use.
+fn every_feature_uploads_none_is_refused() {
+    let renderer = common::gpu("every_feature_uploads_none_is_refused");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes");
     let bunny = dir.join("bunny00.obj").display().to_string();
     let mesh = format!(
@@ -58,26 +58,26 @@ fn unsupported_features_are_refused_meshes_and_whitted_are_not() {
          materials: { \"m\": (reflect: (1, 1, 1)) }, \
          atmosphere: (fog: (base: -1, top: 2, extinction: 0.1)), \
          objects: [(material: \"m\", shape: Sphere(radius: 1))])";
-    for text in [mesh.as_str(), mirror, glass_bunny.as_str(), foggy_mirror] {
-        let scene = fray_scene::parse(text, "inline.ron").unwrap();
-        assert!(fray_gpu::unsupported_feature(&scene).is_none(), "{text}");
-        let settings = fray_gpu::GpuSettings::for_scene(&scene);
-        if let Err(e) = renderer.upload(&scene, &settings) {
-            panic!("{text}: {e}");
-        }
-    }
-    // A textured material too (until the GPU samples textures): drawn untextured it would be
-    // a wrong picture, not a fallback.
     let ramp = "Scene(camera: Pinhole(eye: (0, 0, -3), look_at: (0, 0, 0)), \
          materials: { \"r\": (ramp: (height: [(0, (0, 0, 1)), (1, (1, 1, 1))])) }, \
          objects: [(material: \"r\", shape: Sphere(radius: 1))])";
-    let scene = fray_scene::parse(ramp, "inline.ron").unwrap_or_else(|e| panic!("{e}"));
-    let settings = fray_gpu::GpuSettings::for_scene(&scene);
-    match renderer.upload(&scene, &settings) {
-        Err(fray_gpu::GpuError::Unsupported { feature }) => {
-            assert!(feature.contains("textures"), "{feature}")
+    for (text, whitted, textures) in [
+        (mesh.as_str(), false, false),
+        (mirror, true, false),
+        (glass_bunny.as_str(), true, false),
+        (foggy_mirror, true, false),
+        (ramp, false, true),
+    ] {
+        let scene = fray_scene::parse(text, "inline.ron").unwrap_or_else(|e| panic!("{e}"));
+        assert!(fray_gpu::unsupported_feature(&scene).is_none(), "{text}");
+        let settings = fray_gpu::GpuSettings::for_scene(&scene);
+        match renderer.upload(&scene, &settings) {
+            Ok(resident) => {
+                let s = resident.specialisation();
+                assert_eq!((s.whitted, s.textures), (whitted, textures), "{text}");
+            }
+            Err(e) => panic!("{text}: {e}"),
         }
-        other => panic!("textures: expected Unsupported, got {:?}", other.err()),
     }
 }
 
@@ -89,8 +89,8 @@ fn main() {
                 uncaptured_validation_error_is_recorded_not_raised,
             ),
             (
-                "unsupported_features_are_refused_meshes_and_whitted_are_not",
-                unsupported_features_are_refused_meshes_and_whitted_are_not,
+                "every_feature_uploads_none_is_refused",
+                every_feature_uploads_none_is_refused,
             ),
         ],
         &[],

@@ -5,8 +5,9 @@
 //!   it through its complement), Fresnel, total internal reflection in a dense ball, a glass
 //!   mesh (the bunny) and a mirror beside it, shadows through glass; secondary rays through fog,
 //!   under a sky (misses see the sky, hits its air) and through clouds — and the data scenes whose
-//!   materials reflect or transmit and which the GPU draws (`mesh_bunny_freeform`,
-//!   `mesh_aircraft_pair`), at a small width;
+//!   materials reflect or transmit (`mesh_bunny_freeform`, `mesh_aircraft_pair`,
+//!   `whitted_glass_mirror` with its brick floor textured along reflected and refracted paths), at
+//!   a small width;
 //! - a scene whose secondary rays overflow the first queue (two glass balls at depth 8): the
 //!   frame is rendered again with a larger queue and still matches;
 //! - the secondary rays traced are counted, within a small share of the CPU's count (a ray
@@ -304,7 +305,11 @@ fn whitted_data_scenes_match_the_cpu_reference() {
     let gpu = common::gpu("whitted_data_scenes_match_the_cpu_reference");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
     let mut drawn = 0;
-    for file in ["mesh_bunny_freeform.ron", "mesh_aircraft_pair.ron"] {
+    for file in [
+        "mesh_bunny_freeform.ron",
+        "mesh_aircraft_pair.ron",
+        "whitted_glass_mirror.ron",
+    ] {
         let mut scene = fray_scene::load(&dir.join(file)).unwrap();
         sized(&mut scene);
         assert!(scene.features.reflection || scene.features.transmission);
@@ -312,7 +317,7 @@ fn whitted_data_scenes_match_the_cpu_reference() {
         check(file, &scene, &gpu);
         drawn += 1;
     }
-    assert_eq!(drawn, 2);
+    assert_eq!(drawn, 3);
 }
 
 /// At `max_depth: 0` no secondary ray is traced on either backend, and the frame is the local

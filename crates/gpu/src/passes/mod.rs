@@ -247,15 +247,16 @@ mod tests {
     /// has no gaps and a bind group lands at the index the WGSL declares).
     #[test]
     fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for k in 0..32u32 {
+        for k in 0..64u32 {
             let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
-            let meshes = k & 16 != 0;
+            let (meshes, textures) = (k & 16 != 0, k & 32 != 0);
             let options = ModuleOptions {
                 terrain,
                 meshes,
                 fog,
                 sky,
                 clouds,
+                textures,
                 ..ModuleOptions::default()
             };
             let shade = super::shade::ShadePass::groups(&options);
@@ -290,7 +291,7 @@ mod tests {
                 let declared = shader::module_groups(entry, &options).unwrap();
                 assert_eq!(
                     declared, groups,
-                    "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds})"
+                    "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds}, textures {textures})"
                 );
             }
         }

@@ -14,25 +14,30 @@ use crate::{GpuContext, GpuError};
 #[derive(Debug)]
 pub struct ShadePass {
     kernel: Kernel,
-    /// Whether it binds a fourth group (terrains and/or meshes: `bindings::surfaces`).
+    /// Whether it binds a fourth group (terrains, meshes and/or textures: `bindings::surfaces`).
     surfaces: bool,
 }
 
 impl ShadePass {
     /// The groups it binds for a scene composed with `options`: the frame, the free forms, the
     /// lights and materials (with the fog layer, the sky's block and tables and the clouds'
-    /// where the scene has them: `bindings::shading`), and only with terrains or meshes their
-    /// group (`bindings::surfaces`: the terrains', the meshes' or both).
+    /// where the scene has them: `bindings::shading`), and only with terrains, meshes or
+    /// textures their group (`bindings::surfaces`: any of them together).
     pub fn groups(options: &ModuleOptions) -> Vec<Group> {
         let shading = bindings::shading(options.fog, options.sky, options.clouds, options.whitted);
         let mut groups = vec![FRAME, FREE_FORMS, shading];
-        groups.extend(bindings::surfaces(options.terrain, options.meshes));
+        groups.extend(bindings::surfaces(
+            options.terrain,
+            options.meshes,
+            options.textures,
+        ));
         groups
     }
 
     pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
         let kernel = Kernel::new(setup, "shade.wgsl", &Self::groups(setup.options))?;
-        let surfaces = bindings::surfaces(setup.options.terrain, setup.options.meshes).is_some();
+        let o = setup.options;
+        let surfaces = bindings::surfaces(o.terrain, o.meshes, o.textures).is_some();
         Ok(Self { kernel, surfaces })
     }
 

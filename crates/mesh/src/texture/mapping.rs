@@ -150,11 +150,11 @@ fn frame(
 /// upright.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Planar {
-    origin: DVec3,
+    pub(super) origin: DVec3,
     /// `û · scale.x` and `v̂ · scale.y`.
-    u: DVec3,
-    v: DVec3,
-    uv_per_world: f64,
+    pub(super) u: DVec3,
+    pub(super) v: DVec3,
+    pub(super) uv_per_world: f64,
 }
 
 impl Planar {
@@ -205,11 +205,11 @@ impl Planar {
 /// (the pole is the image's top row). At the centre: `uv = (0, repeat.y/2)`; at the poles `u = 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spherical {
-    centre: DVec3,
-    pole: DVec3,
-    seam: DVec3,
-    east: DVec3,
-    repeat: DVec2,
+    pub(super) centre: DVec3,
+    pub(super) pole: DVec3,
+    pub(super) seam: DVec3,
+    pub(super) east: DVec3,
+    pub(super) repeat: DVec2,
 }
 
 impl Spherical {
@@ -266,12 +266,12 @@ impl Spherical {
 /// On the axis: `u = 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cylindrical {
-    origin: DVec3,
-    axis: DVec3,
-    seam: DVec3,
-    east: DVec3,
-    repeat_u: f64,
-    scale_v: f64,
+    pub(super) origin: DVec3,
+    pub(super) axis: DVec3,
+    pub(super) seam: DVec3,
+    pub(super) east: DVec3,
+    pub(super) repeat_u: f64,
+    pub(super) scale_v: f64,
 }
 
 impl Cylindrical {
@@ -320,9 +320,9 @@ impl Cylindrical {
 /// times `scale`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triplanar {
-    origin: DVec3,
-    scale: f64,
-    sharpness: f64,
+    pub(super) origin: DVec3,
+    pub(super) scale: f64,
+    pub(super) sharpness: f64,
 }
 
 impl Triplanar {

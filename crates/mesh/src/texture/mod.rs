@@ -43,6 +43,7 @@
 
 mod error;
 mod footprint;
+pub mod gpu_layout;
 mod load;
 mod mapping;
 mod mip;
