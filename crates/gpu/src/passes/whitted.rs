@@ -54,7 +54,11 @@ impl WhittedPasses {
     /// The groups of the intersection pass for a scene composed with `options`.
     pub fn intersect_groups(options: &ModuleOptions) -> Vec<Group> {
         let mut groups = vec![FRAME, FREE_FORMS];
-        groups.extend(bindings::surfaces(options.terrain, options.meshes, options.textures));
+        groups.extend(bindings::surfaces(
+            options.terrain,
+            options.meshes,
+            options.textures,
+        ));
         groups
     }
 
@@ -83,7 +87,8 @@ impl WhittedPasses {
             select_level: (options.fog || options.sky || options.clouds)
                 .then(|| Kernel::new(setup, "queue_level.wgsl", &Self::QUEUE_GROUPS))
                 .transpose()?,
-            surfaces: bindings::surfaces(options.terrain, options.meshes, options.textures).is_some(),
+            surfaces: bindings::surfaces(options.terrain, options.meshes, options.textures)
+                .is_some(),
         })
     }
 
