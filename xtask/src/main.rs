@@ -5,6 +5,7 @@ mod bench_atmosphere;
 mod bench_clouds;
 mod bless;
 mod compare;
+mod polygonise;
 mod regress;
 mod render;
 mod report;
@@ -36,6 +37,22 @@ enum Command {
     /// step and sun steps with the error against a fine-step reference, empty-space skipping
     /// on and off, bake time against grid size; target/bench/clouds.md. Default: all.
     Bench(BenchArgs),
+    /// A scene's free forms as one closed triangle mesh (OBJ): marching tetrahedra with vertices
+    /// on F = 0 and normals from its gradient; prints both descriptions' sizes.
+    Polygonise(PolygoniseArgs),
+}
+
+#[derive(Debug, Args)]
+struct PolygoniseArgs {
+    /// The scene whose free forms (all of them, united) to polygonise
+    scene: PathBuf,
+    /// Cubic cells along the longest side of the free forms' box
+    #[arg(long, value_name = "N", default_value_t = 160,
+          value_parser = clap::value_parser!(u32).range(2..=4096))]
+    cells: u32,
+    /// The OBJ file to write
+    #[arg(short, long, value_name = "FILE")]
+    out: PathBuf,
 }
 
 #[derive(Debug, Args)]
@@ -124,6 +141,15 @@ fn main() -> ExitCode {
             stems: args.stems,
         })
         .map(|()| true),
+        Command::Polygonise(args) => polygonise::run(&polygonise::PolygoniseOptions {
+            scene: args.scene,
+            cells: args.cells,
+            out: args.out,
+        })
+        .map(|summary| {
+            println!("{summary}");
+            true
+        }),
         Command::Bench(args) => {
             let out = args.out.unwrap_or_else(workspace::default_bench_out);
             let repeats = args.repeats as usize;

@@ -36,6 +36,7 @@ mod error;
 mod free_form;
 pub mod gpu_layout;
 mod perturbation;
+pub mod polygonise;
 mod quadric;
 mod ray_quadratic;
 
@@ -45,5 +46,6 @@ pub use csg::{CsgOp, Shape, Solid};
 pub use error::GeometryError;
 pub use free_form::FreeForm;
 pub use perturbation::Perturbation;
+pub use polygonise::{PolygonMesh, polygonise};
 pub use quadric::{OriginTerms, Quadric, Sheets};
 pub use ray_quadratic::RayQuadratic;
