@@ -57,8 +57,9 @@ const KUHN: [[usize; 4]; 6] = [
     [0, 4, 6, 7],
 ];
 
-/// Regula-falsi steps that move an edge's vertex from the linear guess onto `F = 0`.
-const ROOT_STEPS: u32 = 8;
+/// Regula-falsi steps at most that move an edge's vertex from the linear guess onto `F = 0`
+/// (they stop once the bracket is below 1e-12 of the edge).
+const ROOT_STEPS: u32 = 40;
 
 /// How close to an edge's end (a share of the edge) its vertex may be.
 const EDGE_MARGIN: f64 = 1e-6;
@@ -220,6 +221,9 @@ fn edge_point(
     let (mut s0, mut f0, mut s1, mut f1) = (0.0, a.2, 1.0, b.2);
     let mut side = 0;
     for _ in 0..ROOT_STEPS {
+        if s1 - s0 < 1e-12 {
+            break;
+        }
         let s = guess(s0, f0, s1, f1);
         let f = field(a.1 + (b.1 - a.1) * s);
         if f >= 0.0 {
