@@ -1215,10 +1215,6 @@ mod tests {
             ("KIND_MESH", PrimitiveKind::Mesh.code()),
             ("MESH_TEXTURE_WIDTH", crate::mesh_pass::MESH_TEXTURE_WIDTH),
             ("MESH_FLAG_SMOOTH", fray_mesh::gpu_layout::MESH_FLAG_SMOOTH),
-            (
-                "MESH_FLAG_MIRRORED",
-                fray_mesh::gpu_layout::MESH_FLAG_MIRRORED,
-            ),
             ("TILE_THREADS", crate::work::TILE),
             ("FOG_METHOD", fray_atmosphere::gpu_layout::FOG_METHOD),
             ("PHASE_PRINTED", fray_atmosphere::gpu_layout::PHASE_PRINTED),

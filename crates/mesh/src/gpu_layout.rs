@@ -37,9 +37,6 @@ pub const MESH_FLAG_UVS: u32 = 1;
 /// [`GpuMeshInstance::flags`]: shade with the interpolated vertex normals (else the face's);
 /// set by [`GpuMeshes::with_smooth`].
 pub const MESH_FLAG_SMOOTH: u32 = 2;
-/// [`GpuMeshInstance::flags`]: the instance's transform mirrors (determinant < 0, decided in
-/// f64), so its world corners wind the other way round than the mesh's.
-pub const MESH_FLAG_MIRRORED: u32 = 4;
 
 fray_core::gpu_struct! {
     /// A BVH node (32 bytes). Its box is the f64 box minus the mesh's anchor, rounded outward.
@@ -102,7 +99,7 @@ fray_core::gpu_struct! {
         pub mesh: u32,
         /// The material index (0 unless [`GpuMeshes::with_materials`] sets it).
         pub material: u32,
-        /// [`MESH_FLAG_UVS`], [`MESH_FLAG_SMOOTH`], [`MESH_FLAG_MIRRORED`].
+        /// [`MESH_FLAG_UVS`], [`MESH_FLAG_SMOOTH`].
         pub flags: u32,
     }
 }
@@ -122,14 +119,13 @@ pub fn wgsl_declarations() -> String {
 }
 
 /// The constants mesh.wgsl reads, for the generated prelude.
-pub fn wgsl_constants() -> [(&'static str, u32); 6] {
+pub fn wgsl_constants() -> [(&'static str, u32); 5] {
     [
         ("MESH_STACK", MESH_STACK),
         ("MESH_NO_NODE", MESH_NO_NODE),
         ("MESH_NO_HIT", MESH_NO_HIT),
         ("MESH_FLAG_UVS", MESH_FLAG_UVS),
         ("MESH_FLAG_SMOOTH", MESH_FLAG_SMOOTH),
-        ("MESH_FLAG_MIRRORED", MESH_FLAG_MIRRORED),
     ]
 }
 
@@ -435,12 +431,7 @@ fn instance_block(
         },
         mesh,
         material: 0,
-        flags: if range.has_uvs { MESH_FLAG_UVS } else { 0 }
-            | if determinant < 0.0 {
-                MESH_FLAG_MIRRORED
-            } else {
-                0
-            },
+        flags: if range.has_uvs { MESH_FLAG_UVS } else { 0 },
     };
     let finite = [block.to_mesh_x, block.to_mesh_y, block.to_mesh_z]
         .iter()
@@ -610,7 +601,8 @@ mod tests {
             &MemoryBudget::default(),
         )
         .unwrap();
-        assert_eq!(mirrored.instances[0].flags, MESH_FLAG_MIRRORED);
+        // No flag: the inverse transpose already turns a mirroring instance's normals outward.
+        assert_eq!(mirrored.instances[0].flags, 0);
     }
 
     #[test]

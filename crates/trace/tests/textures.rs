@@ -4,16 +4,12 @@
 //! trilinear lookup per pixel stays within a stated error of a supersampled reference where
 //! point sampling does not.
 
+mod common;
+
 use fray_scene::Scene;
 use fray_trace::{TraceSettings, render};
 use glam::DVec3;
-use std::path::{Path, PathBuf};
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fray-textures-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::path::Path;
 
 /// A `side × side` RGB PNG whose quadrants are red (top left), green (top right), blue (bottom
 /// left) and white (bottom right).
@@ -58,7 +54,7 @@ fn assert_quadrants(what: &str, got: [DVec3; 4]) {
 /// left whichever way the surface gets its coordinates.
 #[test]
 fn a_known_image_lands_the_right_way_round() {
-    let dir = temp_dir("orientation");
+    let dir = common::temp_dir("textures", "orientation");
     let png = quadrants_png(&dir, 2);
     // A quad facing the camera, uv (0, 0) at its screen bottom left (+x, −y).
     let quad = dir.join("quad.obj");
@@ -102,7 +98,7 @@ fn a_known_image_lands_the_right_way_round() {
 /// at height 5 halfway between its stops at 0 and 10.
 #[test]
 fn terrain_drapes_and_ramps() {
-    let dir = temp_dir("terrain");
+    let dir = common::temp_dir("textures", "terrain");
     let png = quadrants_png(&dir, 4);
     let map = dir.join("flat.png");
     image::save_buffer(&map, &[0u8; 16], 4, 4, image::ColorType::L8).unwrap();

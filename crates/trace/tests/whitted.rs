@@ -4,22 +4,16 @@
 //! form and mesh) and thin slabs against a uniform background every hit pixel is exactly the
 //! background times the weights of its path. Depth and contribution limits cut where they say.
 
+mod common;
+
 use fray_core::{Interval, Ray};
 use fray_scene::Scene;
 use fray_trace::{Integrator, TraceContext, TraceSettings, render};
 use glam::DVec3;
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
 fn parse(text: &str) -> Scene {
     fray_scene::parse(text, "whitted.ron").unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// A temporary folder for this test's OBJ files.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fray-whitted-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// An axis-aligned box as an OBJ file (12 triangles, counter-clockwise from outside).
@@ -194,7 +188,7 @@ fn a_mirror_sphere_reflects_the_analytic_direction() {
 #[test]
 fn a_glass_slab_shifts_a_ray_by_the_analytic_offset() {
     let h = 0.5;
-    let dir = temp_dir("slab");
+    let dir = common::temp_dir("whitted", "slab");
     let mesh = box_obj(
         &dir,
         "slab.obj",
@@ -268,7 +262,7 @@ fn a_glass_slab_shifts_a_ray_by_the_analytic_offset() {
 /// seen), which no count would predict; at index 1 every ray crosses exactly twice.
 #[test]
 fn offsets_leave_no_acne_or_gaps_on_thin_and_curved_geometry() {
-    let dir = temp_dir("acne");
+    let dir = common::temp_dir("whitted", "acne");
     let sphere = icosphere_obj(&dir, "sphere.obj", 3);
     let thin = box_obj(
         &dir,
@@ -363,7 +357,7 @@ fn offsets_leave_no_acne_or_gaps_on_thin_and_curved_geometry() {
 /// crossed), to the f32 rounding of the product (1e-7); a glass mesh box likewise; an opaque ball blocks it all.
 #[test]
 fn shadow_rays_through_glass_keep_kt_per_surface() {
-    let dir = temp_dir("shadow");
+    let dir = common::temp_dir("whitted", "shadow");
     let cube = box_obj(
         &dir,
         "cube.obj",
@@ -481,7 +475,7 @@ fn a_prism_reflects_totally_exactly_past_the_critical_angle() {
 /// same (smooth and faceted), to 1e-5 — a normal turned inward would shade it black or faceted.
 #[test]
 fn mirrored_instances_keep_outward_normals() {
-    let dir = temp_dir("mirrored");
+    let dir = common::temp_dir("whitted", "mirrored");
     let sphere = icosphere_obj(&dir, "sphere.obj", 2);
     for smooth in [true, false] {
         let frame = |scale: &str| {
