@@ -192,7 +192,7 @@ pub(crate) fn nearest_pending(
 /// [`nearest_pending`] for every camera ray of a tile at once (`pixels`: each ray and its hit
 /// slot, overwritten) with the same answers — per pixel the same casts in the same order, each
 /// ending at that pixel's best so far — candidates outer, pixels inner (free forms through
-/// [`FreeFormPrimitive::narrow_tile`]). A free-form hit's leaf and normal are left for
+/// [`FreeFormPrimitive::narrow_tile`], meshes as packets through [`MeshPrimitive::narrow_tile`]). A free-form hit's leaf and normal are left for
 /// [`complete_surface`], which the frame loop runs over all of a tile's hits afterwards.
 pub(crate) fn nearest_hits_deferred(
     scene: &Scene,
@@ -209,6 +209,7 @@ pub(crate) fn nearest_hits_deferred(
         scene, id, active, footprint,
     ) {
         Some(AnyPrimitive::FreeForm(p)) => p.narrow_tile(id.index, pixels, eps, ctx),
+        Some(AnyPrimitive::Mesh(p)) => p.narrow_tile(id, pixels, ctx),
         Some(other) => {
             for (camera_ray, best) in pixels.iter_mut() {
                 let Some(c) = camera_ray else {

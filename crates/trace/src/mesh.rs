@@ -1,10 +1,11 @@
 //! Triangle meshes as a primitive kind: a scene's mesh instance, cast by `fray-mesh`'s BVH (the
 //! watertight f64 triangle test; any hit for shadow rays); the surface from the hit triangle —
 //! its own normal (geometric), the vertex normals interpolated by the barycentrics (shading,
-//! unless the object is faceted) and the interpolated UVs.
+//! unless the object is faceted) and the interpolated UVs. A tile's camera rays go through the
+//! instance's packet path at once ([`MeshPrimitive::narrow_tile`]), with the same answers.
 
 use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
-use fray_core::{Aabb, Interval, Ray, Rgb};
+use fray_core::{Aabb, CameraRay, Interval, Ray, Rgb};
 use fray_scene::MeshObject;
 use glam::{DVec2, DVec3};
 
@@ -32,12 +33,7 @@ impl Primitive for MeshPrimitive<'_> {
     ) -> Option<KindHit> {
         ctx.counts.mesh_rays += 1;
         let hit = self.object.instance.nearest_hit(ray, range)?;
-        let [a, b, c] = hit.barycentric;
-        Some(KindHit {
-            t: hit.t,
-            part: hit.triangle,
-            detail: DVec3::new(a, b, c),
-        })
+        Some(kind_hit(hit))
     }
 
     fn transmittance(&self, ray: &Ray, range: Interval, _eps: f64, _: &mut TraceContext) -> Rgb {
@@ -91,6 +87,65 @@ impl Primitive for MeshPrimitive<'_> {
             shading_normal,
             part: hit.part,
             uv: uv.map(|uv: DVec2| uv),
+        }
+    }
+}
+
+/// A mesh hit as its kind's hit: the triangle is the part, the barycentrics the detail.
+#[inline]
+fn kind_hit(hit: fray_mesh::MeshHit) -> KindHit {
+    let [a, b, c] = hit.barycentric;
+    KindHit {
+        t: hit.t,
+        part: hit.triangle,
+        detail: DVec3::new(a, b, c),
+    }
+}
+
+impl MeshPrimitive<'_> {
+    /// Narrows each pixel's hit (`pixels`: camera ray and best hit so far; `id` the object's)
+    /// with this instance: the casts [`Primitive::nearest_hit`] makes, each over
+    /// `[t_near, best so far]` and kept only if nearer, made for all the tile's rays at once
+    /// through the instance's packet path ([`fray_mesh::Instance::nearest_hits`]: the same
+    /// answers bit for bit), so the frame is the one per-ray casts give.
+    pub(crate) fn narrow_tile(
+        &self,
+        id: fray_scene::PrimitiveId,
+        pixels: &mut [(Option<CameraRay>, Option<crate::SceneHit>)],
+        ctx: &mut TraceContext,
+    ) {
+        let s = &mut ctx.mesh;
+        s.rays.clear();
+        s.ranges.clear();
+        s.slots.clear();
+        for (k, (camera_ray, best)) in pixels.iter().enumerate() {
+            let Some(c) = camera_ray else {
+                continue;
+            };
+            let hi = best.map_or(f64::INFINITY, |b| b.hit.t);
+            s.rays.push(c.ray);
+            s.ranges.push(Interval { lo: c.t_near, hi });
+            s.slots.push(k as u32);
+        }
+        let n = s.rays.len();
+        s.hits.clear();
+        s.hits.resize(n, None);
+        self.object
+            .instance
+            .nearest_hits(&s.rays, &s.ranges, &mut s.hits, &mut s.local);
+        ctx.counts.mesh_rays += n as u64;
+        ctx.counts.mesh_tile_rays += n as u64;
+        for (&k, hit) in s.slots.iter().zip(&s.hits) {
+            let Some(hit) = hit else {
+                continue;
+            };
+            let best = &mut pixels[k as usize].1;
+            if best.is_none_or(|b| hit.t < b.hit.t) {
+                *best = Some(crate::SceneHit {
+                    primitive: id,
+                    hit: kind_hit(*hit),
+                });
+            }
         }
     }
 }

@@ -296,6 +296,7 @@ pub fn render_into(
         stats.media_exact += t.media_exact;
         stats.cloud_samples += t.cloud_samples;
         stats.mesh_rays += t.mesh_rays;
+        stats.mesh_tile_rays += t.mesh_tile_rays;
         stats.secondary_rays += t.secondary_rays;
     }
     if list.is_some() {
