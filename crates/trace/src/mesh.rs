@@ -4,6 +4,7 @@
 //! unless the object is faceted) and the interpolated UVs. A tile's camera rays go through the
 //! instance's packet path at once ([`MeshPrimitive::narrow_tile`]), with the same answers.
 
+use crate::hit::TileShape;
 use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
 use fray_core::{Aabb, CameraRay, Interval, Ray, Rgb};
 use fray_scene::MeshObject;
@@ -112,20 +113,29 @@ impl MeshPrimitive<'_> {
         &self,
         id: fray_scene::PrimitiveId,
         pixels: &mut [(Option<CameraRay>, Option<crate::SceneHit>)],
+        shape: TileShape,
         ctx: &mut TraceContext,
     ) {
         let s = &mut ctx.mesh;
+        // Packets are runs of consecutive rays: in Morton order of the pixels, 64 rays are an
+        // 8 × 8 block (or a few pixels' samples), not four rows.
+        let key = (shape.width, shape.rays_per_pixel, pixels.len());
+        if s.order_for != Some(key) {
+            morton_order(shape, pixels.len(), &mut s.order);
+            s.order_for = Some(key);
+        }
         s.rays.clear();
         s.ranges.clear();
         s.slots.clear();
-        for (k, (camera_ray, best)) in pixels.iter().enumerate() {
-            let Some(c) = camera_ray else {
+        for &k in &s.order {
+            let Some(c) = &pixels[k as usize].0 else {
                 continue;
             };
+            let best = &pixels[k as usize].1;
             let hi = best.map_or(f64::INFINITY, |b| b.hit.t);
             s.rays.push(c.ray);
             s.ranges.push(Interval { lo: c.t_near, hi });
-            s.slots.push(k as u32);
+            s.slots.push(k);
         }
         let n = s.rays.len();
         s.hits.clear();
@@ -147,5 +157,35 @@ impl MeshPrimitive<'_> {
                 });
             }
         }
+    }
+}
+
+/// The slots of a tile's `len` rays (listed as `shape` says) with the pixels in Morton order
+/// (the bits of x and y interleaved), each pixel's rays together: nearby rays are consecutive at
+/// every scale.
+fn morton_order(shape: TileShape, len: usize, order: &mut Vec<u32>) {
+    let per_pixel = shape.rays_per_pixel.max(1) as usize;
+    let width = shape.width.max(1) as usize;
+    let spread = |v: u32| {
+        let mut v = u64::from(v);
+        let mut out = 0u64;
+        for bit in 0..32 {
+            out |= ((v & 1) << (2 * bit)) as u64;
+            v >>= 1;
+        }
+        out
+    };
+    let pixels = len.div_ceil(per_pixel);
+    let mut keyed: Vec<(u64, u32)> = (0..pixels)
+        .map(|p| {
+            let (x, y) = ((p % width) as u32, (p / width) as u32);
+            (spread(x) | (spread(y) << 1), p as u32)
+        })
+        .collect();
+    keyed.sort_unstable();
+    order.clear();
+    for (_, p) in keyed {
+        let first = p as usize * per_pixel;
+        order.extend((first..(first + per_pixel).min(len)).map(|k| k as u32));
     }
 }

@@ -35,6 +35,10 @@ pub(crate) struct MeshScratch {
     pub(crate) ranges: Vec<Interval>,
     pub(crate) hits: Vec<Option<fray_mesh::MeshHit>>,
     pub(crate) slots: Vec<u32>,
+    /// The tile's ray slots in packet order (pixels in Morton order), for the tile shape and
+    /// ray count it was made for.
+    pub(crate) order: Vec<u32>,
+    pub(crate) order_for: Option<(u32, u32, usize)>,
 }
 
 /// The work of ray queries, summed.

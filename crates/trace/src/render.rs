@@ -4,7 +4,7 @@
 //! on the thread count or the tile size.
 
 use crate::SceneHit;
-use crate::hit::{complete_surface, interaction, nearest_hits_deferred, shading_normal};
+use crate::hit::{TileShape, complete_surface, interaction, nearest_hits_deferred, shading_normal};
 use crate::integrator::Integrator;
 use crate::media_grid::MediaGrid;
 use crate::primitive::{RayCounts, TraceContext};
@@ -432,7 +432,19 @@ fn render_tile(
     } else {
         push_sampled_rays(scene, samples, (x0, y0, x1, y1), hits);
     }
-    nearest_hits_deferred(scene, ctx, hits, settings.epsilon, candidates, footprint);
+    let shape = TileShape {
+        width: x1 - x0,
+        rays_per_pixel: per_pixel as u32,
+    };
+    nearest_hits_deferred(
+        scene,
+        ctx,
+        hits,
+        shape,
+        settings.epsilon,
+        candidates,
+        footprint,
+    );
     for (camera_ray, hit) in hits.iter_mut() {
         if let (Some(c), Some(h)) = (camera_ray, hit) {
             complete_surface(scene, &c.ray, candidates, h);
