@@ -820,12 +820,16 @@ impl Packet {
                 }
             }
         }
-        let mut valid = staged;
-        for l in 0..LANES {
-            if bad[l / CHUNK][l % CHUNK] != 0.0 {
-                valid &= !(1 << l);
+        // A chunk's finite lanes as bits (branch-free: it vectorises).
+        let mut finite: Mask = 0;
+        for c in 0..NCHUNK {
+            let mut ok = [false; CHUNK];
+            for j in 0..CHUNK {
+                ok[j] = bad[c][j] == 0.0;
             }
+            finite |= bitmask(ok) << (c * CHUNK);
         }
+        let valid = staged & finite;
         p.valid = valid;
         if valid == 0 {
             return;
@@ -858,9 +862,17 @@ impl Packet {
                 whole_hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
             }
         }
-        for l in (0..LANES).filter(|&l| is_valid(l)) {
-            let (c, j) = (l / CHUNK, l % CHUNK);
-            (p.lo[c][j], p.hi[c][j]) = (whole_lo[c][j], whole_hi[c][j]);
+        // Lanes that are not valid keep an empty range (they never enter a box).
+        for c in 0..NCHUNK {
+            for j in 0..CHUNK {
+                let on = (valid >> (c * CHUNK + j)) & 1 != 0;
+                p.lo[c][j] = if on { whole_lo[c][j] } else { f32::INFINITY };
+                p.hi[c][j] = if on {
+                    whole_hi[c][j]
+                } else {
+                    f32::NEG_INFINITY
+                };
+            }
         }
         let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
         let mut mean = [0.0f64; 3];
