@@ -170,7 +170,7 @@ fn morton_order(shape: TileShape, len: usize, order: &mut Vec<u32>) {
         let mut v = u64::from(v);
         let mut out = 0u64;
         for bit in 0..32 {
-            out |= ((v & 1) << (2 * bit)) as u64;
+            out |= (v & 1) << (2 * bit);
             v >>= 1;
         }
         out
