@@ -338,9 +338,10 @@ fn render(args: &RenderArgs) -> Result<(), String> {
                 .map(|m| m.instance.mesh.mesh().triangles.len())
                 .sum();
             format!(
-                ", meshes: {} instances, {triangles} triangles, {} mesh casts",
+                ", meshes: {} instances, {triangles} triangles, {} mesh casts ({} in tile packets)",
                 scene.meshes.len(),
-                s.mesh_rays
+                s.mesh_rays,
+                s.mesh_tile_rays
             )
         };
         let whitted = if s.secondary_rays > 0 {

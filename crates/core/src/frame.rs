@@ -62,6 +62,9 @@ pub struct RenderStats {
     pub cloud_samples: u64,
     /// Rays cast against mesh instances (one per ray and instance searched; 0 without meshes).
     pub mesh_rays: u64,
+    /// Those of them cast a tile at a time as packets (the CPU frame loop's camera rays; 0 on
+    /// the GPU).
+    pub mesh_tile_rays: u64,
     /// Whitted secondary rays traced: reflections and refractions (0 without such materials).
     pub secondary_rays: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).

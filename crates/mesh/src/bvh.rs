@@ -44,11 +44,16 @@ pub struct MeshBvh {
 const SLAB_WIDEN: f64 = 1.0 + 2.0 * (3.0 * f64::EPSILON * 0.5) / (1.0 - 3.0 * f64::EPSILON * 0.5);
 
 impl MeshBvh {
-    /// Builds the BVH of `mesh` (obvhs's medium-quality SAH build).
+    /// Builds the BVH of `mesh` (obvhs's medium-quality SAH build). The topology is built from
+    /// the corners relative to [`topology_anchor`] (the difference in f64, then rounded to
+    /// f32), so a mesh far from the origin gets the tree it would get at the origin rather than
+    /// one over f32 corners that have collapsed onto a coarse grid; the boxes are refitted in
+    /// f64 around the absolute f64 corners either way.
     pub fn build(mesh: TriangleMesh) -> Self {
+        let anchor = topology_anchor(&mesh);
         let tris: Vec<obvhs::triangle::Triangle> = (0..mesh.triangles.len())
             .map(|i| {
-                let [a, b, c] = mesh.corners(i).map(|p| p.as_vec3().into());
+                let [a, b, c] = mesh.corners(i).map(|p| (p - anchor).as_vec3().into());
                 obvhs::triangle::Triangle {
                     v0: a,
                     v1: b,
@@ -277,6 +282,33 @@ impl MeshBvh {
             }
         }
         deepest
+    }
+}
+
+/// The point [`MeshBvh::build`] subtracts from the corners before rounding them to f32 for the
+/// topology build: the origin when the mesh's box lies within its own size of it — f32 corners
+/// then keep all but about one bit of their precision relative to the mesh's size, and meshes
+/// near the origin keep exactly the tree they always had —, else the box's centre (a mesh
+/// 10⁵ sizes away would otherwise lose 17 bits: its BVH degenerates, too deep for the GPU).
+/// The box is over the vertices triangles use; an empty mesh's anchor is the origin.
+pub(crate) fn topology_anchor(mesh: &TriangleMesh) -> DVec3 {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for t in &mesh.triangles {
+        for &v in t {
+            let p = mesh.positions[v as usize];
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return DVec3::ZERO;
+    }
+    let centre = (lo + hi) * 0.5;
+    let size = (hi - lo).max_element();
+    if centre.abs().max_element() <= size {
+        DVec3::ZERO
+    } else {
+        centre
     }
 }
 

@@ -1,8 +1,9 @@
 //! An instance: one mesh's BVH placed in the world by an affine transform. Rays are taken into
 //! the mesh's space (not renormalised, so `t` stays the world ray's), normals back out by the
-//! inverse transpose.
+//! inverse transpose. An instance made [`Instance::with_packets`] also casts many rays at once
+//! ([`Instance::nearest_hits`]: the same answers, through the shared [`PacketBvh`]).
 
-use crate::{MeshBvh, MeshError, MeshHit};
+use crate::{MeshBvh, MeshError, MeshHit, PacketBvh};
 use fray_core::{Interval, Ray};
 use glam::{DAffine3, DMat3, DVec3};
 use std::sync::Arc;
@@ -11,6 +12,9 @@ use std::sync::Arc;
 #[derive(Clone, Debug)]
 pub struct Instance {
     pub mesh: Arc<MeshBvh>,
+    /// The mesh's packet data (its reference is `mesh`), shared like it; `None`: rays go one
+    /// by one.
+    packets: Option<Arc<PacketBvh>>,
     to_world: DAffine3,
     to_mesh: DAffine3,
     normal_matrix: DMat3,
@@ -30,11 +34,25 @@ impl Instance {
         let to_mesh = to_world.inverse();
         Ok(Self {
             mesh,
+            packets: None,
             to_world,
             to_mesh,
             normal_matrix: to_mesh.matrix3.transpose(),
             mirrored: det < 0.0,
         })
+    }
+
+    /// `packets`' mesh (its reference) placed by `to_world`, casting many rays at once through
+    /// `packets` ([`Instance::nearest_hits`]).
+    pub fn with_packets(packets: Arc<PacketBvh>, to_world: DAffine3) -> Result<Self, MeshError> {
+        let mut instance = Self::new(packets.shared_reference().clone(), to_world)?;
+        instance.packets = Some(packets);
+        Ok(instance)
+    }
+
+    /// The packet data, if the instance has it.
+    pub fn packets(&self) -> Option<&PacketBvh> {
+        self.packets.as_deref()
     }
 
     /// Whether the transform mirrors (negative determinant): a triangle's world corners then
@@ -48,8 +66,9 @@ impl Instance {
         self.to_world
     }
 
-    /// `ray` in the mesh's space, its parameter the world ray's.
-    fn local(&self, ray: &Ray) -> Ray {
+    /// `ray` in the mesh's space, its parameter the world ray's: what [`Instance::nearest_hit`]
+    /// and [`Instance::any_hit`] cast.
+    pub fn local(&self, ray: &Ray) -> Ray {
         Ray {
             origin: self.to_mesh.transform_point3(ray.origin),
             dir: self.to_mesh.transform_vector3(ray.dir),
@@ -59,6 +78,39 @@ impl Instance {
     /// The nearest hit of the world `ray` over `range`.
     pub fn nearest_hit(&self, ray: &Ray, range: Interval) -> Option<MeshHit> {
         self.mesh.nearest_hit(&self.local(ray), range)
+    }
+
+    /// `hits[i]` = [`Instance::nearest_hit`]`(rays[i], ranges[i])` bit for bit, for world
+    /// `rays` (taken into the mesh's space in `local`, whose contents are replaced): through the
+    /// packet path when the instance has it (fastest for coherent rays, see [`crate::LANES`]),
+    /// else ray by ray.
+    ///
+    /// # Panics
+    /// If `rays`, `ranges` and `hits` differ in length.
+    pub fn nearest_hits(
+        &self,
+        rays: &[Ray],
+        ranges: &[Interval],
+        hits: &mut [Option<MeshHit>],
+        local: &mut Vec<Ray>,
+    ) {
+        assert!(
+            rays.len() == ranges.len() && rays.len() == hits.len(),
+            "Instance::nearest_hits: {} rays, {} ranges, {} hits",
+            rays.len(),
+            ranges.len(),
+            hits.len()
+        );
+        local.clear();
+        local.extend(rays.iter().map(|r| self.local(r)));
+        match &self.packets {
+            Some(p) => p.nearest_hits(local, ranges, hits),
+            None => {
+                for ((ray, range), hit) in local.iter().zip(ranges).zip(hits) {
+                    *hit = self.mesh.nearest_hit(ray, *range);
+                }
+            }
+        }
     }
 
     /// Whether the world `ray` hits the instance over `range`.

@@ -32,6 +32,7 @@ use crate::triangle::{RayFrame, intersect};
 use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
 /// (an 8×8 block: 64 consecutive rays of a tile in Morton order) should be consecutive.
@@ -92,7 +93,7 @@ struct FTri {
 /// exactly what the reference answers (see the module's notes).
 #[derive(Clone, Debug)]
 pub struct PacketBvh {
-    reference: MeshBvh,
+    reference: Arc<MeshBvh>,
     centre: DVec3,
     /// The largest `|v − centre|∞` over the vertices (rounded up).
     radius: f64,
@@ -190,6 +191,12 @@ fn norm1_up(v: DVec3) -> f32 {
 impl PacketBvh {
     /// The packet data of `bvh`, which it keeps as its reference.
     pub fn new(bvh: MeshBvh) -> Self {
+        Self::shared(Arc::new(bvh))
+    }
+
+    /// The packet data of a shared `bvh` (the one a scene's [`crate::Instance`]s hold), which it
+    /// keeps as its reference: the mesh and its f64 BVH are not copied.
+    pub fn shared(bvh: Arc<MeshBvh>) -> Self {
         let centre = if bvh.node_count() == 0 {
             DVec3::ZERO
         } else {
@@ -252,6 +259,24 @@ impl PacketBvh {
     /// The reference this answers like.
     pub fn reference(&self) -> &MeshBvh {
         &self.reference
+    }
+
+    /// The reference, shared.
+    pub fn shared_reference(&self) -> &Arc<MeshBvh> {
+        &self.reference
+    }
+
+    /// The bytes [`PacketBvh::shared`] allocates for `bvh` beside it (its f32 nodes, f64
+    /// boxes, f32 triangle data, f64 corners and leaf order), for a memory-budget check before
+    /// building.
+    pub fn bytes_for(bvh: &MeshBvh) -> u64 {
+        let nodes = bvh.node_count() as u64;
+        let triangles = bvh.leaf_order().len() as u64;
+        let per_node = std::mem::size_of::<FNode>() + std::mem::size_of::<[DVec3; 2]>();
+        let per_triangle = std::mem::size_of::<FTri>()
+            + std::mem::size_of::<[DVec3; 3]>()
+            + std::mem::size_of::<u32>();
+        nodes.saturating_mul(per_node as u64) + triangles.saturating_mul(per_triangle as u64)
     }
 
     /// `hits[i]` = [`MeshBvh::nearest_hit`]`(rays[i], ranges[i])`, bit for bit, for any rays;
@@ -795,12 +820,16 @@ impl Packet {
                 }
             }
         }
-        let mut valid = staged;
-        for l in 0..LANES {
-            if bad[l / CHUNK][l % CHUNK] != 0.0 {
-                valid &= !(1 << l);
+        // A chunk's finite lanes as bits (branch-free: it vectorises).
+        let mut finite: Mask = 0;
+        for c in 0..NCHUNK {
+            let mut ok = [false; CHUNK];
+            for j in 0..CHUNK {
+                ok[j] = bad[c][j] == 0.0;
             }
+            finite |= bitmask(ok) << (c * CHUNK);
         }
+        let valid = staged & finite;
         p.valid = valid;
         if valid == 0 {
             return;
@@ -833,9 +862,17 @@ impl Packet {
                 whole_hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
             }
         }
-        for l in (0..LANES).filter(|&l| is_valid(l)) {
-            let (c, j) = (l / CHUNK, l % CHUNK);
-            (p.lo[c][j], p.hi[c][j]) = (whole_lo[c][j], whole_hi[c][j]);
+        // Lanes that are not valid keep an empty range (they never enter a box).
+        for c in 0..NCHUNK {
+            for j in 0..CHUNK {
+                let on = (valid >> (c * CHUNK + j)) & 1 != 0;
+                p.lo[c][j] = if on { whole_lo[c][j] } else { f32::INFINITY };
+                p.hi[c][j] = if on {
+                    whole_hi[c][j]
+                } else {
+                    f32::NEG_INFINITY
+                };
+            }
         }
         let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
         let mut mean = [0.0f64; 3];

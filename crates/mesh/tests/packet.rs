@@ -414,3 +414,90 @@ proptest! {
         }
     }
 }
+
+/// An instance's tile of world rays through its packets (`Instance::nearest_hits`, as the CPU
+/// frame loop casts them) against its ray-by-ray `nearest_hit`, bit for bit: rotated, scaled
+/// and mirrored placements, a pinhole's rows in the order a tile lists them (packets that do
+/// not start on a row and a last one cut short), and ranges that start past the eye and end
+/// at infinity, at the ray's own hit (open: excluded), between, or before the mesh.
+#[test]
+fn instances_cast_tiles_through_packets_as_ray_by_ray() {
+    use fray_mesh::Instance;
+    use glam::{DAffine3, DQuat};
+    use std::sync::Arc;
+    let packets = Arc::new(PacketBvh::new(MeshBvh::build(load("bunny00.obj"))));
+    let placements = [
+        DAffine3::IDENTITY,
+        DAffine3::from_scale_rotation_translation(
+            DVec3::splat(0.7),
+            DQuat::from_rotation_y(0.6) * DQuat::from_rotation_x(-0.3),
+            DVec3::new(3.0, -1.0, 2.0),
+        ),
+        DAffine3::from_scale_rotation_translation(
+            DVec3::new(-1.3, 0.9, 1.1),
+            DQuat::from_rotation_z(0.2),
+            DVec3::new(-2.0, 0.5, 1e3),
+        ),
+    ];
+    let mut local = Vec::new();
+    for to_world in placements {
+        let mut found = 0;
+        let instance = Instance::with_packets(packets.clone(), to_world).unwrap();
+        assert!(instance.packets().is_some());
+        let b = instance.bounds();
+        let eye = b.center() + DVec3::new(0.3, 0.2, -1.5) * b.diagonal();
+        let camera =
+            Projector::Pinhole(Pinhole::new(eye, b.center(), DVec3::Y, 0.6, 0.01).expect("camera"));
+        let (side, tile) = (60, 13);
+        for ty in (0..side).step_by(tile) {
+            for tx in (0..side).step_by(tile) {
+                let mut rays = Vec::new();
+                let mut near = Vec::new();
+                for y in ty..(ty + tile).min(side) {
+                    for x in tx..(tx + tile).min(side) {
+                        if let Some(c) =
+                            camera.pixel_ray(x as u32, y as u32, side as u32, side as u32)
+                        {
+                            rays.push(c.ray);
+                            near.push(c.t_near);
+                        }
+                    }
+                }
+                let mut ranges: Vec<Interval> = near
+                    .iter()
+                    .map(|&lo| Interval::new(lo, f64::INFINITY))
+                    .collect();
+                // The range's end: by lane, infinity, the ray's own hit, half way to it, or
+                // before the mesh altogether.
+                for (k, (ray, range)) in rays.iter().zip(&mut ranges).enumerate() {
+                    if let Some(h) = instance.nearest_hit(ray, *range) {
+                        found += 1;
+                        range.hi = match k % 4 {
+                            0 => f64::INFINITY,
+                            1 => h.t,
+                            2 => 0.5 * (range.lo + h.t),
+                            _ => range.lo * 1.01,
+                        };
+                    }
+                }
+                let mut hits = vec![None; rays.len()];
+                instance.nearest_hits(&rays, &ranges, &mut hits, &mut local);
+                let plain = Instance::new(instance.mesh.clone(), to_world).unwrap();
+                let mut plain_hits = vec![None; rays.len()];
+                plain.nearest_hits(&rays, &ranges, &mut plain_hits, &mut local);
+                for (k, (ray, range)) in rays.iter().zip(&ranges).enumerate() {
+                    let want = instance.nearest_hit(ray, *range);
+                    assert!(
+                        same(hits[k], want) && same(plain_hits[k], want),
+                        "{to_world:?}, tile ({tx}, {ty}), ray {k} over {range:?}: packets {:?}, \
+                         ray by ray {:?}, reference {want:?}",
+                        hits[k],
+                        plain_hits[k]
+                    );
+                }
+            }
+        }
+        // Rays that hit over the whole range (before it was cut).
+        assert!(found > 300, "{to_world:?}: {found} hits");
+    }
+}

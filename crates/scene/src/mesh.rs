@@ -1,5 +1,7 @@
 //! Resolving a `Mesh(...)` shape: the OBJ file is loaded (relative to the scene file) and its BVH
-//! built once per file — objects naming the same file become instances of one mesh —, placed by
+//! built once per file, with the BVH's packet data for the CPU's tiles (`PacketBvh`: about 8 ms
+//! and 15 MB for the 75k-triangle bunny) — objects naming the same file become instances of one
+//! mesh —, placed by
 //! the object's transform; a bad file is reported at the `path` field with the file's path, the
 //! line and the reason, and so is a mesh over the memory budget.
 
@@ -7,15 +9,16 @@ use crate::description;
 use crate::path::FieldPath;
 use crate::resolve::{Result, invalid, transform};
 use fray_core::MemoryBudget;
-use fray_mesh::{Instance, MeshBvh, TriangleMesh};
+use fray_mesh::{Instance, MeshBvh, PacketBvh, TriangleMesh};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// The meshes loaded so far, by file (one BVH per file, however many objects use it).
+/// The meshes loaded so far, by file (one BVH and its packet data per file, however many
+/// objects use it).
 #[derive(Default)]
 pub(crate) struct MeshCache {
-    loaded: HashMap<PathBuf, Arc<MeshBvh>>,
+    loaded: HashMap<PathBuf, Arc<PacketBvh>>,
 }
 
 impl MeshCache {
@@ -31,16 +34,24 @@ impl MeshCache {
         let file = base.join(&m.path);
         // The same file by another spelling (`./a.obj`, `../x/a.obj`) is still one mesh.
         let key = std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
-        let bvh = match self.loaded.get(&key) {
-            Some(bvh) => bvh.clone(),
+        let packets = match self.loaded.get(&key) {
+            Some(packets) => packets.clone(),
             None => {
                 let mesh = TriangleMesh::load_obj(&file, budget)
                     .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
-                let bvh = Arc::new(MeshBvh::build(mesh));
-                self.loaded.insert(key, bvh.clone());
-                bvh
+                let bvh = MeshBvh::build(mesh);
+                budget
+                    .check(
+                        format!("the packet data of the mesh {}", file.display()),
+                        PacketBvh::bytes_for(&bvh),
+                    )
+                    .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
+                let packets = Arc::new(PacketBvh::new(bvh));
+                self.loaded.insert(key, packets.clone());
+                packets
             }
         };
-        Instance::new(bvh, to_world).or_else(|e| invalid(&path.field("transform"), e.to_string()))
+        Instance::with_packets(packets, to_world)
+            .or_else(|e| invalid(&path.field("transform"), e.to_string()))
     }
 }

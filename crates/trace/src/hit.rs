@@ -192,12 +192,14 @@ pub(crate) fn nearest_pending(
 /// [`nearest_pending`] for every camera ray of a tile at once (`pixels`: each ray and its hit
 /// slot, overwritten) with the same answers — per pixel the same casts in the same order, each
 /// ending at that pixel's best so far — candidates outer, pixels inner (free forms through
-/// [`FreeFormPrimitive::narrow_tile`]). A free-form hit's leaf and normal are left for
+/// [`FreeFormPrimitive::narrow_tile`], meshes as packets through [`MeshPrimitive::narrow_tile`]). A free-form hit's leaf and normal are left for
 /// [`complete_surface`], which the frame loop runs over all of a tile's hits afterwards.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn nearest_hits_deferred(
     scene: &Scene,
     ctx: &mut TraceContext,
     pixels: &mut [(Option<CameraRay>, Option<SceneHit>)],
+    shape: TileShape,
     eps: f64,
     candidates: Option<&Candidates>,
     footprint: PixelFootprint,
@@ -209,6 +211,7 @@ pub(crate) fn nearest_hits_deferred(
         scene, id, active, footprint,
     ) {
         Some(AnyPrimitive::FreeForm(p)) => p.narrow_tile(id.index, pixels, eps, ctx),
+        Some(AnyPrimitive::Mesh(p)) => p.narrow_tile(id, pixels, shape, ctx),
         Some(other) => {
             for (camera_ray, best) in pixels.iter_mut() {
                 let Some(c) = camera_ray else {
@@ -229,6 +232,14 @@ pub(crate) fn nearest_hits_deferred(
         None => scene.primitives().for_each(|id| narrow_all(id, None)),
         Some(listed) => listed.iter().for_each(|(id, a)| narrow_all(*id, Some(a))),
     }
+}
+
+/// How a tile lists its camera rays: row by row, `width` pixels a row, each pixel's
+/// `rays_per_pixel` rays in a row (the centre, then its samples).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct TileShape {
+    pub(crate) width: u32,
+    pub(crate) rays_per_pixel: u32,
 }
 
 /// The active subset `candidates` lists for `id`, if any.

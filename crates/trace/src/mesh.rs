@@ -1,10 +1,12 @@
 //! Triangle meshes as a primitive kind: a scene's mesh instance, cast by `fray-mesh`'s BVH (the
 //! watertight f64 triangle test; any hit for shadow rays); the surface from the hit triangle —
 //! its own normal (geometric), the vertex normals interpolated by the barycentrics (shading,
-//! unless the object is faceted) and the interpolated UVs.
+//! unless the object is faceted) and the interpolated UVs. A tile's camera rays go through the
+//! instance's packet path at once ([`MeshPrimitive::narrow_tile`]), with the same answers.
 
+use crate::hit::TileShape;
 use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
-use fray_core::{Aabb, Interval, Ray, Rgb};
+use fray_core::{Aabb, CameraRay, Interval, Ray, Rgb};
 use fray_scene::MeshObject;
 use glam::{DVec2, DVec3};
 
@@ -32,12 +34,7 @@ impl Primitive for MeshPrimitive<'_> {
     ) -> Option<KindHit> {
         ctx.counts.mesh_rays += 1;
         let hit = self.object.instance.nearest_hit(ray, range)?;
-        let [a, b, c] = hit.barycentric;
-        Some(KindHit {
-            t: hit.t,
-            part: hit.triangle,
-            detail: DVec3::new(a, b, c),
-        })
+        Some(kind_hit(hit))
     }
 
     fn transmittance(&self, ray: &Ray, range: Interval, _eps: f64, _: &mut TraceContext) -> Rgb {
@@ -92,5 +89,103 @@ impl Primitive for MeshPrimitive<'_> {
             part: hit.part,
             uv: uv.map(|uv: DVec2| uv),
         }
+    }
+}
+
+/// A mesh hit as its kind's hit: the triangle is the part, the barycentrics the detail.
+#[inline]
+fn kind_hit(hit: fray_mesh::MeshHit) -> KindHit {
+    let [a, b, c] = hit.barycentric;
+    KindHit {
+        t: hit.t,
+        part: hit.triangle,
+        detail: DVec3::new(a, b, c),
+    }
+}
+
+impl MeshPrimitive<'_> {
+    /// Narrows each pixel's hit (`pixels`: camera ray and best hit so far; `id` the object's)
+    /// with this instance: the casts [`Primitive::nearest_hit`] makes, each over
+    /// `[t_near, best so far]` and kept only if nearer, made for all the tile's rays at once
+    /// through the instance's packet path ([`fray_mesh::Instance::nearest_hits`]: the same
+    /// answers bit for bit), so the frame is the one per-ray casts give.
+    pub(crate) fn narrow_tile(
+        &self,
+        id: fray_scene::PrimitiveId,
+        pixels: &mut [(Option<CameraRay>, Option<crate::SceneHit>)],
+        shape: TileShape,
+        ctx: &mut TraceContext,
+    ) {
+        let s = &mut ctx.mesh;
+        // Packets are runs of consecutive rays: in Morton order of the pixels, 64 rays are an
+        // 8 × 8 block (or a few pixels' samples), not four rows.
+        let key = (shape.width, shape.rays_per_pixel, pixels.len());
+        if s.order_for != Some(key) {
+            morton_order(shape, pixels.len(), &mut s.order);
+            s.order_for = Some(key);
+        }
+        s.rays.clear();
+        s.ranges.clear();
+        s.slots.clear();
+        for &k in &s.order {
+            let Some(c) = &pixels[k as usize].0 else {
+                continue;
+            };
+            let best = &pixels[k as usize].1;
+            let hi = best.map_or(f64::INFINITY, |b| b.hit.t);
+            s.rays.push(c.ray);
+            s.ranges.push(Interval { lo: c.t_near, hi });
+            s.slots.push(k);
+        }
+        let n = s.rays.len();
+        s.hits.clear();
+        s.hits.resize(n, None);
+        self.object
+            .instance
+            .nearest_hits(&s.rays, &s.ranges, &mut s.hits, &mut s.local);
+        ctx.counts.mesh_rays += n as u64;
+        ctx.counts.mesh_tile_rays += n as u64;
+        for (&k, hit) in s.slots.iter().zip(&s.hits) {
+            let Some(hit) = hit else {
+                continue;
+            };
+            let best = &mut pixels[k as usize].1;
+            if best.is_none_or(|b| hit.t < b.hit.t) {
+                *best = Some(crate::SceneHit {
+                    primitive: id,
+                    hit: kind_hit(*hit),
+                });
+            }
+        }
+    }
+}
+
+/// The slots of a tile's `len` rays (listed as `shape` says) with the pixels in Morton order
+/// (the bits of x and y interleaved), each pixel's rays together: nearby rays are consecutive at
+/// every scale.
+fn morton_order(shape: TileShape, len: usize, order: &mut Vec<u32>) {
+    let per_pixel = shape.rays_per_pixel.max(1) as usize;
+    let width = shape.width.max(1) as usize;
+    let spread = |v: u32| {
+        let mut v = u64::from(v);
+        let mut out = 0u64;
+        for bit in 0..32 {
+            out |= (v & 1) << (2 * bit);
+            v >>= 1;
+        }
+        out
+    };
+    let pixels = len.div_ceil(per_pixel);
+    let mut keyed: Vec<(u64, u32)> = (0..pixels)
+        .map(|p| {
+            let (x, y) = ((p % width) as u32, (p / width) as u32);
+            (spread(x) | (spread(y) << 1), p as u32)
+        })
+        .collect();
+    keyed.sort_unstable();
+    order.clear();
+    for (_, p) in keyed {
+        let first = p as usize * per_pixel;
+        order.extend((first..(first + per_pixel).min(len)).map(|k| k as u32));
     }
 }

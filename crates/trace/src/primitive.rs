@@ -22,6 +22,23 @@ pub struct TraceContext {
     pub caster: RayCaster,
     /// The work done since the counters were last taken.
     pub counts: RayCounts,
+    /// Scratch space of the meshes' tile-wise narrowing (`MeshPrimitive::narrow_tile`).
+    pub(crate) mesh: MeshScratch,
+}
+
+/// A tile's rays for one mesh instance: world rays, their mesh-space copies, ranges, hits and
+/// the pixel slot each came from (reused from tile to tile).
+#[derive(Debug, Default)]
+pub(crate) struct MeshScratch {
+    pub(crate) rays: Vec<Ray>,
+    pub(crate) local: Vec<Ray>,
+    pub(crate) ranges: Vec<Interval>,
+    pub(crate) hits: Vec<Option<fray_mesh::MeshHit>>,
+    pub(crate) slots: Vec<u32>,
+    /// The tile's ray slots in packet order (pixels in Morton order), for the tile shape and
+    /// ray count it was made for.
+    pub(crate) order: Vec<u32>,
+    pub(crate) order_for: Option<(u32, u32, usize)>,
 }
 
 /// The work of ray queries, summed.
@@ -43,6 +60,9 @@ pub struct RayCounts {
     pub cloud_samples: u64,
     /// Rays cast against mesh instances (nearest-hit queries, one per ray and instance).
     pub mesh_rays: u64,
+    /// Those of them cast a tile at a time (the frame loop's camera rays, through the
+    /// instance's packet path).
+    pub mesh_tile_rays: u64,
     /// Reflected and refracted rays traced (Whitted secondary rays).
     pub secondary_rays: u64,
 }
@@ -53,6 +73,7 @@ impl TraceContext {
         Self {
             caster: RayCaster::with_method(method),
             counts: RayCounts::default(),
+            mesh: MeshScratch::default(),
         }
     }
 

@@ -4,7 +4,7 @@
 //! on the thread count or the tile size.
 
 use crate::SceneHit;
-use crate::hit::{complete_surface, interaction, nearest_hits_deferred, shading_normal};
+use crate::hit::{TileShape, complete_surface, interaction, nearest_hits_deferred, shading_normal};
 use crate::integrator::Integrator;
 use crate::media_grid::MediaGrid;
 use crate::primitive::{RayCounts, TraceContext};
@@ -296,6 +296,7 @@ pub fn render_into(
         stats.media_exact += t.media_exact;
         stats.cloud_samples += t.cloud_samples;
         stats.mesh_rays += t.mesh_rays;
+        stats.mesh_tile_rays += t.mesh_tile_rays;
         stats.secondary_rays += t.secondary_rays;
     }
     if list.is_some() {
@@ -431,7 +432,19 @@ fn render_tile(
     } else {
         push_sampled_rays(scene, samples, (x0, y0, x1, y1), hits);
     }
-    nearest_hits_deferred(scene, ctx, hits, settings.epsilon, candidates, footprint);
+    let shape = TileShape {
+        width: x1 - x0,
+        rays_per_pixel: per_pixel as u32,
+    };
+    nearest_hits_deferred(
+        scene,
+        ctx,
+        hits,
+        shape,
+        settings.epsilon,
+        candidates,
+        footprint,
+    );
     for (camera_ray, hit) in hits.iter_mut() {
         if let (Some(c), Some(h)) = (camera_ray, hit) {
             complete_surface(scene, &c.ray, candidates, h);
