@@ -499,6 +499,31 @@ pub const GROUPS: [Group; 26] = [
     TERRAINS_MESHES_TEXTURES,
 ];
 
+/// The rows of a data texture (an `Rgba32Uint` texture read with `textureLoad`, how the meshes'
+/// and the textures' arrays reach the shade pass without storage buffers) of `texels` texels,
+/// `width` a row — or [`GpuError::TooLarge`], named `what` (the row, the rows), where either
+/// exceeds the device's 2D texture side.
+pub fn data_texture_rows(
+    texels: u64,
+    width: u32,
+    what: [&'static str; 2],
+    limits: &wgpu::Limits,
+) -> Result<u32, crate::GpuError> {
+    let w = u64::from(width);
+    let rows = texels.div_ceil(w).max(1);
+    let limit = u64::from(limits.max_texture_dimension_2d);
+    for (what, needed) in what.into_iter().zip([w, rows]) {
+        if needed > limit {
+            return Err(crate::GpuError::TooLarge {
+                what,
+                needed,
+                limit,
+            });
+        }
+    }
+    Ok(rows as u32)
+}
+
 impl Group {
     /// The WGSL declarations of the group's bindings as group `index`.
     pub fn declarations(&self, index: u32) -> String {

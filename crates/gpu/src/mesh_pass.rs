@@ -211,24 +211,15 @@ pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers,
     let triangles_at = nodes_at + count(layout.nodes.len()) * texels::<GpuMeshNode>();
     let vertices_at = triangles_at + count(layout.triangles.len()) * texels::<GpuMeshTriangle>();
     let total = vertices_at + count(layout.vertices.len()) * texels::<GpuMeshVertex>();
-    let w = u64::from(MESH_TEXTURE_WIDTH);
-    let rows = total.div_ceil(w).max(1);
-    let limit = u64::from(ctx.limits.max_texture_dimension_2d);
-    for (what, needed) in [
-        ("texels per row of the mesh texture", w),
-        (
+    let rows = crate::bindings::data_texture_rows(
+        total,
+        MESH_TEXTURE_WIDTH,
+        [
+            "texels per row of the mesh texture",
             "rows of the mesh texture (4096 texels of 16 bytes each)",
-            rows,
-        ),
-    ] {
-        if needed > limit {
-            return Err(GpuError::TooLarge {
-                what,
-                needed,
-                limit,
-            });
-        }
-    }
+        ],
+        &ctx.limits,
+    )?;
     let index = |v: u64| {
         u32::try_from(v).map_err(|_| GpuError::TooLarge {
             what: "texels of the mesh texture",
@@ -248,7 +239,7 @@ pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers,
         label: Some("meshes"),
         size: wgpu::Extent3d {
             width: MESH_TEXTURE_WIDTH,
-            height: rows as u32,
+            height: rows,
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,

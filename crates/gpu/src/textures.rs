@@ -322,25 +322,15 @@ impl TextureLayout {
 /// The rows of a data texture of `texels` texels, [`TEXTURE_DATA_WIDTH`] a row, or
 /// [`GpuError::TooLarge`] where the row or the rows exceed the device's 2D texture side.
 pub fn data_rows(texels: u64, limits: &wgpu::Limits) -> Result<u32, GpuError> {
-    let w = u64::from(TEXTURE_DATA_WIDTH);
-    let rows = texels.div_ceil(w).max(1);
-    let limit = u64::from(limits.max_texture_dimension_2d);
-    for (what, needed) in [
-        ("texels per row of the texture data", w),
-        (
+    crate::bindings::data_texture_rows(
+        texels,
+        TEXTURE_DATA_WIDTH,
+        [
+            "texels per row of the texture data",
             "rows of the texture data (4096 texels of 16 bytes each)",
-            rows,
-        ),
-    ] {
-        if needed > limit {
-            return Err(GpuError::TooLarge {
-                what,
-                needed,
-                limit,
-            });
-        }
-    }
-    Ok(rows as u32)
+        ],
+        limits,
+    )
 }
 
 /// A scene's textures on the GPU: the layout uniform and the data texture.
