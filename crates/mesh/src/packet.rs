@@ -1109,10 +1109,9 @@ impl Packet {
             // valid hold `−∞` here (they never enter a box anyway), so the row's largest is the
             // valid lanes' largest.
             self.whole.bound_min = min(self.whole.bound_min, up(t));
-            self.whole.bound_max = self.bound[kz]
-                .as_flattened()
-                .iter()
-                .fold(f32::NEG_INFINITY, |a, &b| max(a, b));
+            // Lane-wise over the chunks first (it vectorises: a sequential fold of 64 selects
+            // was an eighth of the primary rays' time), then across one chunk.
+            self.whole.bound_max = range(&self.bound[kz])[1];
         }
     }
 
