@@ -245,11 +245,12 @@ fn edge_point(
     // The bracket's interpolant (its inside end where F is exactly 0 there).
     let s = if f0 == 0.0 { s0 } else { guess(s0, f0, s1, f1) };
     let p = a.1 + (b.1 - a.1) * s.clamp(EDGE_MARGIN, 1.0 - EDGE_MARGIN);
-    // The outward normal of the solid that decides the union there.
-    let deciding = solids.iter().max_by(|x, y| x.eval(p).total_cmp(&y.eval(p)));
-    let normal = deciding
-        .map(|s| -s.eval_with_gradient(p).1)
-        .and_then(|g| g.try_normalize())
+    // The outward normal of the solid that decides the union there (each evaluated once).
+    let normal = solids
+        .iter()
+        .map(|s| s.eval_with_gradient(p))
+        .max_by(|x, y| x.0.total_cmp(&y.0))
+        .and_then(|(_, g)| (-g).try_normalize())
         .unwrap_or_else(|| (b.1 - a.1).normalize());
     let id = mesh.positions.len() as u32;
     mesh.positions.push(p);

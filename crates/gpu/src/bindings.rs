@@ -524,6 +524,25 @@ pub fn data_texture_rows(
     Ok(rows as u32)
 }
 
+/// An empty data texture of `width × rows` texels (its rows from [`data_texture_rows`]), for
+/// `textureLoad` and written by copies.
+pub fn data_texture(ctx: &GpuContext, label: &'static str, width: u32, rows: u32) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height: rows,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba32Uint,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
 impl Group {
     /// The WGSL declarations of the group's bindings as group `index`.
     pub fn declarations(&self, index: u32) -> String {

@@ -235,20 +235,7 @@ pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers,
     ];
     index(total)?;
     let info_buffer = bindings::upload(ctx, "mesh layout", &[info], [0; 4], U::UNIFORM)?;
-    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("meshes"),
-        size: wgpu::Extent3d {
-            width: MESH_TEXTURE_WIDTH,
-            height: rows,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba32Uint,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let texture = bindings::data_texture(ctx, "meshes", MESH_TEXTURE_WIDTH, rows);
     let mut bytes = 16;
     bytes += write_texels(ctx, &texture, 0, bytemuck::cast_slice(&layout.instances));
     bytes += write_texels(ctx, &texture, nodes_at, bytemuck::cast_slice(&layout.nodes));

@@ -362,20 +362,7 @@ impl ResidentTextures {
             GpuTextureInfo::default(),
             U::UNIFORM | U::COPY_DST,
         )?;
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("textures"),
-            size: wgpu::Extent3d {
-                width: TEXTURE_DATA_WIDTH,
-                height: rows,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Uint,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let texture = bindings::data_texture(ctx, "textures", TEXTURE_DATA_WIDTH, rows);
         let mut bytes = std::mem::size_of::<GpuTextureInfo>() as u64;
         let mappings = layout.mappings_at(reference);
         bytes += write_texels(ctx, &texture, 0, bytemuck::cast_slice(&mappings));
