@@ -28,11 +28,16 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::bvh::{Slab, is_better};
-use crate::triangle::{RayFrame, intersect};
+use crate::triangle::{RayFrame, UnresolvedHit, intersect, intersect_relative};
 use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
 use glam::DVec3;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+pub static COUNTS: [AtomicU64; 10] = [const { AtomicU64::new(0) }; 10];
+const COUNT: bool = false;
+fn bump(i: usize, n: u64) { if COUNT { COUNTS[i].fetch_add(n, Relaxed); } }
+
 
 /// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
 /// (an 8×8 block: 64 consecutive rays of a tile in Morton order) should be consecutive.
@@ -364,46 +369,68 @@ impl PacketBvh {
         }
         let mut best_tri = [u32::MAX; LANES];
         let mut best_t = [f64::INFINITY; LANES];
-        let mut bary = [[0.0; 3]; LANES];
+        let mut best_hit: [Option<UnresolvedHit>; LANES] = [None; LANES];
         stack.clear();
         stack.push((0, p.valid));
+        bump(0, 1);
         while let Some((index, mask)) = stack.pop() {
+            bump(1, 1);
             let node = &self.nodes[index as usize];
             let mask = p.enters(node, mask, true);
             if mask == 0 {
                 continue;
             }
+            bump(2, 1);
             if node.count == 0 {
                 self.push_children(p, node, mask, stack);
                 continue;
             }
             let (first, count) = (node.first as usize, node.count as usize);
+            bump(3, 1); bump(4, count as u64); bump(9, mask.count_ones() as u64);
             for pos in first..first + count {
                 let mut candidates = p.may_hit(&self.tris[pos], mask);
+                bump(5, candidates.count_ones() as u64);
+                if candidates == 0 {
+                    continue;
+                }
+                // One origin: the corners relative to it once for every lane.
+                let relative = p
+                    .uniform
+                    .map(|_| self.corners[pos].map(|c| (c - p.origin).to_array()));
                 while candidates != 0 {
                     let l = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    let Some(h) = intersect(p.frame(l), self.corners[pos], ranges[l]) else {
+                    let h = match (p.uniform, relative) {
+                        (Some(axes), Some(relative)) => {
+                            let shear = [p.shear[0][l], p.shear[1][l], p.shear[2][l]];
+                            intersect_relative(axes, shear, relative, ranges[l])
+                        }
+                        _ => p.frame_hit(l, self.corners[pos], ranges[l]),
+                    };
+                    let Some(h) = h else {
                         continue;
                     };
                     let triangle = self.order[pos];
                     let best = (best_tri[l] != u32::MAX).then_some(best_tri[l]);
-                    if is_better(h.t, triangle, best_t[l], best) && p.reaches(l, &self.boxes, index)
+                    bump(6, 1);
+                    if is_better(h.t, triangle, best_t[l], best) && { bump(7, 1); p.reaches(l, &self.boxes, index) }
                     {
                         best_t[l] = h.t;
                         best_tri[l] = triangle;
-                        bary[l] = h.barycentric;
+                        best_hit[l] = Some(h);
                         p.set_best(l, h.t);
                     }
                 }
             }
         }
         for (l, hit) in hits.iter_mut().enumerate() {
-            if p.valid & (1 << l) != 0 && best_tri[l] != u32::MAX {
+            if p.valid & (1 << l) != 0
+                && let Some(h) = best_hit[l]
+            {
                 *hit = Some(MeshHit {
                     t: best_t[l],
                     triangle: best_tri[l],
-                    barycentric: bary[l],
+                    barycentric: h.resolve().barycentric,
                 });
             }
         }
@@ -533,10 +560,20 @@ struct Packet {
     /// `|e|₁` coefficient that goes with it.
     shared_origin: [f32; 3],
     shared_beta: f32,
-    /// Each lane's f64 frame and slab, made when first needed (most lanes need them once at
-    /// most: a candidate, a new best hit).
+    /// Each lane's f64 frame, made when first needed (most lanes need it once at most: a
+    /// candidate) where the lanes' frames do not share their axes.
     frames: [Option<RayFrame>; LANES],
-    slabs: [Option<Slab>; LANES],
+    /// Each lane's f64 inverse direction, per axis (its slab's: `Slab::new` computes the same
+    /// quotients).
+    inv: [[f64; LANES]; 3],
+    /// Where every valid lane has the same origin (bit for bit) and the same frame axes
+    /// `[kx, ky, kz]` (one major axis, one sign on it): the axes, and then `origin` is that
+    /// origin and `shear` each lane's frame shear, made for all lanes at once.
+    uniform: Option<[usize; 3]>,
+    origin: DVec3,
+    shear: [[f64; LANES]; 3],
+    /// Valid lanes with no hit yet: while there are some, the largest best-hit bound is `+∞`.
+    unhit: Mask,
     rays: [Ray; LANES],
     ranges: [Interval; LANES],
     /// Each lane's major axis.
@@ -660,7 +697,11 @@ impl Packet {
             shared_origin: [0.0; 3],
             shared_beta: 0.0,
             frames: [None; LANES],
-            slabs: [None; LANES],
+            inv: [[0.0; LANES]; 3],
+            uniform: None,
+            origin: DVec3::ZERO,
+            shear: [[0.0; LANES]; 3],
+            unhit: 0,
             rays: [unit; LANES],
             ranges: [Interval::new(0.0, 0.0); LANES],
             kz: [0; LANES],
@@ -715,9 +756,9 @@ impl Packet {
         let mut d = [[1.0f64; LANES]; 3];
         let mut lo = [f64::NAN; LANES];
         let mut hi = [0.0f64; LANES];
+        p.uniform = None;
         for l in 0..LANES {
             p.frames[l] = None;
-            p.slabs[l] = None;
         }
         for l in 0..n {
             let (ray, range) = (&rays[l], &ranges[l]);
@@ -786,6 +827,7 @@ impl Packet {
                     let oa = (ok + slack) as f32;
                     let ob = (ok - slack) as f32;
                     let inv = 1.0 / d[k][l];
+                    p.inv[k][l] = inv;
                     let shrunk = (inv * (1.0 - KAPPA - 2.0 * U32)) as f32;
                     let grown = (inv * (1.0 + KAPPA + 2.0 * U32)) as f32;
                     // A positive component meets the minimum plane first, a negative one the
@@ -919,6 +961,28 @@ impl Packet {
         w.shared = p.shared;
         w.bound_min = f32::INFINITY;
         w.bound_max = f32::INFINITY;
+        p.unhit = valid;
+        // One origin and one frame for every valid lane: each lane's shear now, as
+        // `RayFrame::new` computes it (the same quotients), for all lanes at once.
+        let origin = rays[first].origin.to_array().map(f64::to_bits);
+        let one_origin = (0..n).all(|l| {
+            !is_valid(l) || rays[l].origin.to_array().map(f64::to_bits) == origin
+        });
+        if let (Some(kz), true) = (p.major, one_origin)
+            && p.sign[kz] != Sign::Mixed
+        {
+            let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+            if p.sign[kz] == Sign::Negative {
+                std::mem::swap(&mut kx, &mut ky);
+            }
+            for l in 0..LANES {
+                p.shear[0][l] = d[kx][l] / d[kz][l];
+                p.shear[1][l] = d[ky][l] / d[kz][l];
+                p.shear[2][l] = p.inv[kz][l];
+            }
+            p.uniform = Some([kx, ky, kz]);
+            p.origin = rays[first].origin;
+        }
         if valid != LANES_MASK {
             // See `set_best`: lanes that are not valid do not hold the largest bound up.
             for k in 0..3 {
@@ -940,6 +1004,10 @@ impl Packet {
             Some(false) => return 0,
             None => {}
         }
+        bump(8, 1);
+        if self.whole.usable {
+            return self.enters_signed(node, mask, nearest);
+        }
         let mut bits: Mask = 0;
         for c in 0..LANES / CHUNK {
             let base = c * CHUNK;
@@ -948,6 +1016,91 @@ impl Packet {
             }
         }
         bits & mask
+    }
+
+    /// [`Packet::enters`]'s lane tests where every axis's directions share a sign (the near plane of
+    /// each axis is known for the whole packet), written lane-outermost with the three axes
+    /// inside: that form vectorises across the lanes (axes-outermost, the compiler vectorised
+    /// across the axes and shuffled: twice the instructions).
+    #[inline(always)]
+    fn enters_signed(&self, node: &FNode, mask: Mask, nearest: bool) -> Mask {
+        // Per axis: the near and far planes with the origins and inverses that go with them.
+        let mut planes = [[0.0f32; 2]; 3];
+        let mut origins: [[&[V; NCHUNK]; 2]; 3] = [[&self.oa[0]; 2]; 3];
+        let mut inverses: [[&[V; NCHUNK]; 2]; 3] = [[&self.imin[0]; 2]; 3];
+        for k in 0..3 {
+            let lo = (node.min[k], &self.oa[k], &self.imin[k], self.shared_o[k][0]);
+            let hi = (node.max[k], &self.ob[k], &self.imax[k], self.shared_o[k][1]);
+            let (n, f) = if self.sign[k] == Sign::Positive {
+                (lo, hi)
+            } else {
+                (hi, lo)
+            };
+            // One origin: the plane minus the origin once (as `enters_chunk` does).
+            let (np, fp) = if self.shared {
+                (n.0 - n.3, f.0 - f.3)
+            } else {
+                (n.0, f.0)
+            };
+            planes[k] = [np, fp];
+            origins[k] = [n.1, f.1];
+            inverses[k] = [n.2, f.2];
+        }
+        // The major-axis cull: the shared major axis, every axis without one (3), or none (4).
+        let cull = match (nearest, self.major) {
+            (false, _) => 4,
+            (true, Some(m)) => m,
+            (true, None) => 3,
+        };
+        let mut bits: Mask = 0;
+        for c in 0..NCHUNK {
+            let base = c * CHUNK;
+            if (mask >> base) & CHUNK_MASK != 0 {
+                bits |= if self.shared {
+                    self.enters_lanes::<true>(c, &planes, &origins, &inverses, cull)
+                } else {
+                    self.enters_lanes::<false>(c, &planes, &origins, &inverses, cull)
+                } << base;
+            }
+        }
+        bits & mask
+    }
+
+    #[inline(always)]
+    fn enters_lanes<const SHARED: bool>(
+        &self,
+        c: usize,
+        planes: &[[f32; 2]; 3],
+        origins: &[[&[V; NCHUNK]; 2]; 3],
+        inverses: &[[&[V; NCHUNK]; 2]; 3],
+        cull: usize,
+    ) -> Mask {
+        let (lo, hi) = (&self.lo[c], &self.hi[c]);
+        let bound = [&self.bound[0][c], &self.bound[1][c], &self.bound[2][c]];
+        let mut inside = [false; CHUNK];
+        for j in 0..CHUNK {
+            let (mut enter, mut leave) = (lo[j], hi[j]);
+            let mut excess = f32::NEG_INFINITY;
+            for k in 0..3 {
+                let [np, fp] = planes[k];
+                let (near, far) = if SHARED {
+                    (np * inverses[k][0][c][j], fp * inverses[k][1][c][j])
+                } else {
+                    (
+                        (np - origins[k][0][c][j]) * inverses[k][0][c][j],
+                        (fp - origins[k][1][c][j]) * inverses[k][1][c][j],
+                    )
+                };
+                enter = max(enter, near);
+                leave = min(leave, far);
+                if cull == k || cull == 3 {
+                    excess = max(excess, near - bound[k][j]);
+                }
+            }
+            let gap = max(enter - (leave + f32::MIN_POSITIVE), excess);
+            inside[j] = gap <= 0.0;
+        }
+        bitmask(inside)
     }
 
     #[inline(always)]
@@ -1053,20 +1206,18 @@ impl Packet {
         for c in 0..LANES / CHUNK {
             let base = c * CHUNK;
             if (mask >> base) & CHUNK_MASK != 0 {
-                let mut low = [f32::INFINITY; CHUNK];
-                let mut high = [f32::NEG_INFINITY; CHUNK];
+                // Lane-outermost (see `enters_chunk_signed`).
                 let (d0, d1, d2) = (&self.d[0][c], &self.d[1][c], &self.d[2][c]);
-                for k in 0..3 {
-                    let (n, b) = (normals[k], bound[k]);
-                    for j in 0..CHUNK {
-                        let s = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
-                        low[j] = min(low[j], s + b);
-                        high[j] = max(high[j], s - b);
-                    }
-                }
                 let mut keep = [false; CHUNK];
                 for j in 0..CHUNK {
-                    keep[j] = !(low[j] < 0.0 && high[j] > 0.0);
+                    let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
+                    for k in 0..3 {
+                        let (n, b) = (normals[k], bound[k]);
+                        let s = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
+                        low = min(low, s + b);
+                        high = max(high, s - b);
+                    }
+                    keep[j] = !(low < 0.0 && high > 0.0);
                 }
                 bits |= bitmask(keep) << base;
             }
@@ -1078,24 +1229,22 @@ impl Packet {
     fn may_hit_chunk(&self, tri: &FTri, bound: &[f32; 3], c: usize) -> Mask {
         // The least `s + bound` (negative: an edge certainly negative) and the largest
         // `s − bound` (positive: one certainly positive).
-        let mut low = [f32::INFINITY; CHUNK];
-        let mut high = [f32::NEG_INFINITY; CHUNK];
+        // Lane-outermost (see `enters_chunk_signed`).
         let (d, m) = (&self.d, &self.m);
         let (d0, d1, d2) = (&d[0][c], &d[1][c], &d[2][c]);
         let (m0, m1, m2) = (&m[0][c], &m[1][c], &m[2][c]);
-        for k in 0..3 {
-            let (n, e, b) = (tri.n[k], tri.e[k], bound[k]);
-            for j in 0..CHUNK {
+        let mut keep = [false; CHUNK];
+        for j in 0..CHUNK {
+            let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
+            for k in 0..3 {
+                let (n, e, b) = (tri.n[k], tri.e[k], bound[k]);
                 let dn = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
                 let me = m0[j] * e[0] + m1[j] * e[1] + m2[j] * e[2];
                 let s = dn + me;
-                low[j] = min(low[j], s + b);
-                high[j] = max(high[j], s - b);
+                low = min(low, s + b);
+                high = max(high, s - b);
             }
-        }
-        let mut keep = [false; CHUNK];
-        for j in 0..CHUNK {
-            keep[j] = !(low[j] < 0.0 && high[j] > 0.0);
+            keep[j] = !(low < 0.0 && high > 0.0);
         }
         bitmask(keep)
     }
@@ -1104,7 +1253,11 @@ impl Packet {
     fn set_best(&mut self, l: usize, t: f64) {
         let kz = usize::from(self.kz[l]);
         self.bound[kz][l / CHUNK][l % CHUNK] = up(t);
-        if self.major == Some(kz) {
+        self.unhit &= !(1 << l);
+        if self.major == Some(kz) && self.unhit != 0 {
+            // A lane with no hit holds the largest bound at `+∞`.
+            self.whole.bound_min = min(self.whole.bound_min, up(t));
+        } else if self.major == Some(kz) {
             // Bounds only fall: the least is the last least or this one. Lanes that are not
             // valid hold `−∞` here (they never enter a box anyway), so the row's largest is the
             // valid lanes' largest.
@@ -1119,8 +1272,26 @@ impl Packet {
     fn reaches(&mut self, l: usize, boxes: &[[DVec3; 2]], index: u32) -> bool {
         let [min, max] = boxes[index as usize];
         let (ray, range) = (&self.rays[l], self.ranges[l]);
-        let slab = self.slabs[l].get_or_insert_with(|| Slab::new(ray, range));
+        let slab = Slab {
+            origin: ray.origin,
+            inv: DVec3::new(self.inv[0][l], self.inv[1][l], self.inv[2][l]),
+            kz: usize::from(self.kz[l]),
+            lo: range.lo,
+            hi: range.hi,
+        };
         slab.test(min, max).is_some()
+    }
+
+    /// Lane `l`'s hit on the triangle with `corners` by its own frame.
+    fn frame_hit(
+        &mut self,
+        l: usize,
+        corners: [DVec3; 3],
+        range: Interval,
+    ) -> Option<UnresolvedHit> {
+        let frame = self.frame(l);
+        let relative = corners.map(|c| (c - frame.origin()).to_array());
+        intersect_relative(frame.axes(), frame.shear(), relative, range)
     }
 
     /// Lane `l`'s watertight frame.
