@@ -33,6 +33,7 @@ use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
 use glam::DVec3;
 use std::sync::Arc;
+use wide::{CmpGt, CmpLe, CmpLt, f32x8};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 pub static COUNTS: [AtomicU64; 10] = [const { AtomicU64::new(0) }; 10];
 const COUNT: bool = false;
@@ -109,6 +110,26 @@ pub struct PacketBvh {
     tris: Vec<FTri>,
     corners: Vec<[DVec3; 3]>,
     order: Vec<u32>,
+}
+
+/// One chunk as a vector (`wide`: SSE2 pairs by default, one AVX register where the target has
+/// it). Its `fast_max(a, b)` and `fast_min(a, b)` are `maxps` and `minps`: exactly [`max`]
+/// and [`min`] below, lane by lane; `move_mask` gathers a comparison's lanes as bits in one
+/// instruction per 4 lanes (the scalar gathering took a tenth of the traversal).
+#[inline(always)]
+fn lanes(v: &V) -> f32x8 {
+    f32x8::from(*v)
+}
+
+#[inline(always)]
+fn splat(x: f32) -> f32x8 {
+    f32x8::splat(x)
+}
+
+/// The lanes where `m` (a comparison's result) is set, as bits.
+#[inline(always)]
+fn mask_bits(m: f32x8) -> Mask {
+    Mask::from(m.move_mask() as u32 & CHUNK_MASK as u32)
 }
 
 /// The larger of two numbers that are never NaN here (one compare and select: `maxps`).
@@ -1075,32 +1096,27 @@ impl Packet {
         inverses: &[[&[V; NCHUNK]; 2]; 3],
         cull: usize,
     ) -> Mask {
-        let (lo, hi) = (&self.lo[c], &self.hi[c]);
-        let bound = [&self.bound[0][c], &self.bound[1][c], &self.bound[2][c]];
-        let mut inside = [false; CHUNK];
-        for j in 0..CHUNK {
-            let (mut enter, mut leave) = (lo[j], hi[j]);
-            let mut excess = f32::NEG_INFINITY;
-            for k in 0..3 {
-                let [np, fp] = planes[k];
-                let (near, far) = if SHARED {
-                    (np * inverses[k][0][c][j], fp * inverses[k][1][c][j])
-                } else {
-                    (
-                        (np - origins[k][0][c][j]) * inverses[k][0][c][j],
-                        (fp - origins[k][1][c][j]) * inverses[k][1][c][j],
-                    )
-                };
-                enter = max(enter, near);
-                leave = min(leave, far);
-                if cull == k || cull == 3 {
-                    excess = max(excess, near - bound[k][j]);
-                }
+        let (mut enter, mut leave) = (lanes(&self.lo[c]), lanes(&self.hi[c]));
+        let mut excess = splat(f32::NEG_INFINITY);
+        for k in 0..3 {
+            let [np, fp] = planes[k];
+            let (ni, fi) = (lanes(&inverses[k][0][c]), lanes(&inverses[k][1][c]));
+            let (near, far) = if SHARED {
+                (splat(np) * ni, splat(fp) * fi)
+            } else {
+                (
+                    (splat(np) - lanes(&origins[k][0][c])) * ni,
+                    (splat(fp) - lanes(&origins[k][1][c])) * fi,
+                )
+            };
+            enter = enter.fast_max(near);
+            leave = leave.fast_min(far);
+            if cull == k || cull == 3 {
+                excess = excess.fast_max(near - lanes(&self.bound[k][c]));
             }
-            let gap = max(enter - (leave + f32::MIN_POSITIVE), excess);
-            inside[j] = gap <= 0.0;
         }
-        bitmask(inside)
+        let gap = (enter - (leave + splat(f32::MIN_POSITIVE))).fast_max(excess);
+        mask_bits(gap.cmp_le(splat(0.0)))
     }
 
     #[inline(always)]
@@ -1206,20 +1222,16 @@ impl Packet {
         for c in 0..LANES / CHUNK {
             let base = c * CHUNK;
             if (mask >> base) & CHUNK_MASK != 0 {
-                // Lane-outermost (see `enters_chunk_signed`).
-                let (d0, d1, d2) = (&self.d[0][c], &self.d[1][c], &self.d[2][c]);
-                let mut keep = [false; CHUNK];
-                for j in 0..CHUNK {
-                    let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
-                    for k in 0..3 {
-                        let (n, b) = (normals[k], bound[k]);
-                        let s = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
-                        low = min(low, s + b);
-                        high = max(high, s - b);
-                    }
-                    keep[j] = !(low < 0.0 && high > 0.0);
+                let (d0, d1, d2) = (lanes(&self.d[0][c]), lanes(&self.d[1][c]), lanes(&self.d[2][c]));
+                let (mut low, mut high) = (splat(f32::INFINITY), splat(f32::NEG_INFINITY));
+                for k in 0..3 {
+                    let (n, b) = (normals[k], splat(bound[k]));
+                    let s = d0 * splat(n[0]) + d1 * splat(n[1]) + d2 * splat(n[2]);
+                    low = low.fast_min(s + b);
+                    high = high.fast_max(s - b);
                 }
-                bits |= bitmask(keep) << base;
+                let reject = low.cmp_lt(splat(0.0)) & high.cmp_gt(splat(0.0));
+                bits |= (!mask_bits(reject) & CHUNK_MASK) << base;
             }
         }
         bits & mask
@@ -1229,24 +1241,20 @@ impl Packet {
     fn may_hit_chunk(&self, tri: &FTri, bound: &[f32; 3], c: usize) -> Mask {
         // The least `s + bound` (negative: an edge certainly negative) and the largest
         // `s − bound` (positive: one certainly positive).
-        // Lane-outermost (see `enters_chunk_signed`).
         let (d, m) = (&self.d, &self.m);
-        let (d0, d1, d2) = (&d[0][c], &d[1][c], &d[2][c]);
-        let (m0, m1, m2) = (&m[0][c], &m[1][c], &m[2][c]);
-        let mut keep = [false; CHUNK];
-        for j in 0..CHUNK {
-            let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
-            for k in 0..3 {
-                let (n, e, b) = (tri.n[k], tri.e[k], bound[k]);
-                let dn = d0[j] * n[0] + d1[j] * n[1] + d2[j] * n[2];
-                let me = m0[j] * e[0] + m1[j] * e[1] + m2[j] * e[2];
-                let s = dn + me;
-                low = min(low, s + b);
-                high = max(high, s - b);
-            }
-            keep[j] = !(low < 0.0 && high > 0.0);
+        let (d0, d1, d2) = (lanes(&d[0][c]), lanes(&d[1][c]), lanes(&d[2][c]));
+        let (m0, m1, m2) = (lanes(&m[0][c]), lanes(&m[1][c]), lanes(&m[2][c]));
+        let (mut low, mut high) = (splat(f32::INFINITY), splat(f32::NEG_INFINITY));
+        for k in 0..3 {
+            let (n, e, b) = (tri.n[k], tri.e[k], splat(bound[k]));
+            let dn = d0 * splat(n[0]) + d1 * splat(n[1]) + d2 * splat(n[2]);
+            let me = m0 * splat(e[0]) + m1 * splat(e[1]) + m2 * splat(e[2]);
+            let s = dn + me;
+            low = low.fast_min(s + b);
+            high = high.fast_max(s - b);
         }
-        bitmask(keep)
+        let reject = low.cmp_lt(splat(0.0)) & high.cmp_gt(splat(0.0));
+        !mask_bits(reject) & CHUNK_MASK
     }
 
     /// Records lane `l`'s new best hit for the major-axis cull.
