@@ -33,7 +33,7 @@ use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
 use glam::DVec3;
 use std::sync::Arc;
-use wide::{CmpGt, CmpLe, CmpLt, f32x8};
+use wide::{CmpEq, CmpGt, CmpLe, CmpLt, f32x8};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 pub static COUNTS: [AtomicU64; 10] = [const { AtomicU64::new(0) }; 10];
 const COUNT: bool = false;
@@ -119,6 +119,12 @@ pub struct PacketBvh {
 #[inline(always)]
 fn lanes(v: &V) -> f32x8 {
     f32x8::from(*v)
+}
+
+/// A lane array as one flat array of [`LANES`].
+#[inline(always)]
+fn flat(v: &mut [V; NCHUNK]) -> &mut [f32; LANES] {
+    v.as_flattened_mut().try_into().expect("NCHUNK · CHUNK = LANES")
 }
 
 #[inline(always)]
@@ -835,33 +841,34 @@ impl Packet {
         }
         // Per axis over all lanes: outward origins, inverse directions shrunk and grown (see
         // `KAPPA`), the f32 directions; `bad` turns NaN where an f32 value is not finite.
+        // Flat loops over the lanes (the loop vectoriser's form; nested chunk loops went to
+        // the SLP vectoriser, which shuffled).
         let mut bad = [[0.0f32; CHUNK]; NCHUNK];
         for k in 0..3 {
-            for c in 0..NCHUNK {
-                for j in 0..CHUNK {
-                    let l = c * CHUNK + j;
-                    // `o − centre` is within one f64 rounding of the exact difference; one f32
-                    // rounding to nearest is within 2⁻²⁴ of what it rounds (and `TINY` covers
-                    // subnormal spacing).
-                    let ok = o[k][l];
-                    let slack = ok.abs() * (2.0 * U64 + 2.0 * U32) + TINY;
-                    let oa = (ok + slack) as f32;
-                    let ob = (ok - slack) as f32;
-                    let inv = 1.0 / d[k][l];
-                    p.inv[k][l] = inv;
-                    let shrunk = (inv * (1.0 - KAPPA - 2.0 * U32)) as f32;
-                    let grown = (inv * (1.0 + KAPPA + 2.0 * U32)) as f32;
-                    // A positive component meets the minimum plane first, a negative one the
-                    // maximum.
-                    let positive = inv > 0.0;
-                    p.imin[k][c][j] = if positive { shrunk } else { grown };
-                    p.imax[k][c][j] = if positive { grown } else { shrunk };
-                    // An infinite inverse (a zero component) rounds to an infinite `grown`.
-                    bad[c][j] += zero_if_finite(oa) + zero_if_finite(ob) + zero_if_finite(grown);
-                    p.oa[k][c][j] = oa;
-                    p.ob[k][c][j] = ob;
-                    p.d[k][c][j] = d[k][l] as f32;
-                }
+            let bad = flat(&mut bad);
+            let (oa, ob) = (flat(&mut p.oa[k]), flat(&mut p.ob[k]));
+            let (imin, imax) = (flat(&mut p.imin[k]), flat(&mut p.imax[k]));
+            let (d32, inverse) = (flat(&mut p.d[k]), &mut p.inv[k]);
+            for l in 0..LANES {
+                // `o − centre` is within one f64 rounding of the exact difference; one f32
+                // rounding to nearest is within 2⁻²⁴ of what it rounds (and `TINY` covers
+                // subnormal spacing).
+                let ok = o[k][l];
+                let slack = ok.abs() * (2.0 * U64 + 2.0 * U32) + TINY;
+                oa[l] = (ok + slack) as f32;
+                ob[l] = (ok - slack) as f32;
+                let inv = 1.0 / d[k][l];
+                inverse[l] = inv;
+                let shrunk = (inv * (1.0 - KAPPA - 2.0 * U32)) as f32;
+                let grown = (inv * (1.0 + KAPPA + 2.0 * U32)) as f32;
+                // A positive component meets the minimum plane first, a negative one the
+                // maximum.
+                let positive = inv > 0.0;
+                imin[l] = if positive { shrunk } else { grown };
+                imax[l] = if positive { grown } else { shrunk };
+                // An infinite inverse (a zero component) rounds to an infinite `grown`.
+                bad[l] += zero_if_finite(oa[l]) + zero_if_finite(ob[l]) + zero_if_finite(grown);
+                d32[l] = d[k][l] as f32;
             }
         }
         // Moments `d × o` for the triangle pre-test (not needed with one origin).
@@ -883,14 +890,10 @@ impl Packet {
                 }
             }
         }
-        // A chunk's finite lanes as bits (branch-free: it vectorises).
+        // A chunk's finite lanes as bits.
         let mut finite: Mask = 0;
         for c in 0..NCHUNK {
-            let mut ok = [false; CHUNK];
-            for j in 0..CHUNK {
-                ok[j] = bad[c][j] == 0.0;
-            }
-            finite |= bitmask(ok) << (c * CHUNK);
+            finite |= mask_bits(lanes(&bad[c]).cmp_eq(splat(0.0))) << (c * CHUNK);
         }
         let valid = staged & finite;
         p.valid = valid;
@@ -918,33 +921,29 @@ impl Packet {
             (lo[l], hi[l]) = (lo[first], hi[first]);
         }
         let (mut whole_lo, mut whole_hi) = ([[0.0; CHUNK]; NCHUNK], [[0.0; CHUNK]; NCHUNK]);
-        for c in 0..NCHUNK {
-            for j in 0..CHUNK {
-                let l = c * CHUNK + j;
-                whole_lo[c][j] = (lo[l] * (1.0 - 2.0 * U32) - TINY) as f32;
-                whole_hi[c][j] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
-            }
-        }
-        // Lanes that are not valid keep an empty range (they never enter a box).
-        for c in 0..NCHUNK {
-            for j in 0..CHUNK {
-                let on = (valid >> (c * CHUNK + j)) & 1 != 0;
-                p.lo[c][j] = if on { whole_lo[c][j] } else { f32::INFINITY };
-                p.hi[c][j] = if on {
-                    whole_hi[c][j]
-                } else {
-                    f32::NEG_INFINITY
-                };
+        {
+            let (wlo, whi) = (flat(&mut whole_lo), flat(&mut whole_hi));
+            let (plo, phi) = (flat(&mut p.lo), flat(&mut p.hi));
+            for l in 0..LANES {
+                wlo[l] = (lo[l] * (1.0 - 2.0 * U32) - TINY) as f32;
+                whi[l] = (hi[l] * (1.0 + 2.0 * U32) + TINY) as f32;
+                // Lanes that are not valid keep an empty range (they never enter a box).
+                let on = (valid >> l) & 1 != 0;
+                plo[l] = if on { wlo[l] } else { f32::INFINITY };
+                phi[l] = if on { whi[l] } else { f32::NEG_INFINITY };
             }
         }
         let (mut d_max, mut r_max) = (0.0f64, 0.0f64);
-        let mut mean = [0.0f64; 3];
+        let mut mean = [0.0f32; 3];
         for k in 0..3 {
             d_max = d_max.max(largest(&d[k]));
             r_max = r_max.max(largest(&o[k]));
-            for l in 0..LANES {
-                mean[k] += d[k][l];
+            // Only orders children: lane-wise sums (a sequential sum was a chain of 64 adds).
+            let mut sum = splat(0.0);
+            for c in 0..NCHUNK {
+                sum += lanes(&p.d[k][c]);
             }
+            mean[k] = sum.reduce_add();
             let w = &mut p.whole;
             w.oa[k] = range(&p.oa[k]);
             w.ob[k] = range(&p.ob[k]);
@@ -975,7 +974,7 @@ impl Packet {
         p.shared_beta = up(24.0 * U32 * d_max * r_max * (1.0 + 8.0 * U64));
         let reach = (bvh.radius + r_max) * (1.0 + 8.0 * U64);
         p.gamma = up(256.0 * U64 * reach * reach * d_max);
-        p.mean_dir = mean.map(|x| x as f32);
+        p.mean_dir = mean;
         let w = &mut p.whole;
         w.usable = p.sign.iter().all(|s| *s != Sign::Mixed);
         w.major = p.major;
