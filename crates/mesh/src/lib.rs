@@ -40,7 +40,7 @@ pub mod gpu_layout;
 mod instance;
 mod mesh;
 mod obj;
-pub mod packet;
+mod packet;
 pub mod texture;
 pub mod triangle;
 

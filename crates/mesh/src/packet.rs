@@ -21,6 +21,14 @@
 //!   the f64 slab reaches that leaf, as in the reference.
 //! - A camera's packet (one origin for every lane) subtracts the origin once per box plane, not
 //!   once per lane, and pre-tests triangles by `d·(n + o × e)` with the sum made once per packet.
+//! - The exact test is [`crate::triangle::intersect`]'s arithmetic, op for op, with what can be
+//!   shared made once: lanes whose frames share their axes get their shears in one pass over
+//!   the packet, lanes that share one origin get each triangle's corners relative to it once
+//!   per triangle, and a lane divides out its barycentric weights only for its final hit.
+//! - The f32 lane tests run as `wide::f32x8` vectors (SSE2 pairs on the default target), whose
+//!   `minps`/`maxps` are the scalar `min`/`max` lane by lane and whose `move_mask` gathers a
+//!   comparison into bits; written as scalar loops, the compiler vectorised them across the
+//!   wrong dimension and gathered bits one by one (1.2× faster primary rays as vectors).
 //! - Lanes the f32 bounds cannot cover (a direction component that is zero or below ~3e-39, a
 //!   range that starts below 0, non-finite values) are answered by the reference itself.
 
@@ -28,17 +36,12 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::bvh::{Slab, is_better};
-use crate::triangle::{RayFrame, UnresolvedHit, intersect, intersect_relative};
+use crate::triangle::{RayFrame, UnresolvedHit, intersect_relative};
 use crate::{MeshBvh, MeshHit, TriangleMesh};
 use fray_core::{Interval, Ray};
 use glam::DVec3;
 use std::sync::Arc;
 use wide::{CmpEq, CmpGt, CmpLe, CmpLt, f32x8};
-use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
-pub static COUNTS: [AtomicU64; 10] = [const { AtomicU64::new(0) }; 10];
-const COUNT: bool = false;
-fn bump(i: usize, n: u64) { if COUNT { COUNTS[i].fetch_add(n, Relaxed); } }
-
 
 /// Rays per packet: consecutive rays of a call are traversed together, so neighbouring pixels
 /// (an 8×8 block: 64 consecutive rays of a tile in Morton order) should be consecutive.
@@ -124,7 +127,9 @@ fn lanes(v: &V) -> f32x8 {
 /// A lane array as one flat array of [`LANES`].
 #[inline(always)]
 fn flat(v: &mut [V; NCHUNK]) -> &mut [f32; LANES] {
-    v.as_flattened_mut().try_into().expect("NCHUNK · CHUNK = LANES")
+    v.as_flattened_mut()
+        .try_into()
+        .expect("NCHUNK · CHUNK = LANES")
 }
 
 #[inline(always)]
@@ -399,48 +404,42 @@ impl PacketBvh {
         let mut best_hit: [Option<UnresolvedHit>; LANES] = [None; LANES];
         stack.clear();
         stack.push((0, p.valid));
-        bump(0, 1);
         while let Some((index, mask)) = stack.pop() {
-            bump(1, 1);
             let node = &self.nodes[index as usize];
             let mask = p.enters(node, mask, true);
             if mask == 0 {
                 continue;
             }
-            bump(2, 1);
             if node.count == 0 {
                 self.push_children(p, node, mask, stack);
                 continue;
             }
             let (first, count) = (node.first as usize, node.count as usize);
-            bump(3, 1); bump(4, count as u64); bump(9, mask.count_ones() as u64);
             for pos in first..first + count {
                 let mut candidates = p.may_hit(&self.tris[pos], mask);
-                bump(5, candidates.count_ones() as u64);
                 if candidates == 0 {
                     continue;
                 }
-                // One origin: the corners relative to it once for every lane.
-                let relative = p
-                    .uniform
-                    .map(|_| self.corners[pos].map(|c| (c - p.origin).to_array()));
+                let corners = self.corners[pos];
+                let relative = p.relative(corners);
                 while candidates != 0 {
                     let l = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    let h = match (p.uniform, relative) {
+                    // A camera's packet: one origin, one frame's axes (inlined: the common case).
+                    let h = match (p.axes, relative) {
                         (Some(axes), Some(relative)) => {
                             let shear = [p.shear[0][l], p.shear[1][l], p.shear[2][l]];
                             intersect_relative(axes, shear, relative, ranges[l])
                         }
-                        _ => p.frame_hit(l, self.corners[pos], ranges[l]),
+                        _ => p.hit(l, &rays[l], corners, relative, ranges[l]),
                     };
                     let Some(h) = h else {
                         continue;
                     };
                     let triangle = self.order[pos];
                     let best = (best_tri[l] != u32::MAX).then_some(best_tri[l]);
-                    bump(6, 1);
-                    if is_better(h.t, triangle, best_t[l], best) && { bump(7, 1); p.reaches(l, &self.boxes, index) }
+                    if is_better(h.t, triangle, best_t[l], best)
+                        && p.reaches(l, &rays[l], ranges[l], &self.boxes, index)
                     {
                         best_t[l] = h.t;
                         best_tri[l] = triangle;
@@ -503,11 +502,17 @@ impl PacketBvh {
             let (first, count) = (node.first as usize, node.count as usize);
             for pos in first..first + count {
                 let mut candidates = p.may_hit(&self.tris[pos], mask);
+                let corners = self.corners[pos];
+                let relative = if candidates == 0 {
+                    None
+                } else {
+                    p.relative(corners)
+                };
                 while candidates != 0 {
                     let l = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    if intersect(p.frame(l), self.corners[pos], ranges[l]).is_some()
-                        && p.reaches(l, &self.boxes, index)
+                    if p.hit(l, &rays[l], corners, relative, ranges[l]).is_some()
+                        && p.reaches(l, &rays[l], ranges[l], &self.boxes, index)
                     {
                         out[l] = true;
                         mask &= !(1 << l);
@@ -593,16 +598,14 @@ struct Packet {
     /// Each lane's f64 inverse direction, per axis (its slab's: `Slab::new` computes the same
     /// quotients).
     inv: [[f64; LANES]; 3],
-    /// Where every valid lane has the same origin (bit for bit) and the same frame axes
-    /// `[kx, ky, kz]` (one major axis, one sign on it): the axes, and then `origin` is that
-    /// origin and `shear` each lane's frame shear, made for all lanes at once.
-    uniform: Option<[usize; 3]>,
-    origin: DVec3,
+    /// Where every valid lane has the same frame axes `[kx, ky, kz]` (one major axis, one sign
+    /// on it): the axes, and `shear` holds each lane's frame shear, made for all lanes at once.
+    axes: Option<[usize; 3]>,
     shear: [[f64; LANES]; 3],
+    /// Every valid lane's origin, where they share it bit for bit (a camera's packet).
+    origin: Option<DVec3>,
     /// Valid lanes with no hit yet: while there are some, the largest best-hit bound is `+∞`.
     unhit: Mask,
-    rays: [Ray; LANES],
-    ranges: [Interval; LANES],
     /// Each lane's major axis.
     kz: [u8; LANES],
     /// Interval bounds over the lanes, to decide a box for all of them at once.
@@ -697,10 +700,6 @@ impl Packet {
     /// A packet with no valid lane, to [`Packet::load`] into (it is large: one per call, not
     /// one per packet).
     fn empty() -> Self {
-        let unit = Ray {
-            origin: DVec3::ZERO,
-            dir: DVec3::Z,
-        };
         Packet {
             valid: 0,
             oa: [[[0.0; CHUNK]; NCHUNK]; 3],
@@ -725,12 +724,10 @@ impl Packet {
             shared_beta: 0.0,
             frames: [None; LANES],
             inv: [[0.0; LANES]; 3],
-            uniform: None,
-            origin: DVec3::ZERO,
+            axes: None,
+            origin: None,
             shear: [[0.0; LANES]; 3],
             unhit: 0,
-            rays: [unit; LANES],
-            ranges: [Interval::new(0.0, 0.0); LANES],
             kz: [0; LANES],
             whole: Whole {
                 usable: false,
@@ -783,7 +780,8 @@ impl Packet {
         let mut d = [[1.0f64; LANES]; 3];
         let mut lo = [f64::NAN; LANES];
         let mut hi = [0.0f64; LANES];
-        p.uniform = None;
+        p.axes = None;
+        p.origin = None;
         for l in 0..LANES {
             p.frames[l] = None;
         }
@@ -796,8 +794,6 @@ impl Packet {
                 d[k][l] = dir[k];
             }
             (lo[l], hi[l]) = (range.lo, range.hi);
-            p.rays[l] = *ray;
-            p.ranges[l] = *range;
         }
         // Which lanes the bounds cover: finite origins and directions, a range from a finite
         // `lo ≥ 0` (negative starts would need the bounds' other sign cases) to `hi ≥ lo`;
@@ -982,13 +978,15 @@ impl Packet {
         w.bound_min = f32::INFINITY;
         w.bound_max = f32::INFINITY;
         p.unhit = valid;
-        // One origin and one frame for every valid lane: each lane's shear now, as
-        // `RayFrame::new` computes it (the same quotients), for all lanes at once.
+        // One frame's axes for every valid lane: each lane's shear now, as `RayFrame::new`
+        // computes it (the same quotients), for all lanes at once.
         let origin = rays[first].origin.to_array().map(f64::to_bits);
-        let one_origin = (0..n).all(|l| {
-            !is_valid(l) || rays[l].origin.to_array().map(f64::to_bits) == origin
-        });
-        if let (Some(kz), true) = (p.major, one_origin)
+        let one_origin =
+            (0..n).all(|l| !is_valid(l) || rays[l].origin.to_array().map(f64::to_bits) == origin);
+        if one_origin {
+            p.origin = Some(rays[first].origin);
+        }
+        if let Some(kz) = p.major
             && p.sign[kz] != Sign::Mixed
         {
             let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
@@ -1000,8 +998,7 @@ impl Packet {
                 p.shear[1][l] = d[ky][l] / d[kz][l];
                 p.shear[2][l] = p.inv[kz][l];
             }
-            p.uniform = Some([kx, ky, kz]);
-            p.origin = rays[first].origin;
+            p.axes = Some([kx, ky, kz]);
         }
         if valid != LANES_MASK {
             // See `set_best`: lanes that are not valid do not hold the largest bound up.
@@ -1024,7 +1021,6 @@ impl Packet {
             Some(false) => return 0,
             None => {}
         }
-        bump(8, 1);
         if self.whole.usable {
             return self.enters_signed(node, mask, nearest);
         }
@@ -1221,7 +1217,11 @@ impl Packet {
         for c in 0..LANES / CHUNK {
             let base = c * CHUNK;
             if (mask >> base) & CHUNK_MASK != 0 {
-                let (d0, d1, d2) = (lanes(&self.d[0][c]), lanes(&self.d[1][c]), lanes(&self.d[2][c]));
+                let (d0, d1, d2) = (
+                    lanes(&self.d[0][c]),
+                    lanes(&self.d[1][c]),
+                    lanes(&self.d[2][c]),
+                );
                 let (mut low, mut high) = (splat(f32::INFINITY), splat(f32::NEG_INFINITY));
                 for k in 0..3 {
                     let (n, b) = (normals[k], splat(bound[k]));
@@ -1275,10 +1275,17 @@ impl Packet {
         }
     }
 
-    /// Whether the f64 slab of lane `l` reaches node `index` (a hit in its leaf counts).
-    fn reaches(&mut self, l: usize, boxes: &[[DVec3; 2]], index: u32) -> bool {
+    /// Whether the f64 slab of lane `l` (`ray` over `range`) reaches node `index` (a hit in its
+    /// leaf counts).
+    fn reaches(
+        &self,
+        l: usize,
+        ray: &Ray,
+        range: Interval,
+        boxes: &[[DVec3; 2]],
+        index: u32,
+    ) -> bool {
         let [min, max] = boxes[index as usize];
-        let (ray, range) = (&self.rays[l], self.ranges[l]);
         let slab = Slab {
             origin: ray.origin,
             inv: DVec3::new(self.inv[0][l], self.inv[1][l], self.inv[2][l]),
@@ -1289,21 +1296,46 @@ impl Packet {
         slab.test(min, max).is_some()
     }
 
-    /// Lane `l`'s hit on the triangle with `corners` by its own frame.
+    /// A triangle's corners relative to the packet's one origin, once for all its lanes.
+    #[inline(always)]
+    fn relative(&self, corners: [DVec3; 3]) -> Option<[[f64; 3]; 3]> {
+        self.origin.map(|o| corners.map(|c| (c - o).to_array()))
+    }
+
+    /// Lane `l`'s (`ray`'s) hit on the triangle with `corners`: [`intersect`]'s answer, from
+    /// the packet's shears and `relative` corners where it has them.
+    #[inline(always)]
+    fn hit(
+        &mut self,
+        l: usize,
+        ray: &Ray,
+        corners: [DVec3; 3],
+        relative: Option<[[f64; 3]; 3]>,
+        range: Interval,
+    ) -> Option<UnresolvedHit> {
+        let Some(axes) = self.axes else {
+            return self.frame_hit(l, ray, corners, range);
+        };
+        let shear = [self.shear[0][l], self.shear[1][l], self.shear[2][l]];
+        let relative = relative.unwrap_or_else(|| corners.map(|c| (c - ray.origin).to_array()));
+        intersect_relative(axes, shear, relative, range)
+    }
+
+    /// Lane `l`'s (`ray`'s) hit on the triangle with `corners` by its own frame.
     fn frame_hit(
         &mut self,
         l: usize,
+        ray: &Ray,
         corners: [DVec3; 3],
         range: Interval,
     ) -> Option<UnresolvedHit> {
-        let frame = self.frame(l);
+        let frame = self.frame(l, ray);
         let relative = corners.map(|c| (c - frame.origin()).to_array());
         intersect_relative(frame.axes(), frame.shear(), relative, range)
     }
 
-    /// Lane `l`'s watertight frame.
-    fn frame(&mut self, l: usize) -> &RayFrame {
-        let ray = &self.rays[l];
+    /// Lane `l`'s (`ray`'s) watertight frame.
+    fn frame(&mut self, l: usize, ray: &Ray) -> &RayFrame {
         self.frames[l].get_or_insert_with(|| RayFrame::new(ray))
     }
 }
