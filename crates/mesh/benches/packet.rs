@@ -4,48 +4,18 @@
 //! (obvhs + the f64 refit; the packet data from it), then Mrays/s of primary rays (nearest hit)
 //! and of shadow rays (any hit) from the primary hits toward a fixed point light: the f64
 //! reference one ray at a time, the packet path one ray per call, and the packet path a tile per
-//! call. One command: `cargo bench -p fray-mesh --bench packet` (docs/mesh-bench.md).
+//! call. The view is `bunny_view`, shared with the Embree comparison (`benches/embree/`). One
+//! command: `cargo bench -p fray-mesh --bench packet` (docs/mesh-bench.md).
 
+mod bunny_view;
+
+use bunny_view::{TILE_RAYS, bunny, primary_rays, shadow_rays};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use fray_core::{Interval, MemoryBudget, Pinhole, Projector, Ray};
-use fray_mesh::{MeshBvh, PacketBvh, TriangleMesh};
-use glam::DVec3;
+use fray_core::Interval;
+use fray_mesh::{MeshBvh, PacketBvh};
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Duration;
-
-const SIDE: u32 = 1024;
-const TILE: u32 = 16;
-const TILE_RAYS: usize = (TILE * TILE) as usize;
-
-fn bunny() -> TriangleMesh {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes/bunny00.obj");
-    TriangleMesh::load_obj(&path, &MemoryBudget::default()).expect("the bunny loads")
-}
-
-/// The view's rays tile by tile, Morton order inside each tile.
-fn primary_rays(bvh: &MeshBvh) -> Vec<Ray> {
-    let b = bvh.bounds();
-    let eye = b.center() + DVec3::new(0.0, 0.0, -1.2 * b.diagonal());
-    let camera = Pinhole::new(eye, b.center(), DVec3::Y, 25f64.to_radians(), 0.01).expect("camera");
-    let projector = Projector::Pinhole(camera);
-    let mut rays = Vec::with_capacity((SIDE * SIDE) as usize);
-    for ty in (0..SIDE).step_by(TILE as usize) {
-        for tx in (0..SIDE).step_by(TILE as usize) {
-            for i in 0..TILE * TILE {
-                let (mut x, mut y) = (0, 0);
-                for bit in 0..8 {
-                    x |= ((i >> (2 * bit)) & 1) << bit;
-                    y |= ((i >> (2 * bit + 1)) & 1) << bit;
-                }
-                let ray = projector.pixel_ray(tx + x, ty + y, SIDE, SIDE);
-                rays.push(ray.expect("a pixel ray").ray);
-            }
-        }
-    }
-    rays
-}
 
 fn bench(c: &mut Criterion) {
     let mesh = bunny();
@@ -67,21 +37,12 @@ fn bench(c: &mut Criterion) {
     let all = vec![Interval::new(0.0, f64::INFINITY); rays.len()];
     let mut hits = vec![None; rays.len()];
     fast.nearest_hits(&rays, &all, &mut hits);
-    let b = bvh.bounds();
-    let light = b.center() + DVec3::new(1.0, 2.0, -1.5) * b.diagonal();
-    let (mut shadow, mut shadow_ranges) = (Vec::new(), Vec::new());
-    for (ray, hit) in rays.iter().zip(&hits) {
-        if let Some(h) = hit {
-            let p = ray.at(h.t);
-            let to = light - p;
-            shadow.push(Ray::new(p, to).expect("a shadow ray"));
-            shadow_ranges.push(Interval::new(1e-6 * b.diagonal(), to.length()));
-        }
-    }
+    let (shadow, shadow_ranges) = shadow_rays(&bvh, &rays, &hits);
     let mut occluded = vec![false; shadow.len()];
     fast.any_hits(&shadow, &shadow_ranges, &mut occluded);
     eprintln!(
-        "{SIDE}² primary rays: {} of {} hit the bunny ({:.1} %); shadow rays: {} of {} occluded",
+        "{}² primary rays: {} of {} hit the bunny ({:.1} %); shadow rays: {} of {} occluded",
+        bunny_view::SIDE,
         shadow.len(),
         rays.len(),
         100.0 * shadow.len() as f64 / rays.len() as f64,

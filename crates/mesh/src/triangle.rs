@@ -49,6 +49,21 @@ impl RayFrame {
     }
 }
 
+impl RayFrame {
+    pub(crate) fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// `[kx, ky, kz]`.
+    pub(crate) fn axes(&self) -> [usize; 3] {
+        [self.kx, self.ky, self.kz]
+    }
+
+    pub(crate) fn shear(&self) -> [f64; 3] {
+        self.shear.to_array()
+    }
+}
+
 /// A hit on a triangle: the ray parameter and the barycentric weights of its three corners.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriangleHit {
@@ -60,17 +75,52 @@ pub struct TriangleHit {
 /// ends), either side facing; `None` for a miss, a degenerate triangle or a ray in its plane.
 #[inline]
 pub fn intersect(frame: &RayFrame, [a, b, c]: [DVec3; 3], range: Interval) -> Option<TriangleHit> {
-    let (kx, ky, kz, s) = (frame.kx, frame.ky, frame.kz, frame.shear);
     // Arrays, not `DVec3`'s `Index` (a `match` per access); the same subtractions.
-    let (a, b, c) = (
+    let relative = [
         (a - frame.origin).to_array(),
         (b - frame.origin).to_array(),
         (c - frame.origin).to_array(),
-    );
+    ];
+    let axes = [frame.kx, frame.ky, frame.kz];
+    intersect_relative(axes, frame.shear.to_array(), relative, range).map(|h| h.resolve())
+}
+
+/// A hit before its barycentric weights are divided out: what [`intersect_relative`] finds.
+/// [`UnresolvedHit::resolve`] gives [`intersect`]'s answer bit for bit; callers that keep only
+/// the nearest of many hits resolve only that one (a division saved per hit passed over).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct UnresolvedHit {
+    pub(crate) t: f64,
+    edges: [f64; 3],
+    det: f64,
+}
+
+impl UnresolvedHit {
+    #[inline]
+    pub(crate) fn resolve(self) -> TriangleHit {
+        let inv = 1.0 / self.det;
+        let [u, v, w] = self.edges;
+        TriangleHit {
+            t: self.t,
+            barycentric: [u * inv, v * inv, w * inv],
+        }
+    }
+}
+
+/// [`intersect`] given the frame's axes `[kx, ky, kz]` and shear, and the corners already
+/// relative to the ray's origin (the same f64 subtractions): a packet of rays from one origin
+/// subtracts once per triangle, not once per ray.
+#[inline(always)]
+pub(crate) fn intersect_relative(
+    [kx, ky, kz]: [usize; 3],
+    s: [f64; 3],
+    [a, b, c]: [[f64; 3]; 3],
+    range: Interval,
+) -> Option<UnresolvedHit> {
     // Sheared 2D positions: per vertex, the same bits in every triangle that shares it.
-    let (ax, ay) = (a[kx] - s.x * a[kz], a[ky] - s.y * a[kz]);
-    let (bx, by) = (b[kx] - s.x * b[kz], b[ky] - s.y * b[kz]);
-    let (cx, cy) = (c[kx] - s.x * c[kz], c[ky] - s.y * c[kz]);
+    let (ax, ay) = (a[kx] - s[0] * a[kz], a[ky] - s[1] * a[kz]);
+    let (bx, by) = (b[kx] - s[0] * b[kz], b[ky] - s[1] * b[kz]);
+    let (cx, cy) = (c[kx] - s[0] * c[kz], c[ky] - s[1] * c[kz]);
     // Edge functions, edge P → Q as Qx·Py − Qy·Px: the edge Q → P gives exactly the negation.
     let u = cx * by - cy * bx; // edge b → c: a's weight
     let v = ax * cy - ay * cx; // edge c → a: b's weight
@@ -82,7 +132,7 @@ pub fn intersect(frame: &RayFrame, [a, b, c]: [DVec3; 3], range: Interval) -> Op
     if det == 0.0 || !det.is_finite() {
         return None;
     }
-    let (az, bz, cz) = (s.z * a[kz], s.z * b[kz], s.z * c[kz]);
+    let (az, bz, cz) = (s[2] * a[kz], s[2] * b[kz], s[2] * c[kz]);
     let t_scaled = u * az + v * bz + w * cz;
     // t = t_scaled / det within the open range, tested without dividing.
     let (t_scaled, det_abs) = if det < 0.0 {
@@ -99,9 +149,9 @@ pub fn intersect(frame: &RayFrame, [a, b, c]: [DVec3; 3], range: Interval) -> Op
     if !(t > range.lo && t < range.hi) {
         return None;
     }
-    let inv = 1.0 / det;
-    Some(TriangleHit {
+    Some(UnresolvedHit {
         t,
-        barycentric: [u * inv, v * inv, w * inv],
+        edges: [u, v, w],
+        det,
     })
 }
