@@ -337,8 +337,17 @@ fn render(args: &RenderArgs) -> Result<(), String> {
                 .iter()
                 .map(|m| m.instance.mesh.mesh().triangles.len())
                 .sum();
+            let shadow_packets = if s.mesh_shadow_tile_rays > 0 {
+                format!(
+                    ", {} shadow-ray casts in tile packets",
+                    s.mesh_shadow_tile_rays
+                )
+            } else {
+                String::new()
+            };
             format!(
-                ", meshes: {} instances, {triangles} triangles, {} mesh casts ({} in tile packets)",
+                ", meshes: {} instances, {triangles} triangles, {} mesh casts ({} in tile \
+                 packets){shadow_packets}",
                 scene.meshes.len(),
                 s.mesh_rays,
                 s.mesh_tile_rays

@@ -65,6 +65,9 @@ pub struct RenderStats {
     /// Those of them cast a tile at a time as packets (the CPU frame loop's camera rays; 0 on
     /// the GPU).
     pub mesh_tile_rays: u64,
+    /// Shadow rays cast against mesh instances a tile at a time as packets (the CPU frame
+    /// loop's camera hits' shadow rays, one per ray and instance; 0 on the GPU).
+    pub mesh_shadow_tile_rays: u64,
     /// Whitted secondary rays traced: reflections and refractions (0 without such materials).
     pub secondary_rays: u64,
     /// Which stages and features ran, in order (e.g. `"free-form"`, `"shadows"`).

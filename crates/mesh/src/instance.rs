@@ -118,6 +118,38 @@ impl Instance {
         self.mesh.any_hit(&self.local(ray), range)
     }
 
+    /// `occluded[i]` = [`Instance::any_hit`]`(rays[i], ranges[i])` for world `rays` (shadow
+    /// rays; taken into the mesh's space in `local`, whose contents are replaced): through the
+    /// packet path when the instance has it, else ray by ray.
+    ///
+    /// # Panics
+    /// If `rays`, `ranges` and `occluded` differ in length.
+    pub fn any_hits(
+        &self,
+        rays: &[Ray],
+        ranges: &[Interval],
+        occluded: &mut [bool],
+        local: &mut Vec<Ray>,
+    ) {
+        assert!(
+            rays.len() == ranges.len() && rays.len() == occluded.len(),
+            "Instance::any_hits: {} rays, {} ranges, {} results",
+            rays.len(),
+            ranges.len(),
+            occluded.len()
+        );
+        local.clear();
+        local.extend(rays.iter().map(|r| self.local(r)));
+        match &self.packets {
+            Some(p) => p.any_hits(local, ranges, occluded),
+            None => {
+                for ((ray, range), o) in local.iter().zip(ranges).zip(occluded) {
+                    *o = self.mesh.any_hit(ray, *range);
+                }
+            }
+        }
+    }
+
     /// The world box around the instance: the mesh's box's eight corners mapped to the world
     /// (their rounding covered by a relative margin of `1e-12`).
     pub fn bounds(&self) -> fray_core::Aabb {

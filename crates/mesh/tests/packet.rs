@@ -441,7 +441,7 @@ fn instances_cast_tiles_through_packets_as_ray_by_ray() {
     ];
     let mut local = Vec::new();
     for to_world in placements {
-        let mut found = 0;
+        let (mut found, mut shadowed) = (0, 0);
         let instance = Instance::with_packets(packets.clone(), to_world).unwrap();
         assert!(instance.packets().is_some());
         let b = instance.bounds();
@@ -495,9 +495,43 @@ fn instances_cast_tiles_through_packets_as_ray_by_ray() {
                         plain_hits[k]
                     );
                 }
+                // Any hits over the same ranges, and shadow rays toward a sun from the hits
+                // over the whole range (parallel rays from scattered origins, as the frame
+                // loop casts them): `Instance::any_hits` against `any_hit`.
+                let mut shadow_rays = rays.clone();
+                let mut shadow_ranges = ranges.clone();
+                let sun = DVec3::new(0.3, 0.8, -0.5).normalize();
+                for (ray, range) in rays.iter().zip(&near) {
+                    let whole = Interval::new(*range, f64::INFINITY);
+                    if let Some(h) = instance.nearest_hit(ray, whole) {
+                        shadow_rays.push(Ray::new(ray.at(h.t), sun).unwrap());
+                        shadow_ranges.push(Interval::new(1e-9 * b.diagonal(), f64::INFINITY));
+                    }
+                }
+                let mut occluded = vec![false; shadow_rays.len()];
+                instance.any_hits(&shadow_rays, &shadow_ranges, &mut occluded, &mut local);
+                let mut plain_occluded = vec![false; shadow_rays.len()];
+                plain.any_hits(
+                    &shadow_rays,
+                    &shadow_ranges,
+                    &mut plain_occluded,
+                    &mut local,
+                );
+                for (k, (ray, range)) in shadow_rays.iter().zip(&shadow_ranges).enumerate() {
+                    let want = instance.any_hit(ray, *range);
+                    shadowed += usize::from(want && k >= rays.len());
+                    assert!(
+                        occluded[k] == want && plain_occluded[k] == want,
+                        "{to_world:?}, tile ({tx}, {ty}), any-hit ray {k} over {range:?}: \
+                         packets {}, ray by ray {}, reference {want}",
+                        occluded[k],
+                        plain_occluded[k]
+                    );
+                }
             }
         }
-        // Rays that hit over the whole range (before it was cut).
+        // Rays that hit over the whole range (before it was cut), and shadowed hits.
         assert!(found > 300, "{to_world:?}: {found} hits");
+        assert!(shadowed > 30, "{to_world:?}: {shadowed} shadowed hits");
     }
 }

@@ -354,7 +354,7 @@ pub fn transmittance(
     range: Interval,
     eps: f64,
 ) -> Rgb {
-    transmittance_through(scene, ctx, ray, range, eps, scene.objects.iter())
+    transmittance_through(scene, ctx, ray, range, eps, scene.objects.iter(), true)
 }
 
 /// [`transmittance`] through only the listed free forms (increasing indices) and every other
@@ -371,10 +371,39 @@ pub fn transmittance_among(
     let listed = free_forms
         .iter()
         .filter_map(|&k| scene.objects.get(k as usize));
-    transmittance_through(scene, ctx, ray, range, eps, listed)
+    transmittance_through(scene, ctx, ray, range, eps, listed, true)
 }
 
-/// The transmittance through `free_forms` and every primitive of the other kinds.
+/// Which kinds a shadow ray asks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ShadowKinds {
+    All,
+    /// Every kind but the meshes, whose answer is already known (cast as packets).
+    AllButMeshes,
+}
+
+/// [`transmittance_among`] the listed free forms (`None`: [`transmittance`] through all), and
+/// the meshes only if `kinds` asks.
+pub(crate) fn transmittance_of(
+    scene: &Scene,
+    ctx: &mut TraceContext,
+    ray: &Ray,
+    range: Interval,
+    eps: f64,
+    free_forms: Option<&[u32]>,
+    kinds: ShadowKinds,
+) -> Rgb {
+    let meshes = kinds == ShadowKinds::All;
+    match free_forms {
+        Some(listed) => {
+            let listed = listed.iter().filter_map(|&k| scene.objects.get(k as usize));
+            transmittance_through(scene, ctx, ray, range, eps, listed, meshes)
+        }
+        None => transmittance_through(scene, ctx, ray, range, eps, scene.objects.iter(), meshes),
+    }
+}
+
+/// The transmittance through `free_forms`, every terrain and (if `meshes`) every mesh.
 fn transmittance_through<'a>(
     scene: &'a Scene,
     ctx: &mut TraceContext,
@@ -382,6 +411,7 @@ fn transmittance_through<'a>(
     range: Interval,
     eps: f64,
     free_forms: impl Iterator<Item = &'a fray_scene::Object>,
+    meshes: bool,
 ) -> Rgb {
     let mut total = Rgb::ONE;
     for object in free_forms {
@@ -400,7 +430,7 @@ fn transmittance_through<'a>(
             return total;
         }
     }
-    for object in &scene.meshes {
+    for object in scene.meshes.iter().filter(|_| meshes) {
         total *= MeshPrimitive { object }.transmittance(ray, range, eps, ctx);
         if total == Rgb::ZERO {
             return total;

@@ -9,7 +9,7 @@
 //! and nowhere else.
 
 use crate::TraceSettings;
-use crate::hit::{nearest_hit, transmittance, transmittance_among};
+use crate::hit::{ShadowKinds, nearest_hit, transmittance_of};
 use crate::interaction::SurfaceInteraction;
 use crate::media::Media;
 use crate::media_grid::{MediaGrid, camera_terms};
@@ -197,7 +197,50 @@ impl<'a> Integrator<'a> {
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
     ) -> DVec3 {
-        self.shade(ctx, si, wo, occluders, 0, DVec3::ONE, si.t)
+        self.shade(ctx, si, wo, occluders, None, 0, DVec3::ONE, si.t)
+    }
+
+    /// [`Integrator::surface_radiance`] where whether a mesh blocks each light's shadow ray
+    /// from `si` ([`Integrator::shadow_rays`]) is already known, per light (the frame loop casts
+    /// a tile's shadow rays against the meshes as packets): only the other kinds are asked.
+    /// The same answer, for a scene without transmission (opaque: a kind blocks or not).
+    pub(crate) fn surface_radiance_mesh_shadowed(
+        &self,
+        ctx: &mut TraceContext,
+        si: &SurfaceInteraction,
+        wo: DVec3,
+        occluders: Option<&[Vec<u32>]>,
+        mesh_blocked: &[bool],
+    ) -> DVec3 {
+        debug_assert!(!self.scene.features.transmission);
+        let blocked = Some(mesh_blocked);
+        self.shade(ctx, si, wo, occluders, blocked, 0, DVec3::ONE, si.t)
+    }
+
+    /// The shadow rays [`Integrator::surface_radiance`] casts from `si` seen along `wo`: per
+    /// light, `(light index, ray, range)` where one is cast (lights behind the surface, a point
+    /// light at the point, or no shadows at all cast none).
+    pub(crate) fn shadow_rays(
+        &self,
+        si: &SurfaceInteraction,
+        wo: DVec3,
+        mut cast: impl FnMut(usize, Ray, Interval),
+    ) {
+        if !self.shadows {
+            return;
+        }
+        let n = si.shading_normal_toward(wo);
+        for (index, light) in self.scene.lights.iter().enumerate() {
+            let Some((to_light, _, distance)) = toward(light, si.p) else {
+                continue;
+            };
+            if n.dot(to_light) <= 0.0 {
+                continue;
+            }
+            if let Some((ray, range)) = self.shadow_ray(si, n, to_light, distance) {
+                cast(index, ray, range);
+            }
+        }
     }
 
     /// [`Integrator::surface_radiance`] of a surface `depth` secondary rays from the camera,
@@ -210,11 +253,12 @@ impl<'a> Integrator<'a> {
         si: &SurfaceInteraction,
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
+        mesh_blocked: Option<&[bool]>,
         depth: u32,
         weight: DVec3,
         distance: f64,
     ) -> DVec3 {
-        let mut total = self.local_radiance(ctx, si, wo, occluders, distance);
+        let mut total = self.local_radiance(ctx, si, wo, occluders, mesh_blocked, distance);
         if depth < self.max_depth {
             total += self.whitted(ctx, si, -wo, depth, weight, distance);
         }
@@ -313,7 +357,7 @@ impl<'a> Integrator<'a> {
         match nearest_hit_from_surface(scene, ctx, &ray, range, eps, &self.interiors) {
             Some(si) => {
                 let path = distance + si.t;
-                let surface = self.shade(ctx, &si, -ray.dir, None, depth, weight, path);
+                let surface = self.shade(ctx, &si, -ray.dir, None, None, depth, weight, path);
                 self.through_media(&ray, Interval::new(0.0, si.t), surface)
             }
             None => self.miss_radiance(&ray, 0.0),
@@ -321,13 +365,15 @@ impl<'a> Integrator<'a> {
     }
 
     /// The material's local terms at `si`: ambient plus each light's BRDF × irradiance ×
-    /// shadow-ray transmittance.
+    /// shadow-ray transmittance (`mesh_blocked`: per light, whether a mesh is already known to
+    /// block its shadow ray).
     fn local_radiance(
         &self,
         ctx: &mut TraceContext,
         si: &SurfaceInteraction,
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
+        mesh_blocked: Option<&[bool]>,
         distance: f64,
     ) -> DVec3 {
         let material = self
@@ -344,23 +390,8 @@ impl<'a> Integrator<'a> {
         let n = si.shading_normal_toward(wo);
         let mut total = reflectance.ambient(self.scene.ambient.as_dvec3());
         for (index, light) in self.scene.lights.iter().enumerate() {
-            let (to_light, irradiance, distance) = match *light {
-                Light::Sun {
-                    direction,
-                    irradiance,
-                } => (direction, irradiance.as_dvec3(), f64::INFINITY),
-                Light::Point {
-                    position,
-                    intensity,
-                } => {
-                    let d = position - si.p;
-                    let r2 = d.length_squared();
-                    if r2 == 0.0 {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    (d / r, intensity.as_dvec3() / r2, r)
-                }
+            let Some((to_light, irradiance, distance)) = toward(light, si.p) else {
+                continue;
             };
             let cos = n.dot(to_light);
             if cos <= 0.0 {
@@ -373,7 +404,17 @@ impl<'a> Integrator<'a> {
             }
             if self.shadows {
                 let lists = occluders.and_then(|l| l.get(index));
-                let through = self.shadow_transmittance(ctx, si, n, to_light, distance, lists);
+                let kinds = match mesh_blocked.and_then(|b| b.get(index)) {
+                    Some(true) => {
+                        // A mesh blocks the ray: nothing else needs asking.
+                        ctx.counts.shadow_rays += 1;
+                        continue;
+                    }
+                    Some(false) => ShadowKinds::AllButMeshes,
+                    None => ShadowKinds::All,
+                };
+                let ray = self.shadow_ray(si, n, to_light, distance);
+                let through = self.shadow_transmittance(ctx, ray, lists, kinds);
                 if through == DVec3::ZERO {
                     continue;
                 }
@@ -403,22 +444,34 @@ impl<'a> Integrator<'a> {
         1e3 * self.epsilon + 1e-12 * p.abs().max_element()
     }
 
-    /// The transmittance from `si` toward a light `distance` away in direction `to_light`.
+    /// The shadow ray from `si` (`n` its shading normal on the lit side) toward a light
+    /// `distance` away in direction `to_light`, and its range.
     #[inline]
-    fn shadow_transmittance(
+    fn shadow_ray(
         &self,
-        ctx: &mut TraceContext,
         si: &SurfaceInteraction,
         n: DVec3,
         to_light: DVec3,
         distance: f64,
+    ) -> Option<(Ray, Interval)> {
+        let ray = Ray::new(self.shadow_origin(si, n), to_light)?;
+        Some((ray, Interval::new(0.0, distance)))
+    }
+
+    /// The transmittance of a shadow ray over its range (no ray: nothing in the way), through
+    /// the listed free forms and the `kinds` asked.
+    #[inline]
+    fn shadow_transmittance(
+        &self,
+        ctx: &mut TraceContext,
+        ray: Option<(Ray, Interval)>,
         occluders: Option<&Vec<u32>>,
+        kinds: ShadowKinds,
     ) -> DVec3 {
-        let Some(ray) = Ray::new(self.shadow_origin(si, n), to_light) else {
+        let Some((ray, range)) = ray else {
             return DVec3::ONE;
         };
         ctx.counts.shadow_rays += 1;
-        let range = Interval::new(0.0, distance);
         let (scene, eps) = (self.scene, self.epsilon);
         if scene.features.transmission {
             // Through glass: every surface crossed keeps its `kt`.
@@ -434,10 +487,31 @@ impl<'a> Integrator<'a> {
             )
             .as_dvec3();
         }
-        match occluders {
-            Some(free_forms) => transmittance_among(scene, ctx, &ray, range, eps, free_forms),
-            None => transmittance(scene, ctx, &ray, range, eps),
+        let free_forms = occluders.map(Vec::as_slice);
+        transmittance_of(scene, ctx, &ray, range, eps, free_forms, kinds).as_dvec3()
+    }
+}
+
+/// From `p`, the direction toward `light`, the irradiance it sends and its distance (infinite
+/// for the sun); `None` for a point light at `p`.
+#[inline]
+fn toward(light: &Light, p: DVec3) -> Option<(DVec3, DVec3, f64)> {
+    match *light {
+        Light::Sun {
+            direction,
+            irradiance,
+        } => Some((direction, irradiance.as_dvec3(), f64::INFINITY)),
+        Light::Point {
+            position,
+            intensity,
+        } => {
+            let d = position - p;
+            let r2 = d.length_squared();
+            if r2 == 0.0 {
+                return None;
+            }
+            let r = r2.sqrt();
+            Some((d / r, intensity.as_dvec3() / r2, r))
         }
-        .as_dvec3()
     }
 }

@@ -35,6 +35,7 @@ mod interaction;
 mod media;
 mod media_grid;
 mod mesh;
+mod mesh_shadows;
 pub mod optics;
 mod primitive;
 mod render;

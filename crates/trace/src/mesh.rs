@@ -117,13 +117,7 @@ impl MeshPrimitive<'_> {
         ctx: &mut TraceContext,
     ) {
         let s = &mut ctx.mesh;
-        // Packets are runs of consecutive rays: in Morton order of the pixels, 64 rays are an
-        // 8 × 8 block (or a few pixels' samples), not four rows.
-        let key = (shape.width, shape.rays_per_pixel, pixels.len());
-        if s.order_for != Some(key) {
-            morton_order(shape, pixels.len(), &mut s.order);
-            s.order_for = Some(key);
-        }
+        s.packet_order(shape, pixels.len());
         s.rays.clear();
         s.ranges.clear();
         s.slots.clear();
@@ -156,6 +150,20 @@ impl MeshPrimitive<'_> {
                     hit: kind_hit(*hit),
                 });
             }
+        }
+    }
+}
+
+impl crate::primitive::MeshScratch {
+    /// Makes `order` the tile's ray slots in packet order, for `len` rays listed as `shape`
+    /// says (kept while the shape and count stay). Packets are runs of consecutive rays: in
+    /// Morton order of the pixels, 64 rays are an 8 × 8 block (or a few pixels' samples), not
+    /// four rows.
+    pub(crate) fn packet_order(&mut self, shape: TileShape, len: usize) {
+        let key = (shape.width, shape.rays_per_pixel, len);
+        if self.order_for != Some(key) {
+            morton_order(shape, len, &mut self.order);
+            self.order_for = Some(key);
         }
     }
 }

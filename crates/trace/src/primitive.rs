@@ -63,6 +63,9 @@ pub struct RayCounts {
     /// Those of them cast a tile at a time (the frame loop's camera rays, through the
     /// instance's packet path).
     pub mesh_tile_rays: u64,
+    /// Shadow rays cast against mesh instances a tile at a time (the frame loop's camera hits'
+    /// shadow rays, through the instance's packet path; one per ray and instance).
+    pub mesh_shadow_tile_rays: u64,
     /// Reflected and refracted rays traced (Whitted secondary rays).
     pub secondary_rays: u64,
 }

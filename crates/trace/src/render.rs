@@ -1,12 +1,14 @@
 //! The CPU frame loop: bands of image rows in parallel (rayon), written in place; in each band
 //! its tiles, each in passes — camera rays (one per pixel centre), hits (candidates outer,
-//! pixels inner), surfaces, shading — and the frame's statistics. The result does not depend
+//! pixels inner), surfaces, the shadow rays against meshes as packets, shading — and the frame's
+//! statistics. The result does not depend
 //! on the thread count or the tile size.
 
 use crate::SceneHit;
 use crate::hit::{TileShape, complete_surface, interaction, nearest_hits_deferred, shading_normal};
 use crate::integrator::Integrator;
 use crate::media_grid::MediaGrid;
+use crate::mesh_shadows::MeshShadows;
 use crate::primitive::{RayCounts, TraceContext};
 use crate::shadow_cull;
 use crate::{TraceError, TraceSettings};
@@ -32,6 +34,8 @@ struct Scratch {
     /// The current tile's candidates, with their active sets (reused: sets keep their buffers).
     candidates: Vec<(PrimitiveId, ActiveSet)>,
     hits: Vec<(Option<CameraRay>, Option<SceneHit>)>,
+    /// The tile's surfaces and their shadow rays' mesh answers, where those go as packets.
+    mesh_shadows: MeshShadows,
 }
 
 /// A band of whole image rows, written in place by one task: its slices of the three images.
@@ -198,6 +202,7 @@ pub fn render_into(
                     hits_found: 0,
                     candidates: Vec::new(),
                     hits: Vec::new(),
+                    mesh_shadows: MeshShadows::default(),
                 },
                 |scratch, (k, (((colour, depth), normals), band))| {
                     // Background where no tile (or no surface) is.
@@ -297,6 +302,7 @@ pub fn render_into(
         stats.cloud_samples += t.cloud_samples;
         stats.mesh_rays += t.mesh_rays;
         stats.mesh_tile_rays += t.mesh_tile_rays;
+        stats.mesh_shadow_tile_rays += t.mesh_shadow_tile_rays;
         stats.secondary_rays += t.secondary_rays;
     }
     if list.is_some() {
@@ -410,11 +416,13 @@ fn render_tile(
         hits_found,
         candidates,
         hits,
+        mesh_shadows,
     } = scratch;
     let candidates = listed.map(|n| &candidates[..n]);
     let footprint = scene.camera.pixel_footprint(scene.width, scene.height);
     // In passes: every pixel's camera ray, the hits, their surfaces, then (with culling) the
-    // free forms the tile's shadow rays can meet, then the shading. The camera rays get a pass
+    // free forms the tile's shadow rays can meet, then (with meshes) the shadow rays against the
+    // meshes as packets, then the shading. The camera rays get a pass
     // of their own so that the casts read them from the cache, not from stores still in flight
     // (3-float vectors stored and reloaded in other widths stall store forwarding).
     // With anti-aliasing each pixel casts its centre (depth and normal) and then its samples
@@ -473,6 +481,15 @@ fn render_tile(
     } else {
         None
     };
+    // The shadow rays against the meshes as packets, where they go so (`None`: ray by ray).
+    let batched = if shading && MeshShadows::applies(scene, integrator) {
+        ctx.mesh.packet_order(shape, hits.len());
+        let (order, counts) = (&ctx.mesh.order, &mut ctx.counts);
+        mesh_shadows.cast(scene, integrator, hits, per_pixel, order, counts);
+        Some(&*mesh_shadows)
+    } else {
+        None
+    };
     if per_pixel > 1 {
         write_sampled_pixels(
             scene,
@@ -481,6 +498,7 @@ fn render_tile(
             ctx,
             hits,
             occluders.as_deref(),
+            batched,
             (x0, y0, x1, y1),
             out,
             hits_found,
@@ -495,17 +513,29 @@ fn render_tile(
         let depth = out.depth[at..at + w].iter_mut();
         let normals = out.normals[at..at + w].iter_mut();
         let columns = x0..x1;
-        for (((((camera_ray, hit), c), d), nrm), px) in
-            pixels.zip(colour).zip(depth).zip(normals).zip(columns)
+        for (column, (((((camera_ray, hit), c), d), nrm), px)) in pixels
+            .zip(colour)
+            .zip(depth)
+            .zip(normals)
+            .zip(columns)
+            .enumerate()
         {
             let (Some(camera_ray), Some(hit)) = (camera_ray, hit) else {
                 continue;
             };
             // The surfaces are complete: no active subsets needed.
             let (t, n) = if shading {
-                let si = interaction(scene, &camera_ray.ray, camera_ray.t_near, hit, None);
                 let ray = &camera_ray.ray;
-                let surface = integrator.surface_radiance(ctx, &si, -ray.dir, occluders.as_deref());
+                let k = row * w + column;
+                let (si, surface) = shade_camera_hit(
+                    scene,
+                    integrator,
+                    ctx,
+                    camera_ray,
+                    hit,
+                    occluders.as_deref(),
+                    batched.map(|b| (b, k)),
+                );
                 let range = Interval::new(camera_ray.t_near, si.t);
                 let at = (f64::from(px) + 0.5, f64::from(py) + 0.5);
                 *c = integrator
@@ -612,6 +642,7 @@ fn write_sampled_pixels(
     ctx: &mut TraceContext,
     hits: &[(Option<CameraRay>, Option<SceneHit>)],
     occluders: Option<&[Vec<u32>]>,
+    batched: Option<&MeshShadows>,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
     out: &mut BandImages<'_>,
     hits_found: &mut u64,
@@ -625,13 +656,15 @@ fn write_sampled_pixels(
             let rays = &hits[(row * w + column) * per_pixel..][..per_pixel];
             let at = (py - out.y0) as usize * out.width as usize + px as usize;
             let mut colour = glam::DVec3::ZERO;
+            let first = (row * w + column) * per_pixel;
             for (k, (camera_ray, hit)) in rays[1..].iter().enumerate() {
                 let q = samples.sample(px, py, k as u32);
                 let (weight, point) = (q.weight, (f64::from(px) + q.dx, f64::from(py) + q.dy));
                 let radiance = match (camera_ray, hit) {
                     (Some(c), Some(hit)) if settings.shading => {
-                        let si = interaction(scene, &c.ray, c.t_near, hit, None);
-                        let surface = integrator.surface_radiance(ctx, &si, -c.ray.dir, occluders);
+                        let slot = batched.map(|b| (b, first + 1 + k));
+                        let (si, surface) =
+                            shade_camera_hit(scene, integrator, ctx, c, hit, occluders, slot);
                         let range = Interval::new(c.t_near, si.t);
                         integrator.camera_through_media(ctx, point, &c.ray, range, surface)
                     }
@@ -653,4 +686,28 @@ fn write_sampled_pixels(
             }
         }
     }
+}
+
+/// A camera hit's surface and the radiance leaving it toward the camera: from the tile's
+/// batch (its surface, its shadow rays' mesh answers) where `batched` gives its slot in it.
+fn shade_camera_hit(
+    scene: &Scene,
+    integrator: &Integrator<'_>,
+    ctx: &mut TraceContext,
+    camera_ray: &CameraRay,
+    hit: &SceneHit,
+    occluders: Option<&[Vec<u32>]>,
+    batched: Option<(&MeshShadows, usize)>,
+) -> (crate::SurfaceInteraction, glam::DVec3) {
+    let wo = -camera_ray.ray.dir;
+    if let Some((b, k)) = batched
+        && let Some(si) = b.surface(k)
+    {
+        let surface =
+            integrator.surface_radiance_mesh_shadowed(ctx, si, wo, occluders, b.blocked(k));
+        return (*si, surface);
+    }
+    let si = interaction(scene, &camera_ray.ray, camera_ray.t_near, hit, None);
+    let surface = integrator.surface_radiance(ctx, &si, wo, occluders);
+    (si, surface)
 }

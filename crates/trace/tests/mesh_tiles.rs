@@ -5,8 +5,9 @@
 //! and without anti-aliasing samples, shaded and visibility only, tiles of 16 and of 13 pixels
 //! (packets cut short at tile edges) — on a scene with rays that miss, a free form in front of
 //! part of the bunny (the earlier kind's nearer hit bounds the mesh's range, and a tie keeps
-//! it), a mirrored second instance of the same mesh, and meshes cut by tile edges. The stats
-//! say the packets ran.
+//! it), a mirrored second instance of the same mesh, and meshes cut by tile edges. Shaded, the
+//! camera hits' shadow rays go through the packets too (`mesh_shadows`), and the frame is still
+//! the ray-by-ray one. The stats say the packets ran.
 
 use fray_core::PixelSamples;
 use fray_mesh::Instance;
@@ -21,7 +22,8 @@ fn scene() -> Scene {
         "Scene(image: (width: 72, height: 52), \
          camera: Pinhole(eye: (0, 0.1, -2.2), look_at: (0, 0, 0), fov_y: 30), \
          ambient: (0.1, 0.1, 0.1), \
-         lights: [Sun(direction: (0.3, 0.8, -0.5), irradiance: (3, 3, 3))], \
+         lights: [Sun(direction: (0.3, 0.8, -0.5), irradiance: (3, 3, 3)), \
+                  Point(position: (-1.2, 0.9, -1.0), intensity: (1.5, 1.2, 1.0))], \
          objects: [ \
            (name: \"bunny\", shape: Mesh(path: {bunny:?}, \
               transform: (scale: (0.7, 0.7, 0.7), rotate: (0, 30, 0), translate: (-0.28, 0, 0)))), \
@@ -100,6 +102,21 @@ fn mesh_packets_give_the_frame_of_ray_by_ray_casts() {
                     s.mesh_rays
                 );
                 assert_eq!(s.mesh_rays, b.stats.mesh_rays, "{what}");
+                // Shaded, the camera hits' shadow rays went through the packets too (two
+                // instances: two casts per shadow ray); ray by ray, none did. The same shadow
+                // rays either way.
+                assert_eq!(s.shadow_rays, b.stats.shadow_rays, "{what}");
+                assert_eq!(b.stats.mesh_shadow_tile_rays, 0, "{what}");
+                if shading {
+                    assert!(
+                        s.shadow_rays > 1000 && s.mesh_shadow_tile_rays == 2 * s.shadow_rays,
+                        "{what}: {} of {} shadow rays in packets",
+                        s.mesh_shadow_tile_rays,
+                        s.shadow_rays
+                    );
+                } else {
+                    assert_eq!(s.mesh_shadow_tile_rays, 0, "{what}");
+                }
                 // The picture has all of it: misses, both bunnies, the ball.
                 let depth = a.depth.pixels();
                 let missed = depth.iter().filter(|d| d.is_infinite()).count();
@@ -110,4 +127,27 @@ fn mesh_packets_give_the_frame_of_ray_by_ray_casts() {
             }
         }
     }
+}
+
+/// The scene's shadows matter: 84 of its 3744 pixels are darker with shadows (so the frame test above
+/// compares shadow answers, not only unshadowed light).
+#[test]
+fn the_meshes_cast_shadows_in_the_test_scene() {
+    let s = scene();
+    let lit = |shadows: bool| {
+        let settings = TraceSettings {
+            shadows,
+            ..TraceSettings::for_scene(&s)
+        };
+        render(&s, &settings, None).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (with, without) = (lit(true), lit(false));
+    let darker = with
+        .colour
+        .pixels()
+        .iter()
+        .zip(without.colour.pixels())
+        .filter(|(a, b)| a.element_sum() < b.element_sum() - 1e-3)
+        .count();
+    assert!(darker > 40, "{darker} pixels in shadow");
 }
