@@ -154,6 +154,30 @@ fn shadow_rays_from_hit_points_match_the_reference() {
     }
 }
 
+/// Shadow rays from the mesh's own vertices and edge midpoints toward a point light (lines that
+/// all pass through one point, tested as lines through it: the pre-test's tightest cases are
+/// rays through shared edges and vertices), over ranges from 0 and from just past the surface.
+#[test]
+fn shadow_rays_from_vertices_and_edges_toward_a_point_light_match_the_reference() {
+    for bvh in [bunny(), boeing()] {
+        let m = bvh.reference().mesh();
+        let b = bvh.reference().bounds();
+        let light = b.center() + DVec3::new(-0.8, 1.7, 1.2) * b.diagonal();
+        let (mut rays, mut ranges) = (Vec::new(), Vec::new());
+        for t in m.triangles.iter().step_by(5) {
+            let p = t.map(|v| m.positions[v as usize]);
+            for from in [p[0], (p[0] + p[1]) * 0.5, (p[0] + p[1] + p[2]) / 3.0] {
+                let to = light - from;
+                rays.extend(Ray::new(from, to));
+                ranges.push(Interval::new(0.0, to.length()));
+                rays.extend(Ray::new(from, to));
+                ranges.push(Interval::new(1e-9 * b.diagonal(), to.length()));
+            }
+        }
+        check(bvh, &rays, &ranges);
+    }
+}
+
 /// Rays aimed exactly at vertices and edge midpoints, from outside and from inside, and the
 /// axis-aligned rays through vertices (zero direction components; rays lying in box faces).
 #[test]
