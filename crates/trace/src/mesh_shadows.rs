@@ -17,6 +17,12 @@ use crate::primitive::RayCounts;
 use fray_core::{CameraRay, Interval, Ray};
 use fray_scene::Scene;
 
+/// The most shadow rays (tile rays × lights) one tile batches: its scratch space is then at most
+/// ≈ 8 MB per thread (per ray a world ray, a local ray, a range, an entry, a result and its
+/// `blocked` byte: 118 bytes). A tile with more (many lights, many samples) casts its shadow rays
+/// one by one, with the same answers.
+pub(crate) const MAX_BATCHED_SHADOW_RAYS: usize = 1 << 16;
+
 /// A tile's shaded surfaces and, per shaded ray and light, whether a mesh blocks its shadow
 /// ray (reused from tile to tile).
 #[derive(Debug, Default)]
@@ -37,12 +43,14 @@ pub(crate) struct MeshShadows {
 }
 
 impl MeshShadows {
-    /// Whether a shaded tile of `scene` batches its shadow rays against the meshes: shadows are
-    /// cast, nothing transmits (a glass surface's shadow ray keeps `kt` per crossing, which
-    /// needs every crossing in order), and some instance has a packet path.
-    pub(crate) fn applies(scene: &Scene, integrator: &Integrator<'_>) -> bool {
+    /// Whether a shaded tile of `scene` with `rays` camera rays batches its shadow rays against
+    /// the meshes: shadows are cast, nothing transmits (a glass surface's shadow ray keeps `kt`
+    /// per crossing, which needs every crossing in order), some instance has a packet path, and
+    /// the batch is within [`MAX_BATCHED_SHADOW_RAYS`].
+    pub(crate) fn applies(scene: &Scene, integrator: &Integrator<'_>, rays: usize) -> bool {
         integrator.shadows()
             && !scene.features.transmission
+            && rays.saturating_mul(scene.lights.len()) <= MAX_BATCHED_SHADOW_RAYS
             && scene.meshes.iter().any(|m| m.instance.packets().is_some())
     }
 

@@ -482,7 +482,7 @@ fn render_tile(
         None
     };
     // The shadow rays against the meshes as packets, where they go so (`None`: ray by ray).
-    let batched = if shading && MeshShadows::applies(scene, integrator) {
+    let batched = if shading && MeshShadows::applies(scene, integrator, hits.len()) {
         ctx.mesh.packet_order(shape, hits.len());
         let (order, counts) = (&ctx.mesh.order, &mut ctx.counts);
         mesh_shadows.cast(scene, integrator, hits, per_pixel, order, counts);

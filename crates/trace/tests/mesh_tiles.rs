@@ -151,3 +151,38 @@ fn the_meshes_cast_shadows_in_the_test_scene() {
         .count();
     assert!(darker > 40, "{darker} pixels in shadow");
 }
+
+/// A tile batches at most `2¹⁶` shadow rays (its scratch space is bounded, whatever the number
+/// of lights): with 600 lights 16-pixel tiles (up to 256 rays × 600) cast them one by one, 4-pixel
+/// tiles (16 × 600) as packets, and the two frames are the same bit for bit.
+#[test]
+fn many_lights_keep_a_tiles_batch_bounded() {
+    let mut s = scene();
+    s.width = 24;
+    s.height = 16;
+    let light = s.lights[1];
+    s.lights = vec![light; 600];
+    let frame = |tile_size| {
+        let settings = TraceSettings {
+            tile_size,
+            ..TraceSettings::for_scene(&s)
+        };
+        render(&s, &settings, None).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (whole, small) = (frame(16), frame(4));
+    assert!(
+        whole.stats.shadow_rays > 10_000,
+        "{}",
+        whole.stats.shadow_rays
+    );
+    assert_eq!(whole.stats.mesh_shadow_tile_rays, 0);
+    assert_eq!(
+        small.stats.mesh_shadow_tile_rays,
+        2 * small.stats.shadow_rays
+    );
+    let bits = |f: &fray_core::Frame| {
+        let c = f.colour.pixels().iter().flat_map(|c| c.to_array());
+        c.map(f32::to_bits).collect::<Vec<_>>()
+    };
+    assert!(bits(&whole) == bits(&small), "the frames differ");
+}
