@@ -354,7 +354,7 @@ pub fn transmittance(
     range: Interval,
     eps: f64,
 ) -> Rgb {
-    transmittance_through(scene, ctx, ray, range, eps, scene.objects.iter(), true)
+    transmittance_of(scene, ctx, ray, range, eps, None, ShadowKinds::All)
 }
 
 /// [`transmittance`] through only the listed free forms (increasing indices) and every other
@@ -368,10 +368,15 @@ pub fn transmittance_among(
     eps: f64,
     free_forms: &[u32],
 ) -> Rgb {
-    let listed = free_forms
-        .iter()
-        .filter_map(|&k| scene.objects.get(k as usize));
-    transmittance_through(scene, ctx, ray, range, eps, listed, true)
+    transmittance_of(
+        scene,
+        ctx,
+        ray,
+        range,
+        eps,
+        Some(free_forms),
+        ShadowKinds::All,
+    )
 }
 
 /// Which kinds a shadow ray asks.
