@@ -214,7 +214,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         }
     };
     let options = fray_scene::BuildOptions {
-        budget: args.memory_budget.unwrap_or_default(),
+        budget: args.memory_budget.clone().unwrap_or_default(),
         progress: Some(&build_report),
     };
     let loaded = load(args.scene.as_deref(), &options);
@@ -248,7 +248,6 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         shadows: args.no_shadows.then_some(false),
         culling: args.no_culling.then_some(false),
         closed_form: args.no_closed_form.then_some(false),
-        memory_budget: args.memory_budget,
         samples: args.samples,
         media_grid: args.media_grid,
     });

@@ -22,7 +22,7 @@ fn benches(c: &mut Criterion) {
     let model = SkyModel::earth();
     let sun = SkySun::from_angles(30f64.to_radians(), 0.0, DVec3::ONE);
     let tables = SkyTables::default();
-    let budget = MemoryBudget::UNLIMITED;
+    let budget = MemoryBudget::unlimited();
     let sky = Sky::new(model, sun, tables, &budget).expect("a valid sky");
     let eye = DVec3::new(0.0, 2.0, 0.0);
 

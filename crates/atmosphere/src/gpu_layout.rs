@@ -299,7 +299,7 @@ mod tests {
             sky_view_height: 6,
             sky_view_steps: 4,
         };
-        let sky = Sky::new(model, sun, tables, &fray_core::MemoryBudget::UNLIMITED).unwrap();
+        let sky = Sky::new(model, sun, tables, &fray_core::MemoryBudget::unlimited()).unwrap();
         let options = GpuSkyOptions {
             sun_disc: true,
             aerial_perspective: false,

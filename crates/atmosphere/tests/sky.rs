@@ -46,7 +46,7 @@ fn finite_non_negative(v: DVec3) -> bool {
 }
 
 fn sky(model: SkyModel, sun: SkySun) -> Sky {
-    Sky::new(model, sun, SkyTables::default(), &MemoryBudget::UNLIMITED).expect("a valid sky")
+    Sky::new(model, sun, SkyTables::default(), &MemoryBudget::unlimited()).expect("a valid sky")
 }
 
 /// Small tables, for sweeps that only check finiteness.
@@ -140,7 +140,7 @@ fn zenith_transmittance_is_the_columns_closed_form() {
     println!("zenith transmittance at sea level: {got:.10} (closed form {want:.10})");
     assert!(rel(got, want) < 1e-12, "{got} vs {want}");
     // The table holds it at a texel centre (ground row, first column): f32 only.
-    let table = TransmittanceTable::new(&m, 256, 64, &MemoryBudget::UNLIMITED).expect("a table");
+    let table = TransmittanceTable::new(&m, 256, 64, &MemoryBudget::unlimited()).expect("a table");
     assert!(rel(table.lookup(m.ground_radius, 1.0), want) < 1e-6);
     // Half-way up, the closed form with shifted limits.
     let h0 = 20_000.0;
@@ -160,7 +160,7 @@ fn zenith_transmittance_is_the_columns_closed_form() {
 #[test]
 fn transmittance_table_against_reference() {
     let m = SkyModel::earth();
-    let table = TransmittanceTable::new(&m, 256, 64, &MemoryBudget::UNLIMITED).expect("a table");
+    let table = TransmittanceTable::new(&m, 256, 64, &MemoryBudget::unlimited()).expect("a table");
     // (error, altitude, μ, reference)
     let mut worst_rel = (0.0, 0.0, 0.0, DVec3::ZERO);
     let mut worst_bright = (0.0, 0.0, 0.0, DVec3::ZERO);
@@ -452,7 +452,7 @@ fn sun_disc_integrates_to_irradiance() {
     let m = SkyModel::earth();
     let e = DVec3::new(1.5, 1.8, 1.9);
     let sun = SkySun::from_angles(30f64.to_radians(), 1.0, e);
-    let s = Sky::new(m, sun, SMALL, &MemoryBudget::UNLIMITED).expect("a sky");
+    let s = Sky::new(m, sun, SMALL, &MemoryBudget::unlimited()).expect("a sky");
     let integrate = |view: &SkyView| {
         let l = s.sun().direction;
         let a = l.any_orthonormal_vector();
@@ -489,7 +489,7 @@ fn sun_disc_integrates_to_irradiance() {
     let got = integrate(&ground);
     assert!(rel(got, e * t) < 1e-3, "{got} vs {}", e * t);
     // Below the horizon the disc is hidden.
-    let below = Sky::new(m, sun_at(-1.0), SMALL, &MemoryBudget::UNLIMITED).expect("a sky");
+    let below = Sky::new(m, sun_at(-1.0), SMALL, &MemoryBudget::unlimited()).expect("a sky");
     let v = below.view(EYE);
     assert_eq!(v.sun_disc(dir(-1.0, 0.0)), DVec3::ZERO);
     assert_eq!(v.sun_radiance_at_eye(), DVec3::ZERO);
@@ -522,7 +522,7 @@ fn sky_colour_sanity() {
 fn sizes_and_budget_are_checked() {
     let m = SkyModel::earth();
     let sun = sun_at(30.0);
-    let invalid = |tables: SkyTables| match Sky::new(m, sun, tables, &MemoryBudget::UNLIMITED) {
+    let invalid = |tables: SkyTables| match Sky::new(m, sun, tables, &MemoryBudget::unlimited()) {
         Err(AtmosphereError::Invalid { field, .. }) => field,
         other => panic!("expected Invalid, got {other:?}"),
     };
@@ -588,7 +588,7 @@ fn sizes_and_budget_are_checked() {
     // Bad models and suns name their fields.
     let bad_model = SkyModel { mie_g: -1.5, ..m };
     assert!(matches!(
-        Sky::new(bad_model, sun, d, &MemoryBudget::UNLIMITED),
+        Sky::new(bad_model, sun, d, &MemoryBudget::unlimited()),
         Err(AtmosphereError::Invalid {
             field: "sky.mie_g",
             ..
@@ -599,13 +599,13 @@ fn sizes_and_budget_are_checked() {
         ..sun
     };
     assert!(matches!(
-        Sky::new(m, bad_sun, d, &MemoryBudget::UNLIMITED),
+        Sky::new(m, bad_sun, d, &MemoryBudget::unlimited()),
         Err(AtmosphereError::Invalid {
             field: "sky.sun.direction.x",
             ..
         })
     ));
-    let mut s = Sky::new(m, sun, SMALL, &MemoryBudget::UNLIMITED).expect("a sky");
+    let mut s = Sky::new(m, sun, SMALL, &MemoryBudget::unlimited()).expect("a sky");
     assert!(s.set_sun(bad_sun).is_err());
     assert!(s.set_sun(sun_at(5.0)).is_ok());
     assert!((s.sun().direction.y - 5f64.to_radians().sin()).abs() < 1e-15);
@@ -617,7 +617,7 @@ fn the_frame_is_observer_centred() {
         ground_elevation: 120.0,
         ..SkyModel::earth()
     };
-    let s = Sky::new(m, sun_at(20.0), SMALL, &MemoryBudget::UNLIMITED).expect("a sky");
+    let s = Sky::new(m, sun_at(20.0), SMALL, &MemoryBudget::unlimited()).expect("a sky");
     // Far from the origin: the same sky, the same aerial perspective, the same sunlight.
     let here = s.view(DVec3::new(0.0, 500.0, 0.0));
     let far = s.view(DVec3::new(3.0e7, 500.0, -1.0e7));
@@ -703,7 +703,7 @@ fn finite_everywhere() {
     for (name, m) in models {
         for elevation in suns {
             let sun = sun_at(elevation);
-            let s = Sky::new(m, sun, SMALL, &MemoryBudget::UNLIMITED).expect("a sky");
+            let s = Sky::new(m, sun, SMALL, &MemoryBudget::unlimited()).expect("a sky");
             for &h in &heights {
                 let eye = DVec3::new(0.0, h, 0.0);
                 let view = s.view(eye);
@@ -784,7 +784,7 @@ fn shared_sky() -> &'static Sky {
             SkyModel::earth(),
             sun_at(3.0),
             SMALL,
-            &MemoryBudget::UNLIMITED,
+            &MemoryBudget::unlimited(),
         )
         .expect("a sky")
     })

@@ -29,6 +29,7 @@ mod footprint;
 mod frame;
 pub mod gpu_struct;
 mod image;
+pub mod input;
 mod interval;
 mod projector;
 mod ray;
@@ -36,7 +37,7 @@ pub mod root;
 pub mod samples;
 
 pub use aabb::Aabb;
-pub use budget::{BudgetError, MemoryBudget};
+pub use budget::{BudgetError, MemoryBudget, Reservation};
 pub use colour::{Rgb, ToneMap, linear_to_srgb, srgb_to_linear};
 pub use footprint::PixelFootprint;
 pub use frame::{Frame, RenderStats};

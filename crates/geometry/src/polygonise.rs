@@ -98,6 +98,7 @@ pub fn polygonise(
         return Err(BudgetError {
             what,
             needed: points.saturating_mul(8),
+            charged: 0,
             limit: MAX_GRID_POINTS * 8,
         });
     }

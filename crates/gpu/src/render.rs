@@ -26,7 +26,7 @@ use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::{GpuFog, GpuSky, GpuSkyOptions};
 use fray_clouds::gpu_layout::GpuClouds;
 use fray_clouds::march::CloudLight;
-use fray_core::{Frame, Image, MemoryBudget, PixelSamples, RenderStats};
+use fray_core::{Frame, Image, PixelSamples, RenderStats};
 use fray_scene::Scene;
 use glam::{DVec3, Vec3};
 use std::time::{Duration, Instant};
@@ -57,9 +57,6 @@ pub struct GpuSettings {
     pub culling: bool,
     /// Anti-aliasing samples per pixel.
     pub samples: PixelSamples,
-    /// The most a frame may allocate on the host for what grows with the image (its readback
-    /// and images) and the work list.
-    pub memory_budget: MemoryBudget,
 }
 
 impl GpuSettings {
@@ -70,7 +67,6 @@ impl GpuSettings {
             shadows: scene.settings.shadows,
             culling: true,
             samples: scene.settings.samples,
-            memory_budget: MemoryBudget::default(),
         }
     }
 }
@@ -281,7 +277,7 @@ impl<'a> GpuScene<'a> {
         let ctx = &renderer.ctx;
         let cache = &renderer.cache;
         let anchor = params::reference_point(&scene.camera);
-        let resident = ResidentScene::upload(ctx, cache, scene, anchor, &settings.memory_budget)?;
+        let resident = ResidentScene::upload(ctx, cache, scene, anchor, &scene.budget)?;
         let sizes = shader::array_sizes(scene, &resident.flat);
         let private = shader::private_bytes(&sizes);
         if private > shader::MAX_PRIVATE_BYTES {
@@ -441,9 +437,10 @@ impl<'a> GpuScene<'a> {
             return Err(GpuError::EmptyImage(width, height));
         }
         let pixels = u64::from(width) * u64::from(height);
-        self.settings
-            .memory_budget
-            .check_elements(
+        let _host_images = self
+            .scene
+            .budget
+            .reserve_elements(
                 format!("the GPU frame's readback and images ({width} × {height} pixels, {HOST_BYTES_PER_PIXEL} bytes each)"),
                 pixels,
                 HOST_BYTES_PER_PIXEL,
@@ -462,7 +459,7 @@ impl<'a> GpuScene<'a> {
         let mut uploaded = 0u64;
         // The work list of this view (with culling, the quadtree over its camera).
         let work = if self.settings.culling {
-            let config = quadtree_config(view.samples.count(), self.settings.memory_budget);
+            let config = quadtree_config(view.samples.count(), self.scene.budget.clone());
             GpuWork::culled(
                 scene,
                 (&view.camera, width, height),

@@ -283,11 +283,9 @@ fn anti_aliased_frames_match_the_cpu() {
 /// device's texture limit — each a clear error (`auto` renders such scenes on the CPU).
 fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
     let gpu = common::gpu("oversized_frames_and_scenes_are_refused_with_clear_errors");
-    let scene = data_scene("csg.ron", 64);
-    let settings = GpuSettings {
-        memory_budget: fray_core::MemoryBudget::new(4 << 30),
-        ..GpuSettings::for_scene(&scene)
-    };
+    let mut scene = data_scene("csg.ron", 64);
+    scene.budget = fray_core::MemoryBudget::new(4 << 30);
+    let settings = GpuSettings::for_scene(&scene);
     let mut resident = gpu.upload(&scene, &settings).unwrap();
     let mut view = View::of_scene(&scene, settings.samples);
     (view.width, view.height) = (16384, 16384);

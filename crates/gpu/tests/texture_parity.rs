@@ -629,11 +629,9 @@ fn a_scene_without_textures_builds_none_of_them() {
     );
     assert!(a.stats.passes[0].contains("textures"));
     // A budget below the texture data: refused before any upload.
-    let tight = GpuSettings {
-        memory_budget: MemoryBudget::new(16 * chain / 2),
-        ..settings
-    };
-    match gpu.upload(&scene, &tight) {
+    let mut tight = scene.clone();
+    tight.budget = MemoryBudget::new(16 * chain / 2);
+    match gpu.upload(&tight, &settings) {
         Err(fray_gpu::GpuError::Budget(e)) => {
             assert!(e.to_string().contains("texture data"), "{e}")
         }

@@ -41,7 +41,13 @@ fn bench(c: &mut Criterion) {
         let (w, h, ch) = (t.width(), t.height(), t.channels());
         group.bench_function(format!("mip chain {name}"), |b| {
             b.iter(|| {
-                Texture::from_texels(w, h, ch, black_box(base.clone()), &MemoryBudget::UNLIMITED)
+                Texture::from_texels(
+                    w,
+                    h,
+                    ch,
+                    black_box(base.clone()),
+                    &MemoryBudget::unlimited(),
+                )
             })
         });
     }

@@ -6,7 +6,7 @@ use crate::{Candidate, Candidates, PixelCoverage, QuadtreeError, RayBundle, Work
 use fray_core::{MemoryBudget, Projector};
 
 /// How far to subdivide.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct QuadtreeConfig {
     /// Cells no wider and no taller than this (pixels) are not split further: they become work
     /// items.

@@ -53,9 +53,6 @@ pub struct RenderOptions {
     /// CPU only: answer rays that meet only plain quadrics in closed form (default on); off, the
     /// CPU searches every ray by halving, as the GPU does (the same image to within ε).
     pub closed_form: Option<bool>,
-    /// The most a render may allocate for what grows with the input (frames, work lists);
-    /// `None`: `FRAY_MEMORY_BUDGET` or 4 GiB ([`fray_core::MemoryBudget::default`]).
-    pub memory_budget: Option<fray_core::MemoryBudget>,
     /// Anti-aliasing samples per pixel (overrides the scene's `settings.samples`).
     pub samples: Option<fray_core::PixelSamples>,
     /// CPU: the media's evaluation (overrides the scene's `atmosphere.grid`): `Some(0)` every
@@ -119,9 +116,6 @@ impl Renderer {
             settings.epsilon = eps;
         }
         settings.threads = self.options.threads;
-        if let Some(budget) = self.options.memory_budget {
-            settings.memory_budget = budget;
-        }
         if let Some(samples) = self.options.samples {
             settings.samples = samples;
         }
@@ -160,7 +154,6 @@ impl Renderer {
                     shadows: settings.shadows,
                     culling: settings.culling,
                     samples: settings.samples,
-                    memory_budget: settings.memory_budget,
                 };
                 let gpu = || {
                     let frame = fray_gpu::render(&scene, &gpu_settings)?;

@@ -41,7 +41,7 @@ pub fn parse_with(source: &str, file: &str, options: &BuildOptions) -> Result<Sc
 pub type BuildProgress<'a> = &'a (dyn Fn(&str, usize, usize) + Sync);
 
 /// How a scene builds what it needs while it loads.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Default)]
 pub struct BuildOptions<'a> {
     /// What every grid, map and table is checked against before it is allocated.
     pub budget: MemoryBudget,

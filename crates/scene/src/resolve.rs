@@ -255,6 +255,7 @@ pub(crate) fn resolve(
         clouds,
         settings,
         features,
+        budget: budget.clone(),
     })
 }
 

@@ -2,7 +2,7 @@
 
 use crate::description::TerrainLod;
 use crate::{FeatureSet, PrimitiveId, PrimitiveKind};
-use fray_core::{PixelSamples, Projector, Rgb};
+use fray_core::{MemoryBudget, PixelSamples, Projector, Rgb};
 use fray_geometry::Solid;
 use fray_mesh::Instance;
 use fray_terrain::Terrain;
@@ -34,6 +34,9 @@ pub struct Scene {
     pub settings: Settings,
     /// What this scene uses; backends build only what is listed.
     pub features: FeatureSet,
+    /// The render's memory account: what the scene built is charged to it, and the backends
+    /// charge their frames, work lists and device buffers to it too.
+    pub budget: MemoryBudget,
 }
 
 /// Render settings stored in the scene (command-line options override them).

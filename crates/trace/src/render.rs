@@ -90,13 +90,17 @@ pub fn render_into(
     let resized = !(sized(frame.colour.width(), frame.colour.height())
         && sized(frame.depth.width(), frame.depth.height())
         && sized(frame.normals.width(), frame.normals.height()));
-    if resized {
-        settings.memory_budget.check_elements(
+    // New images are charged to the render's account while it renders, so the work list and
+    // the media grid are checked against what the scene and the frame leave.
+    let _frame_images = if resized {
+        Some(scene.budget.reserve_elements(
             format!("the frame's colour, depth and normal images ({width} × {height} pixels, 32 bytes each)"),
             n as u64,
             FRAME_BYTES_PER_PIXEL,
-        )?;
-    }
+        )?)
+    } else {
+        None
+    };
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();
         if let Some(n) = settings.threads {
@@ -114,7 +118,7 @@ pub fn render_into(
     let (tiles, list): (Vec<Tile>, _) = if settings.culling {
         let config = QuadtreeConfig {
             cell_size: ts,
-            memory_budget: settings.memory_budget,
+            memory_budget: scene.budget.clone(),
             // Samples anywhere in a pixel need bundles over the whole pixel.
             coverage: if settings.samples.count() > 1 {
                 PixelCoverage::Area
@@ -176,15 +180,8 @@ pub fn render_into(
         .media_grid
         .filter(|_| integrator.media().is_some_and(|m| !m.has_clouds()));
     if let (Some(media), Some(spacing)) = (integrator.media(), grid_spacing) {
-        let grid = pool.install(|| {
-            MediaGrid::build(
-                scene,
-                media,
-                spacing,
-                settings.epsilon,
-                &settings.memory_budget,
-            )
-        })?;
+        let grid = pool
+            .install(|| MediaGrid::build(scene, media, spacing, settings.epsilon, &scene.budget))?;
         integrator.set_media_grid(grid);
     }
     let counters: Vec<(RayCounts, u64)> = pool.install(|| {

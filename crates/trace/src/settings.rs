@@ -1,6 +1,6 @@
 //! Settings of the CPU backend.
 
-use fray_core::{BudgetError, MemoryBudget, PixelSamples};
+use fray_core::{BudgetError, PixelSamples};
 use fray_geometry::CastMethod;
 
 /// How the CPU backend renders. Scene settings feed the defaults; the caller may override.
@@ -25,9 +25,6 @@ pub struct TraceSettings {
     /// How rays that meet only plain quadrics are answered: the certified closed form (the
     /// default) or the halving search everywhere, as the GPU does.
     pub method: CastMethod,
-    /// The most a frame may allocate for what grows with the image: its colour, depth and normal
-    /// images (32 bytes per pixel) and the quadtree's work list, each checked before it is made.
-    pub memory_budget: MemoryBudget,
     /// Anti-aliasing samples per pixel (the scene's `settings.samples`): colour is their
     /// box-filtered radiance; depth and normals come from the pixel centre.
     pub samples: PixelSamples,
@@ -47,7 +44,6 @@ impl TraceSettings {
             culling: true,
             shading: true,
             method: CastMethod::ClosedForm,
-            memory_budget: MemoryBudget::default(),
             samples: scene.settings.samples,
             media_grid: scene.atmosphere.grid,
         }

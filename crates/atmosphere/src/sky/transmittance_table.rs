@@ -234,7 +234,7 @@ mod tests {
     #[test]
     fn texel_centres_round_trip() {
         let model = SkyModel::earth();
-        let t = TransmittanceTable::new(&model, 16, 8, &MemoryBudget::UNLIMITED).unwrap();
+        let t = TransmittanceTable::new(&model, 16, 8, &MemoryBudget::unlimited()).unwrap();
         for j in 0..8 {
             for i in 0..16 {
                 let (r, mu) = t.texel_parameters(i, j);
