@@ -28,10 +28,14 @@ struct Cli {
 enum Command {
     /// Render a scene file (the built-in default scene if none is given).
     Render(RenderArgs),
-    /// Parse and validate a scene file, and print what it uses.
+    /// Parse and validate a scene file, and print what it uses and what it charged to the memory
+    /// budget.
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
+        /// The memory budget to build the scene within [default: FRAY_MEMORY_BUDGET or 4G].
+        #[arg(long, value_name = "BYTES")]
+        memory_budget: Option<fray_core::MemoryBudget>,
     },
 }
 
@@ -128,7 +132,10 @@ fn main() -> ExitCode {
         .or_else(|| Cli::parse_from(["fray", "render"]).command);
     let result = match command {
         Some(Command::Render(args)) => render(&args),
-        Some(Command::Check { scene }) => check(&scene),
+        Some(Command::Check {
+            scene,
+            memory_budget,
+        }) => check(&scene, memory_budget.unwrap_or_default()),
         None => Err("no command".to_owned()),
     };
     match result {
@@ -174,8 +181,8 @@ fn load(
     }
 }
 
-fn check(path: &Path) -> Result<(), String> {
-    let (scene, name) = load(Some(path), &fray_scene::BuildOptions::default())?;
+fn check(path: &Path, budget: fray_core::MemoryBudget) -> Result<(), String> {
+    let (scene, name) = load(Some(path), &fray_scene::BuildOptions::within(budget))?;
     let leaves: usize = scene.objects.iter().map(|o| o.solid.leaves().len()).sum();
     let perturbations: usize = scene
         .objects
@@ -192,7 +199,21 @@ fn check(path: &Path) -> Result<(), String> {
         scene.materials.len(),
         scene.features.names().join(", ")
     );
+    print_ledger(&scene.budget);
     Ok(())
+}
+
+/// What the scene charged to its memory account, item by item, and the total against the limit.
+fn print_ledger(budget: &fray_core::MemoryBudget) {
+    use fray_core::budget::human;
+    println!(
+        "memory: {} charged of the {} budget",
+        human(budget.charged()),
+        human(budget.bytes())
+    );
+    for (what, bytes) in budget.ledger() {
+        println!("  {:>10}  {what}", human(bytes));
+    }
 }
 
 fn render(args: &RenderArgs) -> Result<(), String> {

@@ -158,7 +158,7 @@ impl DensityGrid {
 /// The cell count of a grid of `size`, its f32 samples checked against `budget`.
 fn budgeted_count(size: [usize; 3], budget: &MemoryBudget) -> Result<u64, CloudsError> {
     let count = checked_count(size)?;
-    budget.check_elements(
+    budget.charge_elements(
         format!("a {} × {} × {} density grid", size[0], size[1], size[2]),
         count,
         4,

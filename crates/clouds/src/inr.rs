@@ -21,9 +21,17 @@ pub fn load(path: &Path, budget: &MemoryBudget) -> Result<Volume, CloudsError> {
         path: path.to_owned(),
         reason,
     };
-    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot read the file: {e}")))?;
+    let bytes = fray_core::input::read_file(path, budget).map_err(|e| match e {
+        fray_core::input::InputError::Budget(b) => CloudsError::Budget(b),
+        other => fail(format!("cannot read the file: {other}")),
+    })?;
     parse(&bytes, budget).map_err(|e| match e {
         Parse::Reason(r) => fail(r),
+        // The budget's error names the volume by its size; the user needs the file too.
+        Parse::Clouds(CloudsError::Budget(mut b)) => {
+            b.what = format!("{} ({})", b.what, path.display());
+            CloudsError::Budget(b)
+        }
         Parse::Clouds(c) => c,
     })
 }
@@ -111,7 +119,7 @@ fn parse(bytes: &[u8], budget: &MemoryBudget) -> Result<Volume, Parse> {
         return Err(reason("XDIM × YDIM × ZDIM overflows"));
     };
     budget
-        .check_elements(
+        .charge_elements(
             format!("the {} × {} × {} volume", size[0], size[1], size[2]),
             count,
             4,

@@ -51,13 +51,21 @@ pub fn read_file(path: &Path, budget: &MemoryBudget) -> Result<Vec<u8>, InputErr
     Ok(bytes)
 }
 
-/// [`read_file`] as UTF-8 text; invalid UTF-8 is an `InvalidData` error naming the line, the
-/// column and the byte offset of the first bad byte.
-pub fn read_text(path: &Path, budget: &MemoryBudget) -> Result<String, InputError> {
-    let bytes = read_file(path, budget)?;
+/// Where text stops being UTF-8: the 1-based line and column (in characters) and the byte
+/// offset of the first bad byte.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{line}:{column}: invalid UTF-8 at byte {byte}")]
+pub struct InvalidUtf8 {
+    pub line: usize,
+    pub column: usize,
+    pub byte: usize,
+}
+
+/// `bytes` as a `String`, or where they stop being UTF-8.
+pub fn utf8(bytes: Vec<u8>) -> Result<String, InvalidUtf8> {
     String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        let before = &e.as_bytes()[..at];
+        let byte = e.utf8_error().valid_up_to();
+        let before = &e.as_bytes()[..byte];
         let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
         let line_start = before
             .iter()
@@ -66,11 +74,15 @@ pub fn read_text(path: &Path, budget: &MemoryBudget) -> Result<String, InputErro
         // The valid prefix is UTF-8, so its characters can be counted for the column.
         let column =
             std::str::from_utf8(&before[line_start..]).map_or(0, |s| s.chars().count()) + 1;
-        InputError::Io(std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!("{line}:{column}: invalid UTF-8 at byte {at}; a scene file is UTF-8 text"),
-        ))
+        InvalidUtf8 { line, column, byte }
     })
+}
+
+/// [`read_file`] as UTF-8 text; invalid UTF-8 is an `InvalidData` error naming the line, the
+/// column and the byte offset of the first bad byte.
+pub fn read_text(path: &Path, budget: &MemoryBudget) -> Result<String, InputError> {
+    utf8(read_file(path, budget)?)
+        .map_err(|e| InputError::Io(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))
 }
 
 fn file_kind(kind: &std::fs::FileType) -> &'static str {
@@ -132,6 +144,16 @@ mod tests {
         std::fs::write(&path, b"ok\n\xffbad").unwrap();
         let e = read_text(&path, &budget).unwrap_err().to_string();
         assert!(e.contains("2:1: invalid UTF-8 at byte 3"), "{e}");
+        let mut bytes = "é\nab\u{e9}c".as_bytes().to_vec();
+        bytes.push(0xff);
+        assert_eq!(
+            utf8(bytes),
+            Err(InvalidUtf8 {
+                line: 2,
+                column: 5,
+                byte: 8
+            })
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

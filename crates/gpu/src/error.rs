@@ -29,7 +29,14 @@ pub enum GpuError {
     /// is not invertible, coordinates past f32).
     #[error("the meshes cannot be uploaded to the GPU: {0}")]
     Mesh(String),
-    #[error("the scene needs {what} = {needed}, more than this backend supports ({limit})")]
+    /// The scene needs more of something than the GPU backend (or this device) allows.
+    #[error(
+        "too large for the GPU: {what} — the scene needs {}, the GPU backend allows at most {} \
+         here; the CPU backend has no such limit (`--backend auto` falls back to it, \
+         `--backend cpu` uses it)",
+        grouped(*.needed),
+        grouped(*.limit)
+    )]
     TooLarge {
         what: &'static str,
         needed: u64,
@@ -44,5 +51,42 @@ impl GpuError {
             self,
             GpuError::NoAdapter(_) | GpuError::Device(_) | GpuError::DeviceLost(_)
         )
+    }
+}
+
+/// `n` with its digits in groups of three, e.g. `201 523 200`.
+fn grouped(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn too_large_reads_in_plain_words() {
+        assert_eq!(grouped(0), "0");
+        assert_eq!(grouped(999), "999");
+        assert_eq!(grouped(1000), "1 000");
+        assert_eq!(grouped(201_523_200), "201 523 200");
+        let e = GpuError::TooLarge {
+            what: "the rays in flight for one row of tiles, in bytes",
+            needed: 201_523_200,
+            limit: 134_217_728,
+        };
+        assert_eq!(
+            e.to_string(),
+            "too large for the GPU: the rays in flight for one row of tiles, in bytes — the scene \
+             needs 201 523 200, the GPU backend allows at most 134 217 728 here; the CPU backend \
+             has no such limit (`--backend auto` falls back to it, `--backend cpu` uses it)"
+        );
     }
 }

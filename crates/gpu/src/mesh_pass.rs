@@ -68,7 +68,7 @@ impl GpuMeshHit {
 pub fn layout_error(e: MeshLayoutError) -> GpuError {
     match e {
         MeshLayoutError::TooDeep { depth, limit, .. } => GpuError::TooLarge {
-            what: "mesh BVH stack entries (depth + 1)",
+            what: "a mesh BVH's depth + 1, in entries of the GPU traversal's stack",
             needed: u64::from(depth) + 1,
             limit: u64::from(limit),
         },
@@ -482,12 +482,12 @@ mod tests {
         assert_eq!(
             e,
             GpuError::TooLarge {
-                what: "mesh BVH stack entries (depth + 1)",
+                what: "a mesh BVH's depth + 1, in entries of the GPU traversal's stack",
                 needed: u64::from(depth) + 1,
                 limit: u64::from(depth),
             }
         );
-        assert!(e.to_string().contains("mesh BVH stack entries"), "{e}");
+        assert!(e.to_string().contains("GPU traversal's stack"), "{e}");
         assert!(mesh_layout(&[&bvh], &id, DVec3::ZERO, &budget).is_ok());
         let singular = [(0, DAffine3::from_scale(DVec3::new(0.0, 1.0, 1.0)))];
         let e = mesh_layout(&[&bvh], &singular, DVec3::ZERO, &budget).unwrap_err();

@@ -282,7 +282,8 @@ impl<'a> GpuScene<'a> {
         let private = shader::private_bytes(&sizes);
         if private > shader::MAX_PRIVATE_BYTES {
             return Err(GpuError::TooLarge {
-                what: "per-invocation private memory (bytes) for the largest solid",
+                what: "the private memory one GPU invocation needs for the largest solid, in bytes \
+                       (it grows with the solid's leaves and perturbations)",
                 needed: private,
                 limit: shader::MAX_PRIVATE_BYTES,
             });
@@ -449,7 +450,7 @@ impl<'a> GpuScene<'a> {
         let max_side = ctx.limits.max_texture_dimension_2d;
         if width.max(height) > max_side {
             return Err(GpuError::TooLarge {
-                what: "image side (pixels) of the frame's textures",
+                what: "the image's longer side, in pixels (the device's 2D texture limit)",
                 needed: u64::from(width.max(height)),
                 limit: u64::from(max_side),
             });
@@ -801,7 +802,8 @@ impl<'a> GpuScene<'a> {
         let tile = u64::from(TILE);
         if per_row * tile > limit {
             return Err(GpuError::TooLarge {
-                what: "bytes of rays in flight per row of tiles",
+                what: "the rays in flight for one row of 8-pixel tiles, in bytes (image width × \
+                       rays per pixel × bytes per ray; many anti-aliasing samples make it large)",
                 needed: per_row * tile,
                 limit,
             });

@@ -155,11 +155,14 @@ pub struct ResidentScene {
     pub textures: Option<crate::textures::ResidentTextures>,
     /// Bytes uploaded.
     pub bytes: u64,
+    /// The resident buffers' bytes on the render's memory account, for as long as they live.
+    _charged: fray_core::Reservation,
 }
 
 impl ResidentScene {
     /// Uploads `scene` relative to `anchor`; what it lays out on the host for the device (the
-    /// meshes' arrays) is checked against `budget` first.
+    /// meshes' arrays) is checked against `budget` first, and the resident buffers stay on its
+    /// account while they live.
     pub fn upload(
         ctx: &GpuContext,
         cache: &PipelineCache,
@@ -294,6 +297,9 @@ impl ResidentScene {
             meshes,
             textures,
             bytes,
+            _charged: budget
+                .reserve("the GPU scene's resident buffers", bytes)
+                .map_err(GpuError::Budget)?,
         })
     }
 

@@ -12,9 +12,13 @@ impl TriangleMesh {
     /// Loads the OBJ file at `path`: its normals and UVs when every object has them (normals
     /// computed, angle-weighted, otherwise); its size checked against `budget` first.
     pub fn load_obj(path: &Path, budget: &MemoryBudget) -> Result<Self, MeshError> {
-        let text = std::fs::read_to_string(path).map_err(|e| MeshError::Io {
-            path: path.to_owned(),
-            reason: e.to_string(),
+        // Only a regular file, no larger than what is left of the budget.
+        let text = fray_core::input::read_text(path, budget).map_err(|e| match e {
+            fray_core::input::InputError::Budget(source) => MeshError::Budget(source),
+            other => MeshError::Io {
+                path: path.to_owned(),
+                reason: other.to_string(),
+            },
         })?;
         let (vertices, faces) = check_lines(path, &text)?;
         // Positions, normals and UVs in f64 and the triangles, per vertex of the unified

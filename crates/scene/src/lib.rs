@@ -55,7 +55,7 @@ pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;
 pub use load::{
-    BuildOptions, BuildProgress, load, load_with, parse, parse_description, parse_with,
+    BuildOptions, BuildProgress, MAX_OBJECTS, load, load_with, parse, parse_description, parse_with,
 };
 pub use primitive::{PrimitiveId, PrimitiveKind};
 pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR};

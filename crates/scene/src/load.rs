@@ -6,9 +6,12 @@ use crate::path::{FieldPath, Segment};
 use crate::resolve::resolve;
 use crate::{Scene, SceneError};
 use fray_core::MemoryBudget;
+use fray_core::input::{InputError, read_file, utf8};
 use ron::error::{Error as RonError, SpannedError};
 use ron::extensions::Extensions;
+use std::collections::HashMap;
 use std::path::Path;
+use std::path::PathBuf;
 
 /// Reads, parses, validates and resolves the scene file at `path`. Errors name the file.
 /// What it builds (height maps and pyramids, cloud grids, sky tables) is checked against the
@@ -19,11 +22,30 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 
 /// [`load`] building as `options` say: within their memory budget, reporting long builds.
 pub fn load_with(path: &Path, options: &BuildOptions) -> Result<Scene, SceneError> {
-    let source = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let source = read_scene_file(path, &options.budget)?;
     parse_with(&source, &path.display().to_string(), options)
+}
+
+/// The text of the scene file at `path`: a regular file within what is left of the budget (so a
+/// device or a FIFO is refused at once), UTF-8 (a bad byte is a syntax error at its line and
+/// column).
+fn read_scene_file(path: &Path, budget: &MemoryBudget) -> Result<String, SceneError> {
+    let bytes = read_file(path, budget).map_err(|e| SceneError::Io {
+        path: path.to_owned(),
+        source: match e {
+            InputError::Io(source) => source,
+            other => std::io::Error::other(other.to_string()),
+        },
+    })?;
+    utf8(bytes).map_err(|e| SceneError::Syntax {
+        file: path.display().to_string(),
+        line: e.line,
+        column: e.column,
+        message: format!(
+            "invalid UTF-8 at byte {} (a scene file is UTF-8 text)",
+            e.byte
+        ),
+    })
 }
 
 /// Parses, validates and resolves scene text; `file` is the name errors report, and asset paths
@@ -34,7 +56,7 @@ pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
 
 /// [`parse`] building as `options` say.
 pub fn parse_with(source: &str, file: &str, options: &BuildOptions) -> Result<Scene, SceneError> {
-    parse_at_depth(source, file, 0, options).map(|(scene, _)| scene)
+    parse_at_depth(source, file, 0, options, &mut Includes::default()).map(|(scene, _)| scene)
 }
 
 /// A report of a long build's progress: what, steps done, steps in all (from any thread).
@@ -79,6 +101,24 @@ impl BuildOptions<'_> {
 /// How deep `include`s may nest (a file that includes itself stops here).
 const MAX_INCLUDE_DEPTH: usize = 8;
 
+/// The most objects a scene may hold once its includes are merged. Every object is a candidate
+/// that the quadtree tests against every cell it reaches, so the cost of a frame grows with the
+/// count; a few includes that include each other several times reach millions from a few
+/// hundred bytes of text, and this stops them before they are copied.
+pub const MAX_OBJECTS: usize = 100_000;
+
+/// What one object of a scene costs before its shape's own lists: its description and its
+/// resolved form, charged to the budget for every object after includes.
+const OBJECT_BYTES: u64 =
+    (std::mem::size_of::<description::Object>() + std::mem::size_of::<crate::Object>()) as u64;
+
+/// The files one load includes, each parsed and validated once, by their canonical path: the
+/// description with its own includes merged and its asset paths made absolute.
+#[derive(Default)]
+struct Includes {
+    merged: HashMap<PathBuf, description::Scene>,
+}
+
 /// [`parse`] of a file `depth` includes deep; also returns its description with its includes
 /// merged, for the file that includes it.
 fn parse_at_depth(
@@ -86,6 +126,7 @@ fn parse_at_depth(
     file: &str,
     depth: usize,
     options: &BuildOptions,
+    includes: &mut Includes,
 ) -> Result<(Scene, description::Scene), SceneError> {
     let mut d = parse_description(source, file)?;
     // Assets (height maps) are found relative to the scene file.
@@ -100,8 +141,8 @@ fn parse_at_depth(
             message,
         }
     };
-    let includes = std::mem::take(&mut d.include);
-    for (i, name) in includes.iter().enumerate() {
+    let names = std::mem::take(&mut d.include);
+    for (i, name) in names.iter().enumerate() {
         let at = FieldPath::root().field("include").index(i);
         if depth >= MAX_INCLUDE_DEPTH {
             return Err(located(
@@ -110,11 +151,47 @@ fn parse_at_depth(
             ));
         }
         let path = base.join(name);
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| located(at.clone(), format!("cannot read {}: {e}", path.display())))?;
-        let (_, mut included) =
-            parse_at_depth(&text, &path.display().to_string(), depth + 1, options)?;
-        rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
+        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        let included = match includes.merged.get(&key) {
+            Some(included) => included,
+            None => {
+                let text = read_scene_file(&path, &options.budget).map_err(|e| match e {
+                    SceneError::Io { source, .. } => located(
+                        at.clone(),
+                        format!("cannot read {}: {source}", path.display()),
+                    ),
+                    other => other,
+                })?;
+                // The included file is validated on its own (so its errors name it), on an
+                // account of its own: what it builds is dropped at once and built again, and
+                // charged, as part of this scene.
+                let alone = BuildOptions {
+                    budget: MemoryBudget::new(options.budget.remaining()),
+                    progress: options.progress,
+                };
+                let (_, mut included) = parse_at_depth(
+                    &text,
+                    &path.display().to_string(),
+                    depth + 1,
+                    &alone,
+                    includes,
+                )?;
+                rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
+                includes.merged.entry(key).or_insert(included)
+            }
+        };
+        let objects = d.objects.len().saturating_add(included.objects.len());
+        if objects > MAX_OBJECTS {
+            return Err(located(
+                at,
+                format!(
+                    "with {} the scene would hold {objects} objects, more than the \
+                     {MAX_OBJECTS} a scene may hold",
+                    path.display()
+                ),
+            ));
+        }
+        let included = included.clone();
         for (material, m) in included.materials {
             match d.materials.get(&material) {
                 Some(own) if *own != m => {
@@ -134,6 +211,14 @@ fn parse_at_depth(
         }
         d.objects.extend(included.objects);
     }
+    options
+        .budget
+        .charge_elements(
+            "the scene's objects after includes",
+            d.objects.len() as u64,
+            OBJECT_BYTES,
+        )
+        .map_err(|e| located(FieldPath::root().field("objects"), e.to_string()))?;
     let scene = resolve(&d, base, options).map_err(|e| {
         let LineColumn { line, column } = locate(source, &e.path);
         SceneError::Invalid {

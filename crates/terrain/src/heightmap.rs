@@ -77,7 +77,7 @@ impl Heightmap {
     ) -> Result<Self, TerrainError> {
         check_size(width, height)?;
         budget
-            .check_elements(
+            .charge_elements(
                 format!("the {width} × {height} height map's f32 samples"),
                 (width * height) as u64,
                 4,

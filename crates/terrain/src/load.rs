@@ -8,6 +8,7 @@
 use crate::heightmap::check_size;
 use crate::{Heightmap, TerrainError, npy};
 use fray_core::MemoryBudget;
+use fray_core::input::{InputError, checked_file_size, read_file};
 use image::ImageDecoder;
 use std::path::Path;
 
@@ -42,29 +43,39 @@ impl Heightmap {
                 source: Box::new(other),
             },
         };
-        let io = |source| TerrainError::Io {
-            path: path.to_owned(),
+        let over_budget = |source| TerrainError::Budget {
+            path: Some(path.to_owned()),
             source,
         };
-        let over = |what: String, bytes: u64| {
+        let over = |what: String, bytes: u64| budget.check(what, bytes).map_err(over_budget);
+        // The samples live as long as the terrain: charged to the render's account.
+        let charge_samples = |w: usize, h: usize| {
             budget
-                .check(what, bytes)
-                .map_err(|source| TerrainError::Budget {
-                    path: Some(path.to_owned()),
-                    source,
-                })
+                .charge(
+                    "height maps' f32 samples",
+                    (w as u64).saturating_mul(h as u64).saturating_mul(4),
+                )
+                .map_err(over_budget)
         };
-        // The file's bytes, read whole (PNG, .npy): checked before reading.
-        let read = |what: &str| {
-            let len = std::fs::metadata(path).map_err(io)?.len();
-            over(format!("reading the {what} height-map file"), len)?;
-            std::fs::read(path).map_err(io)
+        // Only a regular file, no larger than what is left of the budget.
+        let input = |e: InputError| match e {
+            InputError::Budget(source) => over_budget(source),
+            InputError::Io(source) => TerrainError::Io {
+                path: path.to_owned(),
+                source,
+            },
+            other => TerrainError::Io {
+                path: path.to_owned(),
+                source: std::io::Error::other(other.to_string()),
+            },
         };
+        // The file's bytes, read whole (PNG, .npy).
+        let read = || read_file(path, budget).map_err(input);
         let check = |w: usize, h: usize| check_size(w, h).map_err(|e| e.to_string());
         let samples_bytes = |w: usize, h: usize| (w as u64).saturating_mul(h as u64) * 4;
         let (width, height, samples) = match ext.as_deref() {
             Some("png") => {
-                let bytes = read("PNG")?;
+                let bytes = read()?;
                 let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
                     .map_err(|e| format(format!("not a readable PNG: {e}")))?;
                 let (w, h) = decoder.dimensions();
@@ -80,6 +91,7 @@ impl Heightmap {
                     ),
                     peak,
                 )?;
+                charge_samples(w, h)?;
                 let image = image::DynamicImage::from_decoder(decoder)
                     .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
                 let samples: Vec<f32> = match image {
@@ -99,8 +111,9 @@ impl Heightmap {
                 (w, h, samples)
             }
             Some("exr") => {
-                // exr opens the file itself: report a missing file as an I/O error first.
-                std::fs::metadata(path).map_err(io)?;
+                // exr opens the file itself: report a missing file, a device or a FIFO, or one
+                // larger than the budget left, before it does.
+                checked_file_size(path, budget).map_err(input)?;
                 let meta = exr::meta::MetaData::read_from_file(path, false)
                     .map_err(|e| format(format!("not a readable OpenEXR file: {e}")))?;
                 let header = meta
@@ -121,6 +134,7 @@ impl Heightmap {
                     ),
                     decoded.saturating_add(samples_bytes(w, h)),
                 )?;
+                charge_samples(w, h)?;
                 let image = exr::prelude::read_first_flat_layer_from_file(path)
                     .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
                 let layer = image.layer_data;
@@ -144,7 +158,7 @@ impl Heightmap {
                 (w, h, samples)
             }
             Some("npy") => {
-                let bytes = read(".npy")?;
+                let bytes = read()?;
                 let header = npy::parse_header(&bytes).map_err(format)?;
                 let (w, h) = (header.columns, header.rows);
                 check(w, h).map_err(format)?;
@@ -155,6 +169,7 @@ impl Heightmap {
                     ),
                     (bytes.len() as u64).saturating_add(samples_bytes(w, h)),
                 )?;
+                charge_samples(w, h)?;
                 let a = npy::decode(&bytes, &header).map_err(format)?;
                 (a.columns, a.rows, a.values)
             }

@@ -138,7 +138,7 @@ fn samples_over_the_budget_are_refused_before_decoding() {
     refused(
         Heightmap::load_within(&path, &MemoryBudget::new(64)),
         Some(&path),
-        "reading the PNG height-map file",
+        &format!("the file {}", path.display()),
         "64 bytes",
     );
     // .npy: a header claiming 8192 × 8192 f32 (256 MiB) over a 128-byte file: refused by a
@@ -166,10 +166,11 @@ fn samples_over_the_budget_are_refused_before_decoding() {
         .to_file(&exr_path)
         .unwrap();
     refused(
-        Heightmap::load_within(&exr_path, &MemoryBudget::new(512 << 10)),
+        // (the file, 518 KiB, fits; its decoded layer does not)
+        Heightmap::load_within(&exr_path, &MemoryBudget::new(640 << 10)),
         Some(&exr_path),
         "decoding the 256 × 256 OpenEXR height map (3 channels",
-        "512 KiB",
+        "640 KiB",
     );
     assert_eq!(
         Heightmap::load_within(&exr_path, &MemoryBudget::new(2 << 20))

@@ -160,8 +160,9 @@ impl Sky {
         model.validate()?;
         let sun = checked_sun(sun)?;
         tables.validate()?;
-        // The sky-view table of every later `view` has this size: refuse it now.
-        budget.check_elements(
+        // The sky-view table of every later `view` has this size (one lives while the scene
+        // renders): charge it now.
+        budget.charge_elements(
             "the sky-view table",
             u64::from(tables.sky_view_width) * u64::from(tables.sky_view_height),
             std::mem::size_of::<[f32; 4]>() as u64,

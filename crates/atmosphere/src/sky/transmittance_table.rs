@@ -73,7 +73,7 @@ impl TransmittanceTable {
         check_side("sky.tables.transmittance_width", width)?;
         check_side("sky.tables.transmittance_height", height)?;
         let count = u64::from(width) * u64::from(height);
-        budget.check_elements(
+        budget.charge_elements(
             "the sky's transmittance table",
             count,
             std::mem::size_of::<[f32; 4]>() as u64,

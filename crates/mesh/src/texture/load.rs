@@ -14,6 +14,7 @@
 use super::texels::check_size;
 use super::{Channels, Texture, TextureError};
 use fray_core::MemoryBudget;
+use fray_core::input::{InputError, checked_file_size, read_file};
 use image::ImageDecoder;
 use std::path::Path;
 
@@ -58,13 +59,6 @@ impl Texture {
     }
 }
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> TextureError + '_ {
-    move |e| TextureError::Io {
-        path: path.to_owned(),
-        reason: e.to_string(),
-    }
-}
-
 fn format(path: &Path) -> impl Fn(String) -> TextureError + '_ {
     move |reason| TextureError::Format {
         path: path.to_owned(),
@@ -73,12 +67,40 @@ fn format(path: &Path) -> impl Fn(String) -> TextureError + '_ {
 }
 
 fn over(path: &Path, budget: &MemoryBudget, what: String, bytes: u64) -> Result<(), TextureError> {
+    budget.check(what, bytes).map_err(budget_error(path))
+}
+
+fn budget_error(path: &Path) -> impl Fn(fray_core::BudgetError) -> TextureError + '_ {
+    move |source| TextureError::Budget {
+        path: Some(path.to_owned()),
+        source,
+    }
+}
+
+/// A file that could not be read (or is not a regular file, or is larger than what is left of
+/// the budget), naming its path.
+fn input(path: &Path) -> impl Fn(InputError) -> TextureError + '_ {
+    move |e| match e {
+        InputError::Budget(source) => budget_error(path)(source),
+        other => TextureError::Io {
+            path: path.to_owned(),
+            reason: other.to_string(),
+        },
+    }
+}
+
+/// Charges the texture's mip chain to the render's account: it lives as long as the scene.
+fn charge_chain(
+    path: &Path,
+    budget: &MemoryBudget,
+    (w, h, channels): (u32, u32, Channels),
+) -> Result<(), TextureError> {
     budget
-        .check(what, bytes)
-        .map_err(|source| TextureError::Budget {
-            path: Some(path.to_owned()),
-            source,
-        })
+        .charge(
+            format!("textures' mip chains (the {w} × {h} {})", path.display()),
+            Texture::chain_bytes(w, h, channels),
+        )
+        .map_err(budget_error(path))
 }
 
 fn load_png(
@@ -87,9 +109,7 @@ fn load_png(
     budget: &MemoryBudget,
 ) -> Result<Texture, TextureError> {
     let format = format(path);
-    let len = std::fs::metadata(path).map_err(io(path))?.len();
-    over(path, budget, "reading the PNG texture file".into(), len)?;
-    let bytes = std::fs::read(path).map_err(io(path))?;
+    let bytes = read_file(path, budget).map_err(input(path))?;
     let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
         .map_err(|e| format(format!("not a readable PNG: {e}")))?;
     let (w, h) = decoder.dimensions();
@@ -112,6 +132,7 @@ fn load_png(
         ),
         peak,
     )?;
+    charge_chain(path, budget, (w, h, channels))?;
     let image = image::DynamicImage::from_decoder(decoder)
         .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
     drop(bytes);
@@ -172,8 +193,9 @@ fn decode16(raw: Vec<u16>, is_colour: impl Fn(usize) -> bool) -> Vec<f32> {
 
 fn load_exr(path: &Path, budget: &MemoryBudget) -> Result<Texture, TextureError> {
     let format = format(path);
-    // exr opens the file itself: report a missing file as an I/O error first.
-    std::fs::metadata(path).map_err(io(path))?;
+    // exr opens the file itself: report a missing file, a device or a FIFO, or one larger than
+    // the budget left, before it does.
+    checked_file_size(path, budget).map_err(input(path))?;
     let meta = exr::meta::MetaData::read_from_file(path, false)
         .map_err(|e| format(format!("not a readable OpenEXR file: {e}")))?;
     let header = meta
@@ -208,6 +230,7 @@ fn load_exr(path: &Path, budget: &MemoryBudget) -> Result<Texture, TextureError>
         ),
         decoded.saturating_add(Texture::chain_bytes(w, h, channels)),
     )?;
+    charge_chain(path, budget, (w, h, channels))?;
     let image = exr::prelude::read_first_flat_layer_from_file(path)
         .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
     let layer = image.layer_data;

@@ -88,7 +88,7 @@ impl Texture {
             )));
         }
         budget
-            .check(
+            .charge(
                 format!("the {width} × {height} texture's mip chain"),
                 Self::chain_bytes(width, height, channels),
             )

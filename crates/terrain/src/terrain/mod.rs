@@ -138,6 +138,15 @@ impl Terrain {
                 per_pyramid.saturating_mul(count),
             )
             .map_err(|source| TerrainError::Budget { path: None, source })?;
+        // The pyramids stay with the terrain; the per-cell bounds go when it is built.
+        budget
+            .charge(
+                "terrains' pyramids",
+                (Pyramid::len_for(cw, ch) as u64)
+                    .saturating_mul(4)
+                    .saturating_mul(count),
+            )
+            .map_err(|source| TerrainError::Budget { path: None, source })?;
         let mut hi = vec![f32::NEG_INFINITY; cw * ch];
         let mut lo = if options.min_pyramid {
             vec![f32::NEG_INFINITY; cw * ch]
