@@ -118,6 +118,16 @@ fn parse(bytes: &[u8], budget: &MemoryBudget) -> Result<Volume, Parse> {
     let Some(count) = count else {
         return Err(reason("XDIM × YDIM × ZDIM overflows"));
     };
+    // The file's bytes and the voxels are alive together while they are converted.
+    budget
+        .check(
+            format!(
+                "reading the {} × {} × {} volume (the file and its f32 voxels together)",
+                size[0], size[1], size[2]
+            ),
+            count.saturating_mul(4).saturating_add(bytes.len() as u64),
+        )
+        .map_err(|e| Parse::Clouds(e.into()))?;
     budget
         .charge_elements(
             format!("the {} × {} × {} volume", size[0], size[1], size[2]),

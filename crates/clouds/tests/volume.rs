@@ -90,12 +90,14 @@ fn the_ct_scan_loads_with_its_documented_size_and_range() {
             (a.min(v), b.max(v))
         });
     assert!(lo >= 0.0 && (5.0..5.5).contains(&hi), "{lo} … {hi}");
-    // A budget below its 1 MiB of voxels refuses it before reading them.
-    let small = MemoryBudget::new(1 << 19);
-    assert!(matches!(
-        inr::load(&path, &small),
-        Err(CloudsError::Budget(_))
-    ));
+    // A budget below the file's 1 MiB refuses it before reading it; one that holds the file
+    // but not the file and its voxels together refuses the voxels. Both name the file.
+    for small in [MemoryBudget::new(1 << 19), MemoryBudget::new(3 << 19)] {
+        let e = inr::load(&path, &small);
+        let text = format!("{:?}", e.as_ref().err());
+        assert!(matches!(e, Err(CloudsError::Budget(_))), "{text}");
+        assert!(text.contains("skull_2.9.inr"), "{text}");
+    }
 }
 
 #[test]
