@@ -68,6 +68,33 @@ fn summary_line_reports_time_and_steps() {
     );
 }
 
+/// `fray check` prints what the scene charged to its memory account, item by item, and refuses
+/// a scene over `--memory-budget` naming what and the limit.
+#[test]
+fn check_prints_the_memory_ledger() {
+    let o = fray(&["check", "data/scenes/terrain_pair.ron"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("charged of the 4.00 GiB budget")
+            && stdout.contains("height maps' f32 samples")
+            && stdout.contains("terrains' pyramids"),
+        "{stdout}"
+    );
+    let o = fray(&[
+        "check",
+        "data/scenes/terrain_pair.ron",
+        "--memory-budget",
+        "1M",
+    ]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("memory budget of 1.00 MiB") && err.contains("objects["),
+        "{err}"
+    );
+}
+
 #[test]
 fn check_lists_features() {
     let o = fray(&["check", "data/scenes/csg.ron"]);
