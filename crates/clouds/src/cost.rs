@@ -121,14 +121,26 @@ pub(crate) fn count(n: f64) -> String {
     }
 }
 
+/// A length for a message: as written between 1e-4 and 10¹⁵, else in scientific notation.
+pub(crate) fn length(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn counts_read_whole_or_scientific() {
+    fn counts_and_lengths_read_plain_or_scientific() {
         assert_eq!(count(65536.0), "65536");
         assert_eq!(count(1.5e300), "1.500e300");
         assert_eq!(count(f64::INFINITY), "inf");
+        assert_eq!(length(1.5), "1.5");
+        assert_eq!(length(1e-7), "1.000e-7");
+        assert_eq!(length(3.464_101_615e300), "3.464e300");
     }
 }

@@ -13,7 +13,9 @@ pub enum CloudsError {
     Budget(#[from] fray_core::BudgetError),
     /// A view ray's march would take more density samples than [`crate::cost::MAX_RAY_SAMPLES`].
     #[error(
-        "a march across the region's diagonal {diagonal} in steps of {step} takes {} view steps, each with {sun_steps} sun steps: {} density samples per ray, over the cap of {limit}",
+        "a march across the region's diagonal {} in steps of {} takes {} view steps, each with {sun_steps} sun steps: {} density samples per ray, over the cap of {limit}",
+        crate::cost::length(*diagonal),
+        crate::cost::length(*step),
         crate::cost::count(*view_steps),
         crate::cost::count(*samples)
     )]
