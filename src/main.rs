@@ -28,8 +28,8 @@ struct Cli {
 enum Command {
     /// Render a scene file (the built-in default scene if none is given).
     Render(RenderArgs),
-    /// Parse and validate a scene file, and print what it uses and what it charged to the memory
-    /// budget.
+    /// Parse and validate a scene file, and print what it holds (objects of every kind), what it
+    /// uses and what it charged to the memory budget.
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
@@ -55,7 +55,7 @@ struct RenderArgs {
     /// Ray-casting tolerance in world units (default: 1e-10 × the scene's size).
     #[arg(long)]
     eps: Option<f64>,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: all cores; at most 8 per core).
     #[arg(long)]
     threads: Option<usize>,
     /// Which backend renders.
@@ -182,6 +182,7 @@ fn load(
 }
 
 fn check(path: &Path, budget: fray_core::MemoryBudget) -> Result<(), String> {
+    use fray_scene::PrimitiveKind;
     let (scene, name) = load(Some(path), &fray_scene::BuildOptions::within(budget))?;
     let leaves: usize = scene.objects.iter().map(|o| o.solid.leaves().len()).sum();
     let perturbations: usize = scene
@@ -189,12 +190,24 @@ fn check(path: &Path, budget: fray_core::MemoryBudget) -> Result<(), String> {
         .iter()
         .map(|o| o.solid.perturbation_count())
         .sum();
+    // Every kind of object counts (a mesh-only scene is not "0 objects").
+    let total: usize = PrimitiveKind::ALL.iter().map(|&k| scene.count(k)).sum();
+    let kinds: Vec<String> = PrimitiveKind::ALL
+        .iter()
+        .map(|&k| match k {
+            PrimitiveKind::FreeForm => format!(
+                "{} {} with {leaves} free forms and {perturbations} perturbations",
+                scene.count(k),
+                k.name()
+            ),
+            _ => format!("{} {}", scene.count(k), k.name()),
+        })
+        .collect();
     println!(
-        "{name}: ok — {}×{}, {} objects ({leaves} free forms, {perturbations} perturbations), {} terrains, {} lights, {} materials; features: {}",
+        "{name}: ok — {}×{}, {total} objects ({}), {} lights, {} materials; features: {}",
         scene.width,
         scene.height,
-        scene.objects.len(),
-        scene.terrains.len(),
+        kinds.join(", "),
         scene.lights.len(),
         scene.materials.len(),
         scene.features.names().join(", ")
@@ -217,6 +230,25 @@ fn print_ledger(budget: &fray_core::MemoryBudget) {
 }
 
 fn render(args: &RenderArgs) -> Result<(), String> {
+    let renderer = Renderer::new(RenderOptions {
+        backend: match args.backend {
+            BackendArg::Cpu => Backend::Cpu,
+            BackendArg::Gpu => Backend::Gpu,
+            BackendArg::Auto => Backend::Auto,
+        },
+        width: args.width,
+        height: args.height,
+        epsilon: args.eps,
+        threads: args.threads,
+        shadows: args.no_shadows.then_some(false),
+        culling: args.no_culling.then_some(false),
+        closed_form: args.no_closed_form.then_some(false),
+        samples: args.samples,
+        media_grid: args.media_grid,
+    });
+    // Options no scene could make right (`--threads` past the machine's limit) are refused
+    // before the scene is loaded.
+    renderer.options().check().map_err(|e| e.to_string())?;
     // Long builds (a cloud layer's bake) show a bar on a terminal.
     let build_bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);
@@ -256,22 +288,6 @@ fn render(args: &RenderArgs) -> Result<(), String> {
     });
     // Refuse an output the writers cannot produce before rendering, not after.
     fray_render::output::check_extension(&output).map_err(|e| e.to_string())?;
-    let renderer = Renderer::new(RenderOptions {
-        backend: match args.backend {
-            BackendArg::Cpu => Backend::Cpu,
-            BackendArg::Gpu => Backend::Gpu,
-            BackendArg::Auto => Backend::Auto,
-        },
-        width: args.width,
-        height: args.height,
-        epsilon: args.eps,
-        threads: args.threads,
-        shadows: args.no_shadows.then_some(false),
-        culling: args.no_culling.then_some(false),
-        closed_form: args.no_closed_form.then_some(false),
-        samples: args.samples,
-        media_grid: args.media_grid,
-    });
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);
         bar.set_style(

@@ -461,3 +461,95 @@ fn media_grid_option_and_fog_in_the_summary() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("fog"));
 }
+
+/// Writes `body` as `name.ron` into a fresh temp dir and runs `fray check` on it.
+fn check_scene(name: &str, body: &str) -> (Output, PathBuf) {
+    let scene = temp_dir(name).join(format!("{name}.ron"));
+    std::fs::write(&scene, body).expect("write scene");
+    (fray(&["check", scene.to_str().unwrap()]), scene)
+}
+
+#[test]
+fn check_counts_objects_of_every_kind() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let bunny = data.join("meshes/bunny00.obj").display().to_string();
+    let dem = data
+        .join("terrain/jacksboro_fault_dem.png")
+        .display()
+        .to_string();
+    let mesh = format!("(name: \"bunny\", shape: Mesh(path: \"{bunny}\"))");
+    let terrain = format!("(name: \"land\", shape: Terrain(path: \"{dem}\", spacing: (74, 93)))");
+    let sphere = "(shape: Sphere(center: (0, 0, 0), radius: 1))";
+    for (name, objects, line) in [
+        (
+            "mesh-only",
+            vec![mesh.as_str()],
+            "1 objects (0 free-form with 0 free forms and 0 perturbations, 0 terrain, 1 mesh)",
+        ),
+        (
+            "terrain-only",
+            vec![terrain.as_str()],
+            "1 objects (0 free-form with 0 free forms and 0 perturbations, 1 terrain, 0 mesh)",
+        ),
+        (
+            "every-kind",
+            vec![sphere, terrain.as_str(), mesh.as_str(), mesh.as_str()],
+            "4 objects (1 free-form with 1 free forms and 0 perturbations, 1 terrain, 2 mesh)",
+        ),
+    ] {
+        let body = format!("(objects: [{}])", objects.join(", "));
+        let (o, _) = check_scene(name, &body);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(stdout.contains(line), "{name}: {stdout}");
+    }
+}
+
+#[test]
+fn threads_past_the_machines_limit_are_refused_before_the_scene_is_loaded() {
+    // The bound: 8 threads per core (fray_trace::MAX_THREADS_PER_CORE). The scene named does
+    // not exist: the refusal comes before it is read, and before any thread starts.
+    let started = std::time::Instant::now();
+    let o = fray(&["render", "no/such/scene.ron", "--threads", "10000"]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("10000 worker threads asked for, over the limit of")
+            && err.contains("per core")
+            && !err.contains("scene.ron"),
+        "{err}"
+    );
+    // Nothing to wait for: the old path started 10 000 threads first (minutes).
+    assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
+}
+
+#[test]
+fn check_refuses_a_cloud_march_or_bake_past_its_cap_at_once() {
+    // The reproducers: a step of 1e-7 in a unit box (1.7e7 steps per ray: hours), and a
+    // 1024³ layer (4 GiB, within the default budget: more than ten minutes to bake). Each is
+    // refused at load at its field, naming its cost and the cap.
+    let (o, scene) = check_scene(
+        "cloud-step",
+        "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)),\n  step: 1e-7,\n  density: Layer((resolution: (8, 8, 8)))))",
+    );
+    assert!(!o.status.success());
+    assert_names(&stderr(&o), &scene, 2, "clouds.step");
+    assert!(
+        stderr(&o).contains("over the cap of 65536"),
+        "{}",
+        stderr(&o)
+    );
+    let started = std::time::Instant::now();
+    let (o, scene) = check_scene(
+        "cloud-bake",
+        "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)),\n  density: Layer((\n    resolution: (1024, 1024, 1024)))))",
+    );
+    assert!(!o.status.success());
+    assert_names(&stderr(&o), &scene, 3, "clouds.density.resolution");
+    assert!(
+        stderr(&o).contains("units of work, over the cap of 1073741824"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
+}

@@ -232,7 +232,11 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
         let step = cells * cell;
         let march = || -> Vec<Option<f64>> {
             rays.iter()
-                .map(|r| exact_terrain.march(r, all, step))
+                .map(|r| {
+                    exact_terrain
+                        .march(r, all, step)
+                        .expect("the sweep's steps are within MAX_MARCH_STEPS")
+                })
                 .collect()
         };
         // The finest steps are slow: time them once.

@@ -1,4 +1,5 @@
-//! The errors of `fray-atmosphere`: a parameter out of its range, or a table past its budget.
+//! The errors of `fray-atmosphere`: a parameter out of its range, a table past its budget or
+//! its work cap.
 
 /// What can go wrong when an atmosphere is built.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -9,6 +10,14 @@ pub enum AtmosphereError {
         field: &'static str,
         value: f64,
         reason: &'static str,
+    },
+    /// A table would take more march steps to fill than its cap.
+    #[error("{field}: {what} takes {work} march steps, over the cap of {limit}")]
+    Work {
+        field: &'static str,
+        what: String,
+        work: u64,
+        limit: u64,
     },
     /// A table would exceed the memory budget.
     #[error(transparent)]

@@ -519,6 +519,52 @@ fn sky_colour_sanity() {
 }
 
 #[test]
+fn the_sky_view_tables_march_is_capped_before_anything_is_built() {
+    // The bound: texels × steps per texel ≤ MAX_SKY_VIEW_MARCH_STEPS (2²⁴), checked by
+    // `validate` before any table is allocated or filled.
+    let at_cap = SkyTables {
+        sky_view_width: 4096,
+        sky_view_height: 4096,
+        sky_view_steps: 1,
+        ..SkyTables::default()
+    };
+    assert_eq!(
+        4096 * 4096,
+        fray_atmosphere::sky::MAX_SKY_VIEW_MARCH_STEPS,
+        "the case at the cap"
+    );
+    assert_eq!(at_cap.validate(), Ok(()));
+    assert_eq!(SkyTables::default().validate(), Ok(()));
+    let past = SkyTables {
+        sky_view_height: 2048,
+        sky_view_steps: 4096,
+        ..at_cap
+    };
+    // Refused at once (filling it would take hours).
+    let e = Sky::new(
+        SkyModel::earth(),
+        sun_at(30.0),
+        past,
+        &MemoryBudget::unlimited(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        AtmosphereError::Work {
+            field: "sky.tables.sky_view_steps",
+            what: "a 4096 × 2048 sky-view table of 4096 steps per texel".into(),
+            work: 4096 * 2048 * 4096,
+            limit: 1 << 24,
+        }
+    );
+    assert!(
+        e.to_string()
+            .contains("takes 34359738368 march steps, over the cap of 16777216"),
+        "{e}"
+    );
+}
+
+#[test]
 fn sizes_and_budget_are_checked() {
     let m = SkyModel::earth();
     let sun = sun_at(30.0);
@@ -575,10 +621,12 @@ fn sizes_and_budget_are_checked() {
         }
         other => panic!("expected a budget error, got {other:?}"),
     }
-    // The sky-view table is checked once, up front (4096² texels = 256 MiB).
+    // The sky-view table is checked once, up front (4096² texels = 256 MiB; one step per
+    // texel keeps its march within its cap).
     let big = SkyTables {
         sky_view_width: 4096,
         sky_view_height: 4096,
+        sky_view_steps: 1,
         ..d
     };
     match Sky::new(m, sun, big, &MemoryBudget::new(64 << 20)) {

@@ -1,6 +1,6 @@
 //! Baking a cloud field into a density grid over a box: each sample the field's density at its
 //! cell centre (so the grid's trilinear samples reproduce the field at the centres exactly), slice
-//! by slice with a progress report, checked against the memory budget first.
+//! by slice with a progress report, checked against its work cap and the memory budget first.
 
 use crate::shape::{CloudField, Envelope};
 use crate::{CloudsError, DensityGrid};
@@ -23,7 +23,9 @@ impl Region {
 }
 
 /// Bakes `field` inside `envelope` over `region` into a grid of `size`, z slices in parallel;
-/// `progress(done, total)` after each slice (from the thread that finished it).
+/// `progress(done, total)` after each slice (from the thread that finished it). Refused before
+/// anything is allocated past [`crate::cost::MAX_BAKE_WORK`] (the field's and the envelope's
+/// cost per cell times the cells) or the budget.
 pub fn bake(
     field: &CloudField,
     envelope: &dyn Envelope,
@@ -32,6 +34,7 @@ pub fn bake(
     budget: &MemoryBudget,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<DensityGrid, CloudsError> {
+    crate::cost::check_bake(field, envelope.cost(), size)?;
     DensityGrid::from_fn_parallel(
         size,
         budget,

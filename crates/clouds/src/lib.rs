@@ -7,7 +7,8 @@
 //! [`DensityGrid`]s sampled trilinearly, with [`MaxGrid`] bounds for empty-space skipping; and
 //! [`inr`], INRIMAGE-4 volumes such as the CT scan in `data/volumes/`; [`shape`], a layer's
 //! density — noise cut by coverage and a threshold, a height profile, an [`Envelope`] — and
-//! [`bake`] into a grid; [`march`], the cloud march with sun rays (the CPU reference).
+//! [`bake`] into a grid; [`march`], the cloud march with sun rays (the CPU reference); [`cost`],
+//! the caps on a march's samples per ray and a bake's work, checked before either runs.
 //!
 //! ```
 //! // The published check value of Perlin's reference implementation.
@@ -17,6 +18,7 @@
 //! ```
 
 pub mod bake;
+pub mod cost;
 mod error;
 pub mod fractal;
 pub mod gpu_layout;

@@ -9,6 +9,9 @@ use crate::fractal::Fractal;
 /// A shape that bounds a cloud: `depth(p) > 0` inside, how deep (world units); `≤ 0` outside.
 pub trait Envelope: Sync {
     fn depth(&self, p: [f64; 3]) -> f64;
+    /// What one [`Envelope::depth`] costs in a bake's work units (one Perlin octave each; see
+    /// [`crate::cost::check_bake`]).
+    fn cost(&self) -> u64;
 }
 
 /// No envelope: everywhere is deep inside.
@@ -18,6 +21,10 @@ pub struct Unbounded;
 impl Envelope for Unbounded {
     fn depth(&self, _: [f64; 3]) -> f64 {
         f64::INFINITY
+    }
+
+    fn cost(&self) -> u64 {
+        0
     }
 }
 

@@ -14,6 +14,10 @@ impl Envelope for Ball {
     fn depth(&self, p: [f64; 3]) -> f64 {
         1500.0 - (p[0] * p[0] + (p[1] - 2500.0).powi(2) + p[2] * p[2]).sqrt()
     }
+
+    fn cost(&self) -> u64 {
+        1
+    }
 }
 
 fn points(n: usize) -> Vec<[f64; 3]> {

@@ -61,6 +61,15 @@ pub struct RenderOptions {
     pub media_grid: Option<u32>,
 }
 
+impl RenderOptions {
+    /// Refuses what no scene could make right before anything is loaded or started: more
+    /// worker threads than [`fray_trace::max_threads`] (`--threads`).
+    pub fn check(&self) -> Result<(), RenderError> {
+        fray_trace::check_threads(self.threads)?;
+        Ok(())
+    }
+}
+
 /// Why a render failed.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
@@ -110,6 +119,7 @@ impl Renderer {
         scene: &Scene,
         progress: Option<fray_trace::Progress<'_>>,
     ) -> Result<Frame, RenderError> {
+        self.options.check()?;
         let scene = self.sized(scene)?;
         let mut settings = TraceSettings::for_scene(&scene);
         if let Some(eps) = self.options.epsilon {

@@ -60,3 +60,32 @@ fn gpu_backend_renders_when_an_adapter_exists_and_errors_clearly_otherwise() {
         }
     }
 }
+
+#[test]
+fn threads_past_the_machines_limit_are_refused_on_every_backend_before_rendering() {
+    // The bound: fray_trace::max_threads() = 8 per core; the GPU backend starts no pool but the
+    // request is refused all the same, by `RenderOptions::check` before anything is loaded.
+    let options = |backend| RenderOptions {
+        backend,
+        threads: Some(fray_trace::max_threads() + 1),
+        ..RenderOptions::default()
+    };
+    let scene = fray_scene::parse(SPHERE, "sphere.ron").unwrap();
+    for backend in [Backend::Cpu, Backend::Gpu, Backend::Auto] {
+        let e = options(backend).check().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                RenderError::Cpu(fray_trace::TraceError::TooManyThreads { .. })
+            ),
+            "{e}"
+        );
+        let e = Renderer::new(options(backend)).render(&scene).unwrap_err();
+        assert!(e.to_string().contains("over the limit of"), "{e}");
+    }
+    let within = RenderOptions {
+        threads: Some(fray_trace::max_threads()),
+        ..RenderOptions::default()
+    };
+    assert!(within.check().is_ok());
+}

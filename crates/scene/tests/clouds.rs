@@ -1,6 +1,7 @@
 //! Clouds in scene files: a layer and a volume resolved with their defaults, every bad value
 //! reported at its file, line and field, unreadable volumes named with their path and reason,
-//! and a grid past the memory budget refused before it is made.
+//! a grid past the memory budget refused before it is made, and a march or a bake past its cap
+//! (`fray_clouds::cost`) refused at load, at its field.
 
 fn err(src: &str) -> String {
     match fray_scene::parse(src, "s.ron") {
@@ -213,4 +214,106 @@ fn volumes_load_and_bad_files_name_their_path_and_reason() {
         e.contains("Cargo.toml") && e.contains("clouds.density.path"),
         "{e}"
     );
+}
+
+#[test]
+fn a_march_past_its_cap_is_refused_at_load_at_its_field() {
+    // The bound: (⌈diagonal / step⌉) × (1 + sun_steps) ≤ MAX_RAY_SAMPLES = 65 536 density
+    // samples per view ray. A step of 1e-7 in a unit box: 17 320 509 view steps.
+    let unit = |extra: &str| {
+        format!(
+            "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)),\n  {extra}\n  density: Layer((resolution: (4, 4, 4)))))"
+        )
+    };
+    let e = err(&unit("step: 1e-7,"));
+    assert!(
+        e.starts_with("s.ron:2:3: clouds.step: ")
+            && e.contains("17320509 view steps, each with 6 sun steps")
+            && e.contains("over the cap of 65536"),
+        "{e}"
+    );
+    // 20 000 view steps would fit with one sun step each, not with 6: the sun steps are named.
+    let e = err(&unit("step: 8.660254037844386e-5, sun_steps: 6,"));
+    assert!(
+        e.starts_with("s.ron:2:") && e.contains("clouds.sun_steps: "),
+        "{e}"
+    );
+    // A region of ±1e300 across and 1 high: the default step (1/32) takes 9e301 steps.
+    let e = err(
+        "(clouds: (region: (min: (-1e300, 0, -1e300), max: (1e300, 1, 1e300)), density: Layer((resolution: (4, 4, 4)))))",
+    );
+    assert!(
+        e.contains("clouds.step: ")
+            && e.contains("9.051e301 view steps")
+            && e.contains("(the default step: the region's smallest side / 32)"),
+        "{e}"
+    );
+    // The cap is checked before a volume is read, too.
+    let e = err(
+        "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)), step: 1e-7, density: Volume(path: \"no/such.inr\")))",
+    );
+    assert!(
+        e.contains("clouds.step: ") && e.contains("over the cap"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_bake_past_its_work_cap_is_refused_at_load_before_its_grid_is_made() {
+    // The 1024³ grid (4 GiB: it fits a 4 GiB budget exactly) of 5 octaves: 6 units a
+    // cell, 6 × 2³⁰ against MAX_BAKE_WORK = 2³⁰. Refused at the resolution, whatever the
+    // budget, before the grid exists.
+    let src = LAYER.replace("(8, 4, 8)", "(1024, 1024, 1024)");
+    let options = fray_scene::BuildOptions::within(fray_core::MemoryBudget::unlimited());
+    let e = fray_scene::parse_with(&src, "s.ron", &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("clouds.density.resolution: baking 1024 × 1024 × 1024 cells at a cost of 6 each is 6442450944 units of work, over the cap of 1073741824"),
+        "{e}"
+    );
+    // An envelope's leaves and perturbations add to each cell's cost (one unit per 2 terms):
+    // 448³ cells of 6 + 12 = 18 units are past the cap, 6 units alone are not.
+    let big = LAYER.replace("(8, 4, 8)", "(448, 448, 448)");
+    let solid = "Union([Sphere(radius: 1), Sphere(radius: 2), Sphere(radius: 3), Sphere(radius: 4), Sphere(radius: 5), Sphere(radius: 6), Sphere(radius: 7), Sphere(radius: 8), Sphere(radius: 9), Sphere(radius: 10), Sphere(radius: 11), Sphere(radius: 12), Sphere(radius: 13), Sphere(radius: 14), Sphere(radius: 15), Sphere(radius: 16), Sphere(radius: 17), Sphere(radius: 18), Sphere(radius: 19), Sphere(radius: 20), Sphere(radius: 21), Sphere(radius: 22), Sphere(radius: 23), Sphere(radius: 24)])";
+    let with_envelope = big.replace(
+        "(448, 448, 448))",
+        &format!("(448, 448, 448), envelope: {solid})"),
+    );
+    let e = fray_scene::parse_with(&with_envelope, "s.ron", &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("clouds.density.resolution: baking 448 × 448 × 448 cells at a cost of 18 each"),
+        "{e}"
+    );
+    // Without the envelope the same layer (5 octaves: 6 units a cell) is within the cap.
+    let field = fray_clouds::CloudField::default();
+    assert_eq!(field.cell_cost(), 6);
+    assert!(fray_clouds::cost::check_bake(&field, 0, [448; 3]).is_ok());
+}
+
+#[test]
+fn every_cloud_data_scene_is_well_within_the_caps() {
+    // The caps are generous: each data scene's march takes at most 1/9 of MAX_RAY_SAMPLES per
+    // view ray (the skull, the largest, 7 125), and each loads (its bake within MAX_BAKE_WORK).
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes");
+    let mut clouds = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        if path.extension().is_none_or(|e| e != "ron") || !text.contains("clouds:") {
+            continue;
+        }
+        let scene = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let c = scene.clouds.expect("a cloud scene");
+        let cost = c.march.cost(&c.volume.region).unwrap();
+        assert!(
+            cost.samples * 9 <= fray_clouds::cost::MAX_RAY_SAMPLES,
+            "{}: {cost:?}",
+            path.display()
+        );
+        clouds += 1;
+    }
+    assert_eq!(clouds, 4);
 }

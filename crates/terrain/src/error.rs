@@ -59,6 +59,12 @@ pub enum TerrainError {
         path: Option<PathBuf>,
         source: BudgetError,
     },
+    /// A fixed-step march would take more than [`crate::MAX_MARCH_STEPS`] steps.
+    #[error(
+        "a march of {length} in steps of {step} takes {steps:.3e} steps, over the cap of {}",
+        crate::MAX_MARCH_STEPS
+    )]
+    MarchSteps { length: f64, step: f64, steps: f64 },
     /// Reading the file failed with a path attached (wraps the other variants).
     #[error("{}: {source}", path.display())]
     File {

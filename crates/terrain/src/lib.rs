@@ -55,5 +55,6 @@ pub use interpolation::{BicubicCell, BilinearCell, Interpolation};
 pub use placement::{MapRay, Placement};
 pub use pyramid::{MAX_LEVELS, Pyramid, PyramidLevel};
 pub use terrain::{
-    HitKind, PIXEL_LOD_COARSEST_LEVEL, Terrain, TerrainHit, TerrainOptions, TerrainStats,
+    HitKind, MAX_MARCH_STEPS, PIXEL_LOD_COARSEST_LEVEL, Terrain, TerrainHit, TerrainOptions,
+    TerrainStats,
 };

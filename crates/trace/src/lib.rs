@@ -65,6 +65,6 @@ pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
 pub use secondary::{
     Interiors, MAX_SHADOW_CROSSINGS, nearest_hit_from_surface, transmittance_through_surfaces,
 };
-pub use settings::{TraceError, TraceSettings};
+pub use settings::{MAX_THREADS_PER_CORE, TraceError, TraceSettings, check_threads, max_threads};
 pub use shade::Reflectance;
 pub use terrain::TerrainPrimitive;

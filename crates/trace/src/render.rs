@@ -83,6 +83,7 @@ pub fn render_into(
     if settings.tile_size == 0 {
         return Err(TraceError::BadTileSize);
     }
+    crate::settings::check_threads(settings.threads)?;
     let start = Instant::now();
     let (width, height) = (scene.width, scene.height);
     let n = width as usize * height as usize;

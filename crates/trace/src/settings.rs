@@ -1,4 +1,4 @@
-//! Settings of the CPU backend.
+//! Settings of the CPU backend, and the most worker threads a render may start.
 
 use fray_core::{BudgetError, PixelSamples};
 use fray_geometry::CastMethod;
@@ -50,6 +50,34 @@ impl TraceSettings {
     }
 }
 
+/// How many worker threads per core a render may ask for. Past the machine's cores more threads
+/// only take turns on them (8× leaves room to oversubscribe on purpose); each one costs its
+/// stack and its start, so `--threads 10000` spent 30 s starting threads before its error.
+pub const MAX_THREADS_PER_CORE: usize = 8;
+
+/// The most worker threads a render may ask for here: [`MAX_THREADS_PER_CORE`] times the cores
+/// `std::thread::available_parallelism` reports (one if it cannot tell).
+pub fn max_threads() -> usize {
+    machine_cores() * MAX_THREADS_PER_CORE
+}
+
+fn machine_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// `Ok` for rayon's default (`None` or `Some(0)`: all cores) and for counts up to
+/// [`max_threads`]; past it [`TraceError::TooManyThreads`], before any thread starts.
+pub fn check_threads(threads: Option<usize>) -> Result<(), TraceError> {
+    match threads {
+        Some(n) if n > max_threads() => Err(TraceError::TooManyThreads {
+            threads: n,
+            limit: max_threads(),
+            cores: machine_cores(),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Why the CPU backend refused to render.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TraceError {
@@ -61,6 +89,15 @@ pub enum TraceError {
     BadTileSize,
     #[error("quadtree: {0}")]
     Quadtree(#[from] fray_quadtree::QuadtreeError),
+    #[error(
+        "{threads} worker threads asked for, over the limit of {limit} ({} per core × {cores} cores)",
+        MAX_THREADS_PER_CORE
+    )]
+    TooManyThreads {
+        threads: usize,
+        limit: usize,
+        cores: usize,
+    },
     #[error("could not start {threads} worker threads: {reason}")]
     ThreadPool { threads: usize, reason: String },
     #[error(transparent)]

@@ -66,6 +66,12 @@ pub const MAX_TABLE_SIDE: u32 = 4096;
 /// The most steps [`Sky::aerial_perspective`] and the sky-view table take along one ray.
 pub const MAX_STEPS: u32 = 4096;
 
+/// The most march steps one sky-view table may take to fill (texels × steps per texel): a
+/// table is filled for every new eye height, so every frame of a climb. The default table
+/// (192 × 108 × 40 = 829 440 steps) took 135 ms on 2 threads (`docs/sky.md`); the cap, 20× it,
+/// about 2.7 s. Without it 4096² texels × 4096 steps would take hours.
+pub const MAX_SKY_VIEW_MARCH_STEPS: u64 = 1 << 24;
+
 /// Light added along a path and the path's transmittance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScatterTerms {
@@ -117,7 +123,7 @@ impl Default for SkyTables {
 
 impl SkyTables {
     /// Checks the sizes: every side in `2..=4096`, the sky-view height even and at least 4, the
-    /// steps in `1..=4096`.
+    /// steps in `1..=4096`, the sky-view table's march within [`MAX_SKY_VIEW_MARCH_STEPS`].
     pub fn validate(&self) -> Result<(), AtmosphereError> {
         use transmittance_table::check_side;
         check_side("sky.tables.transmittance_width", self.transmittance_width)?;
@@ -135,7 +141,22 @@ impl SkyTables {
             f64::from(self.sky_view_steps),
             (1..=MAX_STEPS).contains(&self.sky_view_steps),
             "must lie in 1..=4096",
-        )
+        )?;
+        let march_steps = u64::from(self.sky_view_width)
+            * u64::from(self.sky_view_height)
+            * u64::from(self.sky_view_steps);
+        if march_steps > MAX_SKY_VIEW_MARCH_STEPS {
+            return Err(AtmosphereError::Work {
+                field: "sky.tables.sky_view_steps",
+                what: format!(
+                    "a {} × {} sky-view table of {} steps per texel",
+                    self.sky_view_width, self.sky_view_height, self.sky_view_steps
+                ),
+                work: march_steps,
+                limit: MAX_SKY_VIEW_MARCH_STEPS,
+            });
+        }
+        Ok(())
     }
 }
 

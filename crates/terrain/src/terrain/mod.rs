@@ -21,6 +21,7 @@ mod shadow;
 mod surface;
 
 pub use lod::PIXEL_LOD_COARSEST_LEVEL;
+pub use reference::MAX_MARCH_STEPS;
 
 use crate::interpolation::{BicubicCell, Interpolation};
 use crate::{Heightmap, Placement, Pyramid, TerrainError};
