@@ -5,9 +5,12 @@
 // next level — reflection about the shading normal (the face's where that points into the
 // surface), Snell refraction, total internal reflection handing `kt` to the reflection,
 // Fresnel-weighted if the material asks, each ray off the surface by the shadow offset to the
-// side it leaves — unless its weight from the camera is below the cut-off or the ray is at the
-// deepest level. A ray's record (GpuSecondary) keeps its weight relative to its parent, its
-// weight from the camera, its path length and its children; the gather pass
+// side it leaves — unless its weight from the camera is below the cut-off, the ray is at the
+// deepest level, or its share of the camera ray's secondary-ray budget is 0 (the shares are
+// fray-trace's ray_budget rule: a ray's allowance split between the children that pass the
+// cut-off, the reflected first, so the rays traced do not depend on the order the level's
+// invocations run in). A ray's record (GpuSecondary) keeps its weight relative to its parent,
+// its weight from the camera, its path length, its children and its allowance; the gather pass
 // (whitted_gather.wgsl) adds the children's radiance back, deepest level first. A queue too small
 // for a band's rays counts an overflow (the frame is rendered again in smaller bands).
 //
@@ -24,11 +27,21 @@ fn shade_range() -> vec2<u32> {
     return queue_current();
 }
 
-// A camera ray's record: weight 1, no path behind it, no children yet.
+// A camera ray's record: weight 1, no path behind it, no children yet, the whole budget.
 fn whitted_begin(slot: u32) {
     if queue_depth() == 0u {
-        secondaries[slot] = GpuSecondary(vec4<f32>(1.0, 1.0, 1.0, 0.0), vec4<f32>(1.0, 1.0, 1.0, 0.0), 0u, 0u, 0u, 0u);
+        secondaries[slot] = GpuSecondary(vec4<f32>(1.0, 1.0, 1.0, 0.0), vec4<f32>(1.0, 1.0, 1.0, 0.0), 0u, 0u, 0u, frame.max_secondary_rays);
     }
+}
+
+// The shares of `allowance` of a ray's `n` children that pass the cut-off (fray-trace's
+// ray_budget::shares): two get ⌈a/2⌉ and ⌊a/2⌋ (the first spawned, the reflected one, the
+// larger), one gets all; each share counts the child itself (0: not traced).
+fn whitted_shares(allowance: u32, n: u32) -> vec2<u32> {
+    if n == 2u {
+        return vec2<u32>(allowance - allowance / 2u, allowance / 2u);
+    }
+    return vec2<u32>(allowance, 0u);
 }
 
 // The path's length from the camera to a hit at `t` along the ray of `slot` (what a texture's
@@ -156,6 +169,20 @@ fn whitted_spawn(slot: u32, p: vec3<f32>, d: vec3<f32>, geometric: vec3<f32>, sh
         weights[n] = kt;
         n++;
     }
+    // Only the children with a share of the budget are traced.
+    let shares = whitted_shares(record.allowance, n);
+    var allowances: array<u32, 2>;
+    var kept = 0u;
+    for (var i = 0u; i < n; i++) {
+        if shares[i] > 0u {
+            origins[kept] = origins[i];
+            dirs[kept] = dirs[i];
+            weights[kept] = weights[i];
+            allowances[kept] = shares[i] - 1u;
+            kept++;
+        }
+    }
+    n = kept;
     if n == 0u {
         return;
     }
@@ -177,7 +204,7 @@ fn whitted_spawn(slot: u32, p: vec3<f32>, d: vec3<f32>, geometric: vec3<f32>, sh
             0u,
             0u,
             record.depth + 1u,
-            0u,
+            allowances[i],
         );
     }
     secondaries[slot].first_child = first;

@@ -70,6 +70,11 @@ fray_core::gpu_struct! {
         pub max_depth: u32,
         pub min_contribution: f32,
         pub queue_capacity: u32,
+        /// Whitted: the secondary rays one camera ray may trace (`settings.max_secondary_rays`,
+        /// shared down its tree: `fray_trace::ray_budget`'s rule).
+        pub max_secondary_rays: u32,
+        pub pad: u32,
+        pub pad2: [u32; 2],
     }
 }
 
@@ -139,7 +144,9 @@ fray_core::gpu_struct! {
         pub children: u32,
         /// Secondary rays from the camera to this one (0: a camera ray).
         pub depth: u32,
-        pub pad: u32,
+        /// The secondary rays this ray's tree may still trace below it (a camera ray: the
+        /// budget; its children share it, fray-trace's `ray_budget`).
+        pub allowance: u32,
     }
 }
 

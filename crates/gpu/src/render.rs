@@ -395,9 +395,14 @@ impl<'a> GpuScene<'a> {
 
     /// Renders the resident scene as `view` shows it. A Whitted frame whose queue of secondary
     /// rays overflowed is rendered again with twice the queue per camera ray (in bands half as
-    /// tall), so every frame returned traced every secondary ray it should.
+    /// tall), so every frame returned traced every secondary ray it should. The queue never
+    /// grows past the most secondary rays a camera ray can trace
+    /// (`Settings::secondary_rays_per_camera_ray`: the budget, or the full tree of `max_depth`
+    /// levels), which no band can overflow; where one row of tiles' rays and queue at that size
+    /// cannot fit a band, the frame is refused (`band_rows`).
     pub fn render(&mut self, view: &View) -> Result<Frame, GpuError> {
         let start = Instant::now();
+        let bound = self.scene.settings.secondary_rays_per_camera_ray();
         loop {
             let (mut frame, overflows) = self.render_frame(view)?;
             if overflows == 0 {
@@ -406,14 +411,14 @@ impl<'a> GpuScene<'a> {
             }
             // Past one tile row per band the queue cannot grow within the band's bytes.
             let most = (BAND_BYTES / Self::bytes_per_ray(true, 1)) as u32;
-            if self.queue_slots >= most {
+            if self.queue_slots >= bound.min(most) {
                 return Err(GpuError::TooLarge {
                     what: "Whitted queue slots per camera ray (secondary rays of one band)",
                     needed: u64::from(self.queue_slots) * 2,
-                    limit: u64::from(most),
+                    limit: u64::from(bound.min(most)),
                 });
             }
-            self.queue_slots *= 2;
+            self.queue_slots = (self.queue_slots * 2).min(bound);
         }
     }
 
@@ -488,6 +493,7 @@ impl<'a> GpuScene<'a> {
         params.max_depth = scene.settings.max_depth;
         params.min_contribution = scene.settings.min_contribution as f32;
         params.queue_capacity = (band_rays * u64::from(self.queue_slots)) as u32;
+        params.max_secondary_rays = scene.settings.max_secondary_rays;
         // Rebase the resident scene to this camera if it moved, and this view's terrain levels.
         let mut encoder = ctx
             .device
@@ -802,8 +808,14 @@ impl<'a> GpuScene<'a> {
         let tile = u64::from(TILE);
         if per_row * tile > limit {
             return Err(GpuError::TooLarge {
-                what: "the rays in flight for one row of 8-pixel tiles, in bytes (image width × \
-                       rays per pixel × bytes per ray; many anti-aliasing samples make it large)",
+                what: if self.passes.whitted.is_some() {
+                    "the rays in flight for one row of 8-pixel tiles, in bytes: each camera ray \
+                     with its queue of secondary rays (at most settings.max_secondary_rays; a \
+                     smaller budget, depth, width or sample count needs less)"
+                } else {
+                    "the rays in flight for one row of 8-pixel tiles, in bytes (image width × \
+                     rays per pixel × bytes per ray; many anti-aliasing samples make it large)"
+                },
                 needed: per_row * tile,
                 limit,
             });

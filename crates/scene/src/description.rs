@@ -887,6 +887,11 @@ pub struct Settings {
     /// largest channel) is below this is not traced, in `[0, 1)`; default `1e-3`.
     #[serde(default)]
     pub min_contribution: Option<f64>,
+    /// Whitted recursion: the most secondary rays one camera ray (sample) may trace, its
+    /// allowance shared down the tree (`Settings::max_secondary_rays`), a whole number in
+    /// `0..=65536`; default 256.
+    #[serde(default)]
+    pub max_secondary_rays: Option<f64>,
 }
 
 impl Default for Settings {
@@ -897,6 +902,7 @@ impl Default for Settings {
             samples: None,
             max_depth: None,
             min_contribution: None,
+            max_secondary_rays: None,
         }
     }
 }

@@ -58,7 +58,9 @@ pub use load::{
     BuildOptions, BuildProgress, MAX_OBJECTS, load, load_with, parse, parse_description, parse_with,
 };
 pub use primitive::{PrimitiveId, PrimitiveKind};
-pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR};
-pub use scene::{Light, Material, MeshObject, Object, Scene, Settings, TerrainObject};
+pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR, MAX_SECONDARY_RAYS};
+pub use scene::{
+    DEFAULT_MAX_SECONDARY_RAYS, Light, Material, MeshObject, Object, Scene, Settings, TerrainObject,
+};
 pub use texture::TextureSlot;
 pub use work::{work_list, work_list_view, work_list_within};

@@ -36,6 +36,11 @@ pub(crate) fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result
 /// The deepest Whitted recursion a scene may ask for.
 pub const MAX_DEPTH: u32 = 64;
 
+/// The largest `settings.max_secondary_rays` a scene may ask for: 2¹⁶, a full binary tree of
+/// reflections and refractions 15 levels deep — one camera ray that may cost as much as a
+/// 256 × 256 frame of camera rays; past it a pixel's sample is no longer worth its time.
+pub const MAX_SECONDARY_RAYS: u32 = 1 << 16;
+
 /// The largest index of refraction accepted (diamond is 2.42; beyond 10 is a typo).
 pub const MAX_IOR: f64 = 10.0;
 
@@ -203,12 +208,25 @@ pub(crate) fn resolve(
             );
         }
     };
+    let max_secondary_rays = match d.settings.max_secondary_rays {
+        None => Settings::default().max_secondary_rays,
+        Some(n) if n.fract() == 0.0 && (0.0..=f64::from(MAX_SECONDARY_RAYS)).contains(&n) => {
+            n as u32
+        }
+        Some(n) => {
+            return invalid(
+                &settings_path.field("max_secondary_rays"),
+                format!("must be a whole number in 0..={MAX_SECONDARY_RAYS}, got {n}"),
+            );
+        }
+    };
     let settings = Settings {
         epsilon,
         shadows: d.settings.shadows,
         samples,
         max_depth,
         min_contribution,
+        max_secondary_rays,
     };
     // Secondary rays only where a primitive's material sends them (an unused material costs
     // nothing).

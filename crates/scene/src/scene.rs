@@ -54,6 +54,29 @@ pub struct Settings {
     /// Whitted recursion: secondary rays whose weight (largest channel) is below this are not
     /// traced.
     pub min_contribution: f64,
+    /// Whitted recursion: the most secondary rays one camera ray (sample) traces, whatever the
+    /// depth. Each ray's allowance is shared between its children (the reflected ray first), so
+    /// the rule is the same depth first (CPU) and level by level (GPU); a tree of `max_depth`
+    /// levels fits whole when this is at least `2^(max_depth + 1) − 2`
+    /// ([`Settings::secondary_rays_per_camera_ray`]).
+    pub max_secondary_rays: u32,
+}
+
+/// The default [`Settings::max_secondary_rays`]: 256 holds a full binary tree of reflections
+/// and refractions 7 levels deep (254 rays), every tree the default depth (5) or the data
+/// scenes (at most 6) can grow, so it changes none of their images; it bounds a deep scene's
+/// camera ray to 256 secondary rays where the depth alone would allow `2^(max_depth + 1) − 2`.
+pub const DEFAULT_MAX_SECONDARY_RAYS: u32 = 256;
+
+impl Settings {
+    /// The most secondary rays one camera ray can trace under these settings: the budget, or
+    /// the full binary tree of `max_depth` levels (`2^(max_depth + 1) − 2`) where that is fewer.
+    pub fn secondary_rays_per_camera_ray(&self) -> u32 {
+        let full_tree = 1u64
+            .checked_shl(self.max_depth + 1)
+            .map_or(u64::MAX, |n| n - 2);
+        full_tree.min(u64::from(self.max_secondary_rays)) as u32
+    }
 }
 
 impl Default for Settings {
@@ -64,6 +87,7 @@ impl Default for Settings {
             samples: PixelSamples::ONE,
             max_depth: 5,
             min_contribution: 1e-3,
+            max_secondary_rays: DEFAULT_MAX_SECONDARY_RAYS,
         }
     }
 }

@@ -55,7 +55,7 @@ fn whitted_materials_and_settings_resolve_with_defaults() {
     let s = parse(
         "(materials: { \"m\": (reflect: (0.5, 0.5, 0.5)), \"g\": (transmit: (1, 1, 1), fresnel: true) },
           objects: [(material: \"m\", shape: Sphere(radius: 1)), (material: \"g\", shape: Sphere(center: (3, 0, 0), radius: 1))],
-          settings: (max_depth: 9, min_contribution: 0.01))",
+          settings: (max_depth: 9, min_contribution: 0.01, max_secondary_rays: 100))",
     )
     .unwrap();
     let named = |n: &str| s.materials.iter().find(|m| m.name == n).unwrap();
@@ -68,14 +68,31 @@ fn whitted_materials_and_settings_resolve_with_defaults() {
     );
     assert_eq!((g.ior, g.fresnel), (1.5, true));
     assert_eq!(
-        (s.settings.max_depth, s.settings.min_contribution),
-        (9, 0.01)
+        (
+            s.settings.max_depth,
+            s.settings.min_contribution,
+            s.settings.max_secondary_rays
+        ),
+        (9, 0.01, 100)
     );
+    // Depth 9 would allow 2¹⁰ − 2 = 1022 rays per camera ray: the budget is the bound.
+    assert_eq!(s.settings.secondary_rays_per_camera_ray(), 100);
     assert!(s.features.reflection && s.features.transmission);
     let d = parse("(objects: [(shape: Sphere(radius: 1))])").unwrap();
     assert_eq!(
-        (d.settings.max_depth, d.settings.min_contribution),
-        (5, 1e-3)
+        (
+            d.settings.max_depth,
+            d.settings.min_contribution,
+            d.settings.max_secondary_rays
+        ),
+        (5, 1e-3, fray_scene::DEFAULT_MAX_SECONDARY_RAYS)
+    );
+    // Depth 5's full tree, 2⁶ − 2 = 62 rays, is within the default budget: the depth bounds.
+    assert_eq!(d.settings.secondary_rays_per_camera_ray(), 62);
+    let deep = parse("(settings: (max_depth: 64))").unwrap();
+    assert_eq!(
+        deep.settings.secondary_rays_per_camera_ray(),
+        fray_scene::DEFAULT_MAX_SECONDARY_RAYS
     );
     assert!(!d.features.reflection && !d.features.transmission && !d.features.meshes);
 }
@@ -138,6 +155,19 @@ fn bad_meshes_and_whitted_values_are_located_errors() {
     assert!(
         e.contains("settings.min_contribution: must be in [0, 1)"),
         "{e}"
+    );
+    for bad in ["-1", "2.5", "65537", "1e30"] {
+        let e = parse(&format!("(settings: (\n max_secondary_rays: {bad}))")).unwrap_err();
+        assert!(
+            e.contains(":2:")
+                && e.contains("settings.max_secondary_rays: must be a whole number in 0..=65536"),
+            "{bad}: {e}"
+        );
+    }
+    let most = parse("(settings: (max_secondary_rays: 65536))").unwrap();
+    assert_eq!(
+        most.settings.max_secondary_rays,
+        fray_scene::MAX_SECONDARY_RAYS
     );
 }
 

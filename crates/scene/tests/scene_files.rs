@@ -99,6 +99,7 @@ fn empty_scene_and_named_struct_and_extension_attribute() {
             samples: fray_core::PixelSamples::ONE,
             max_depth: 5,
             min_contribution: 1e-3,
+            max_secondary_rays: 256,
         }
     );
     assert_eq!(s.epsilon(), 1e-6);

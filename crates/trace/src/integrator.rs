@@ -2,7 +2,8 @@
 //! kind, shaded by its material with each light's direct light times the RGB transmittance of a
 //! shadow ray toward it (and of the media on its way), plus Whitted's reflected and refracted
 //! rays (`kr · I_r + kt · I_t`, recursively to the scene's maximum depth, each traced only while
-//! its weight is above the contribution cut-off), or the background where nothing is hit; then
+//! its weight is above the contribution cut-off and its share of the camera ray's secondary-ray
+//! budget is left: [`crate::ray_budget`]), or the background where nothing is hit; then
 //! the media along the ray (`T · L + L_in`). Camera rays enter at
 //! [`Integrator::surface_radiance`] and [`Integrator::through_media`] with hits the frame loop
 //! found a tile at a time; any other ray through [`Integrator::radiance`]. Shading happens here
@@ -15,6 +16,7 @@ use crate::media::Media;
 use crate::media_grid::{MediaGrid, camera_terms};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::primitive::TraceContext;
+use crate::ray_budget;
 use crate::secondary::{Interiors, nearest_hit_from_surface, transmittance_through_surfaces};
 use crate::shade::Reflectance;
 use crate::texture::surface_colour;
@@ -41,6 +43,8 @@ pub struct Integrator<'a> {
     /// (`max_depth` 0 when the scene's materials send none, or without shading).
     max_depth: u32,
     min_contribution: f64,
+    /// Whitted recursion: the secondary rays one camera ray may trace ([`crate::ray_budget`]).
+    max_secondary_rays: u32,
     /// The camera pixel's footprint (texture lookups' width).
     footprint: fray_core::PixelFootprint,
 }
@@ -72,6 +76,7 @@ impl<'a> Integrator<'a> {
                 0
             },
             min_contribution: scene.settings.min_contribution,
+            max_secondary_rays: scene.settings.max_secondary_rays,
             footprint: scene.camera.pixel_footprint(scene.width, scene.height),
         }
     }
@@ -197,7 +202,8 @@ impl<'a> Integrator<'a> {
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
     ) -> DVec3 {
-        self.shade(ctx, si, wo, occluders, None, 0, DVec3::ONE, si.t)
+        let path = Path::camera(si.t, self.max_secondary_rays);
+        self.shade(ctx, si, wo, occluders, None, path)
     }
 
     /// [`Integrator::surface_radiance`] where whether a mesh blocks each light's shadow ray
@@ -214,7 +220,8 @@ impl<'a> Integrator<'a> {
     ) -> DVec3 {
         debug_assert!(!self.scene.features.transmission);
         let blocked = Some(mesh_blocked);
-        self.shade(ctx, si, wo, occluders, blocked, 0, DVec3::ONE, si.t)
+        let path = Path::camera(si.t, self.max_secondary_rays);
+        self.shade(ctx, si, wo, occluders, blocked, path)
     }
 
     /// The shadow rays [`Integrator::surface_radiance`] casts from `si` seen along `wo`: per
@@ -243,10 +250,7 @@ impl<'a> Integrator<'a> {
         }
     }
 
-    /// [`Integrator::surface_radiance`] of a surface `depth` secondary rays from the camera,
-    /// reached with `weight` (the product of the `kr`/`kt` on the way) after a path of
-    /// `distance` (what a texture's footprint grows with).
-    #[allow(clippy::too_many_arguments)]
+    /// [`Integrator::surface_radiance`] of a surface reached along `path`.
     fn shade(
         &self,
         ctx: &mut TraceContext,
@@ -254,13 +258,11 @@ impl<'a> Integrator<'a> {
         wo: DVec3,
         occluders: Option<&[Vec<u32>]>,
         mesh_blocked: Option<&[bool]>,
-        depth: u32,
-        weight: DVec3,
-        distance: f64,
+        path: Path,
     ) -> DVec3 {
-        let mut total = self.local_radiance(ctx, si, wo, occluders, mesh_blocked, distance);
-        if depth < self.max_depth {
-            total += self.whitted(ctx, si, -wo, depth, weight, distance);
+        let mut total = self.local_radiance(ctx, si, wo, occluders, mesh_blocked, path.distance);
+        if path.depth < self.max_depth {
+            total += self.whitted(ctx, si, -wo, path);
         }
         total
     }
@@ -268,15 +270,14 @@ impl<'a> Integrator<'a> {
     /// Whitted's secondary terms at `si` for a ray arriving along `d` (unit): `kr · I_r + kt ·
     /// I_t`, Fresnel-weighted if the material asks; past the critical angle the transmitted
     /// weight is reflected (total internal reflection). The outside is vacuum (index 1); a ray
-    /// inside a transmissive solid leaves into it.
+    /// inside a transmissive solid leaves into it. The two rays share the path's allowance
+    /// ([`crate::ray_budget`]).
     fn whitted(
         &self,
         ctx: &mut TraceContext,
         si: &SurfaceInteraction,
         d: DVec3,
-        depth: u32,
-        weight: DVec3,
-        distance: f64,
+        path: Path,
     ) -> DVec3 {
         let material = self
             .scene
@@ -317,38 +318,42 @@ impl<'a> Integrator<'a> {
             }
         }
         let offset = self.shadow_offset_at(si.p);
+        let reflected = (kr != DVec3::ZERO)
+            .then(|| {
+                let r = reflect(d, ns);
+                // Reflected about a shading normal, a grazing ray may point into the surface.
+                let r = if r.dot(ng) > 0.0 { r } else { reflect(d, ng) };
+                self.child_ray(si.p + ng * offset, r, path.weight * kr)
+            })
+            .flatten();
+        let transmitted = refracted
+            .filter(|_| kt != DVec3::ZERO)
+            .and_then(|t| self.child_ray(si.p - ng * offset, t, path.weight * kt));
+        let [r_share, t_share] =
+            ray_budget::shares(path.allowance, [reflected.is_some(), transmitted.is_some()]);
         let mut total = DVec3::ZERO;
         if kr != DVec3::ZERO {
-            let r = reflect(d, ns);
-            // Reflected about a shading normal, a grazing ray may point into the surface.
-            let r = if r.dot(ng) > 0.0 { r } else { reflect(d, ng) };
-            let from = si.p + ng * offset;
-            total += kr * self.secondary(ctx, from, r, depth + 1, weight * kr, distance);
+            total += kr * self.secondary(ctx, reflected, path.child(kr, r_share));
         }
-        if let Some(t) = refracted
-            && kt != DVec3::ZERO
-        {
-            let from = si.p - ng * offset;
-            total += kt * self.secondary(ctx, from, t, depth + 1, weight * kt, distance);
+        if refracted.is_some() && kt != DVec3::ZERO {
+            total += kt * self.secondary(ctx, transmitted, path.child(kt, t_share));
         }
         total
     }
 
-    /// The radiance a secondary ray from `origin` along `dir` brings back (0 when its weight is
-    /// below the cut-off), `distance` the path's length from the camera so far.
-    fn secondary(
-        &self,
-        ctx: &mut TraceContext,
-        origin: DVec3,
-        dir: DVec3,
-        depth: u32,
-        weight: DVec3,
-        distance: f64,
-    ) -> DVec3 {
+    /// The secondary ray from `origin` along `dir` reached with `weight`, if it is traced by
+    /// its weight: not below the cut-off (and a direction at all).
+    fn child_ray(&self, origin: DVec3, dir: DVec3, weight: DVec3) -> Option<Ray> {
         if weight.max_element() < self.min_contribution {
-            return DVec3::ZERO;
+            return None;
         }
-        let Some(ray) = Ray::new(origin, dir) else {
+        Ray::new(origin, dir)
+    }
+
+    /// The radiance a secondary ray brings back along `path` (its share of the budget
+    /// included): 0 for no ray (below the cut-off) or no share.
+    fn secondary(&self, ctx: &mut TraceContext, ray: Option<Ray>, path: Option<Path>) -> DVec3 {
+        let (Some(ray), Some(path)) = (ray, path) else {
             return DVec3::ZERO;
         };
         ctx.counts.secondary_rays += 1;
@@ -356,8 +361,8 @@ impl<'a> Integrator<'a> {
         let (scene, eps) = (self.scene, self.epsilon);
         match nearest_hit_from_surface(scene, ctx, &ray, range, eps, &self.interiors) {
             Some(si) => {
-                let path = distance + si.t;
-                let surface = self.shade(ctx, &si, -ray.dir, None, None, depth, weight, path);
+                let path = path.to(si.t);
+                let surface = self.shade(ctx, &si, -ray.dir, None, None, path);
                 self.through_media(&ray, Interval::new(0.0, si.t), surface)
             }
             None => self.miss_radiance(&ray, 0.0),
@@ -489,6 +494,49 @@ impl<'a> Integrator<'a> {
         }
         let free_forms = occluders.map(Vec::as_slice);
         transmittance_of(scene, ctx, &ray, range, eps, free_forms, kinds).as_dvec3()
+    }
+}
+
+/// Where a ray of Whitted's tree stands: `depth` secondary rays from the camera, reached with
+/// `weight` (the product of the `kr`/`kt` on the way) after a path of `distance` (what a
+/// texture's footprint grows with), and the secondary rays its tree may still trace below it
+/// (`allowance`, [`crate::ray_budget`]).
+#[derive(Clone, Copy, Debug)]
+struct Path {
+    depth: u32,
+    weight: DVec3,
+    distance: f64,
+    allowance: u32,
+}
+
+impl Path {
+    /// A camera ray's hit at `t`, with the whole budget.
+    fn camera(t: f64, budget: u32) -> Self {
+        Self {
+            depth: 0,
+            weight: DVec3::ONE,
+            distance: t,
+            allowance: budget,
+        }
+    }
+
+    /// Its child weighted by `k` with `share` of the allowance (itself included), from the
+    /// same point (`None`: no share, the child is not traced).
+    fn child(self, k: DVec3, share: u32) -> Option<Self> {
+        (share > 0).then(|| Self {
+            depth: self.depth + 1,
+            weight: self.weight * k,
+            distance: self.distance,
+            allowance: share - 1,
+        })
+    }
+
+    /// The same ray's hit `t` farther on.
+    fn to(self, t: f64) -> Self {
+        Self {
+            distance: self.distance + t,
+            ..self
+        }
     }
 }
 

@@ -4,7 +4,8 @@
 //! range, transmittance, the surface at a hit); the nearest hit over all of them becomes a
 //! [`SurfaceInteraction`], which the one [`Integrator`] shades: ambient + Lambert (albedo/π) +
 //! normalised Phong light, each light through the RGB transmittance of a shadow ray, plus
-//! Whitted's mirror reflection and refraction ([`optics`]) to a maximum depth. Tiles render in parallel with rayon; the image
+//! Whitted's mirror reflection and refraction ([`optics`]) to a maximum depth and within a
+//! secondary-ray budget per camera ray ([`ray_budget`]). Tiles render in parallel with rayon; the image
 //! does not depend on the thread count. With [`TraceSettings::culling`] (the default) the tiles
 //! come from the `fray-quadtree` scheduler: empty tiles are skipped and each tile casts only the
 //! primitives, CSG leaves and perturbations its rays may meet — the same image, less work.
@@ -38,6 +39,7 @@ mod mesh;
 mod mesh_shadows;
 pub mod optics;
 mod primitive;
+pub mod ray_budget;
 mod render;
 mod secondary;
 mod settings;
