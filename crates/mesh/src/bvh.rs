@@ -55,12 +55,11 @@ impl MeshBvh {
     pub fn build(mesh: TriangleMesh) -> Self {
         let anchor = topology_anchor(&mesh);
         let boxes: Vec<PrimBox> = (0..mesh.triangles.len())
-            .map(|i| PrimBox::around(mesh.corners(i).map(|p| p - anchor)))
+            .map(|i| PrimBox::around(i as u32, mesh.corners(i).map(|p| p - anchor)))
             .collect();
         let start = std::time::Instant::now();
-        let (mut nodes, order) = bvh_build::build(&boxes);
+        let (mut nodes, order) = bvh_build::build(boxes);
         let build_time = start.elapsed();
-        drop(boxes);
         if !nodes.is_empty() {
             refit(&mut nodes, &order, &mesh, 0);
         }

@@ -40,18 +40,20 @@ const TRAVERSAL_COST: f64 = 3.0;
 /// may have `2n − 1` nodes.
 pub const MAX_TRIANGLES: usize = (u32::MAX / 2) as usize;
 
-/// A triangle's box in f32, relative to the build's anchor.
+/// A triangle's box in f32, relative to the build's anchor, and its index: the build reorders
+/// these in place (each node's triangles contiguous), so it reads them in order.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PrimBox {
     lo: Vec3,
     hi: Vec3,
+    triangle: u32,
 }
 
 impl PrimBox {
-    /// The box around three corners (relative to the anchor), each coordinate rounded to f32
-    /// and clamped to the finite f32 range (the SAH needs only an approximate box: the tree's
-    /// own boxes are refitted in f64 afterwards).
-    pub(crate) fn around(corners: [DVec3; 3]) -> Self {
+    /// The box of `triangle` around its three corners (relative to the anchor), each
+    /// coordinate rounded to f32 and clamped to the finite f32 range (the SAH needs only an
+    /// approximate box: the tree's own boxes are refitted in f64 afterwards).
+    pub(crate) fn around(triangle: u32, corners: [DVec3; 3]) -> Self {
         let f = |p: DVec3| {
             let c = p.clamp(
                 DVec3::splat(-f32::MAX as f64),
@@ -64,12 +66,14 @@ impl PrimBox {
         Self {
             lo: a.min(b).min(c),
             hi: a.max(b).max(c),
+            triangle,
         }
     }
 
-    /// The centre, in f64 (no overflow however far apart the corners).
-    fn centre(&self) -> DVec3 {
-        (self.lo.as_dvec3() + self.hi.as_dvec3()) * 0.5
+    /// The centre (halves first: no overflow however far apart the corners).
+    #[inline]
+    fn centre(&self) -> Vec3 {
+        self.lo * 0.5 + self.hi * 0.5
     }
 }
 
@@ -86,9 +90,10 @@ impl Bounds {
         hi: Vec3::NEG_INFINITY,
     };
 
-    fn grow(&mut self, b: &PrimBox) {
-        self.lo = self.lo.min(b.lo);
-        self.hi = self.hi.max(b.hi);
+    #[inline]
+    fn grow(&mut self, lo: Vec3, hi: Vec3) {
+        self.lo = self.lo.min(lo);
+        self.hi = self.hi.max(hi);
     }
 
     fn union(self, o: Self) -> Self {
@@ -133,23 +138,22 @@ fn median_levels(n: usize) -> u32 {
         .trailing_zeros()
 }
 
-/// The bytes [`build`] allocates for `triangles` triangles at most, beside the boxes it is
-/// given: the nodes (at most `2n − 1`) and the leaf order.
+/// The bytes of a tree of `triangles` triangles at most: the nodes (at most `2n − 1`) and the
+/// leaf order.
 pub(crate) fn tree_bytes(triangles: usize) -> u64 {
     let n = triangles as u64;
     (2 * n).saturating_sub(1) * std::mem::size_of::<Node>() as u64
         + n * std::mem::size_of::<u32>() as u64
 }
 
-/// The topology over `boxes` (one per triangle, in triangle order): the nodes (boxes left zero
-/// for the caller's refit; node 0 the root, an inner node's children at `first` and
-/// `first + 1`, a leaf's triangles `order[first..first + count]`) and the leaf order. Empty for
-/// no triangles.
+/// The topology over `boxes` (one per triangle): the nodes (boxes left zero for the caller's
+/// refit; node 0 the root, an inner node's children at `first` and `first + 1`, a leaf's
+/// triangles `order[first..first + count]`) and the leaf order. Empty for no triangles.
 ///
 /// # Panics
 /// If there are more than [`MAX_TRIANGLES`] boxes (the loaders and [`crate::TriangleMesh`]'s
 /// constructors refuse such meshes).
-pub(crate) fn build(boxes: &[PrimBox]) -> (Vec<Node>, Vec<u32>) {
+pub(crate) fn build(mut boxes: Vec<PrimBox>) -> (Vec<Node>, Vec<u32>) {
     let n = boxes.len();
     assert!(
         n <= MAX_TRIANGLES,
@@ -158,7 +162,6 @@ pub(crate) fn build(boxes: &[PrimBox]) -> (Vec<Node>, Vec<u32>) {
     if n == 0 {
         return (Vec::new(), Vec::new());
     }
-    let mut order: Vec<u32> = (0..n as u32).collect();
     let mut nodes: Vec<Node> = Vec::with_capacity(2 * n - 1);
     let leaf = |first: usize, count: usize| Node {
         min: DVec3::ZERO,
@@ -177,22 +180,19 @@ pub(crate) fn build(boxes: &[PrimBox]) -> (Vec<Node>, Vec<u32>) {
         if count == 1 || depth >= MAX_DEPTH {
             continue; // A leaf already.
         }
-        let range = &mut order[start..start + count];
-        let (mut bounds, mut centres_lo, mut centres_hi) =
-            (Bounds::EMPTY, DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for &t in range.iter() {
-            let b = &boxes[t as usize];
-            bounds.grow(b);
+        let range = &mut boxes[start..start + count];
+        let (mut bounds, mut centres) = (Bounds::EMPTY, Bounds::EMPTY);
+        for b in range.iter() {
+            bounds.grow(b.lo, b.hi);
             let c = b.centre();
-            centres_lo = centres_lo.min(c);
-            centres_hi = centres_hi.max(c);
+            centres.grow(c, c);
         }
         // Room for the SAH's own choice: after this split, medians must still reach the leaves
         // within MAX_DEPTH (`depth + median_levels(count) ≤ MAX_DEPTH` holds here).
         let sah_allowed = depth + 1 + median_levels(count) <= MAX_DEPTH;
-        let extent = centres_hi - centres_lo;
+        let axes = Axes::of(centres);
         let split = if sah_allowed {
-            best_split(boxes, range, centres_lo, extent, &mut bins)
+            best_split(range, &axes, &mut bins)
         } else {
             None
         };
@@ -205,9 +205,9 @@ pub(crate) fn build(boxes: &[PrimBox]) -> (Vec<Node>, Vec<u32>) {
             {
                 continue;
             }
-            Some(s) => partition(boxes, range, s, centres_lo, extent),
+            Some(s) => partition(range, s, &axes),
             None if count <= MAX_LEAF => continue,
-            None => median(boxes, range, extent),
+            None => median(range, &axes),
         };
         let first = nodes.len();
         nodes.push(leaf(start, left_count));
@@ -218,44 +218,56 @@ pub(crate) fn build(boxes: &[PrimBox]) -> (Vec<Node>, Vec<u32>) {
         pending.push((first, start, left_count, depth + 1));
     }
     nodes.shrink_to_fit();
+    let order = boxes.iter().map(|b| b.triangle).collect();
     (nodes, order)
 }
 
-/// The bin of a centre along `axis`, of [`BINS`] equal bins over the centres' extent.
-#[inline]
-fn bin_of(c: f64, lo: f64, scale: f64) -> usize {
-    // `as` saturates (and maps NaN to 0); the clamp catches the top edge.
-    (((c - lo) * scale) as usize).min(BINS - 1)
+/// A node's centres, binned: [`BINS`] equal bins per axis over their extent.
+#[derive(Clone, Copy, Debug)]
+struct Axes {
+    lo: Vec3,
+    /// `BINS / extent` per axis (from f64: no overflow), 0 for an axis along which every
+    /// centre is the same.
+    scale: Vec3,
+    /// The extent, to choose the median's axis.
+    extent: DVec3,
 }
 
-/// `BINS / extent` per axis, 0 for an axis along which every centre is the same.
-fn scales(extent: DVec3) -> DVec3 {
-    extent.map(|e| if e > 0.0 { BINS as f64 / e } else { 0.0 })
+impl Axes {
+    fn of(centres: Bounds) -> Self {
+        let extent = centres.hi.as_dvec3() - centres.lo.as_dvec3();
+        let scale = extent.map(|e| if e > 0.0 { BINS as f64 / e } else { 0.0 });
+        Self {
+            lo: centres.lo,
+            scale: scale.as_vec3(),
+            extent,
+        }
+    }
+
+    /// The bin of `b`'s centre along `axis`.
+    #[inline]
+    fn bin(&self, b: &PrimBox, axis: usize) -> usize {
+        // `as` saturates (an overflow to ∞ lands in the last bin, NaN in the first); the
+        // clamp catches the top edge.
+        (((b.centre()[axis] - self.lo[axis]) * self.scale[axis]) as usize).min(BINS - 1)
+    }
 }
 
 /// The cheapest SAH split of `range` over every axis's bin boundaries (`None` when no boundary
 /// has triangles on both sides: every centre in one bin on every axis).
-fn best_split(
-    boxes: &[PrimBox],
-    range: &[u32],
-    centres_lo: DVec3,
-    extent: DVec3,
-    bins: &mut [[Bin; BINS]; 3],
-) -> Option<Split> {
-    let scale = scales(extent);
+fn best_split(range: &[PrimBox], axes: &Axes, bins: &mut [[Bin; BINS]; 3]) -> Option<Split> {
+    let scale = axes.scale;
     for axis_bins in bins.iter_mut() {
         axis_bins.fill(Bin {
             bounds: Bounds::EMPTY,
             count: 0,
         });
     }
-    for &t in range {
-        let b = &boxes[t as usize];
-        let c = b.centre();
+    for b in range {
         for axis in 0..3 {
             if scale[axis] > 0.0 {
-                let bin = &mut bins[axis][bin_of(c[axis], centres_lo[axis], scale[axis])];
-                bin.bounds.grow(b);
+                let bin = &mut bins[axis][axes.bin(b, axis)];
+                bin.bounds.grow(b.lo, b.hi);
                 bin.count += 1;
             }
         }
@@ -288,19 +300,11 @@ fn best_split(
 }
 
 /// Puts the triangles of `range` that `split` sends left first; returns how many.
-fn partition(
-    boxes: &[PrimBox],
-    range: &mut [u32],
-    split: Split,
-    centres_lo: DVec3,
-    extent: DVec3,
-) -> usize {
-    let scale = scales(extent)[split.axis];
-    let lo = centres_lo[split.axis];
-    let left = |t: u32| bin_of(boxes[t as usize].centre()[split.axis], lo, scale) < split.bin;
+fn partition(range: &mut [PrimBox], split: Split, axes: &Axes) -> usize {
+    let left = |b: &PrimBox| axes.bin(b, split.axis) < split.bin;
     let (mut i, mut j) = (0, range.len());
     while i < j {
-        if left(range[i]) {
+        if left(&range[i]) {
             i += 1;
         } else {
             j -= 1;
@@ -312,22 +316,19 @@ fn partition(
 
 /// Splits `range` in halves at the median centre along the axis of the centres' largest extent
 /// (ties by triangle index, so equal centres are split too); returns the left half's size.
-fn median(boxes: &[PrimBox], range: &mut [u32], extent: DVec3) -> usize {
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+fn median(range: &mut [PrimBox], axes: &Axes) -> usize {
+    let e = axes.extent;
+    let axis = if e.x >= e.y && e.x >= e.z {
         0
-    } else if extent.y >= extent.z {
+    } else if e.y >= e.z {
         1
     } else {
         2
     };
     let mid = range.len() / 2;
     // Linear in the worst case (Rust's selection falls back to median of medians).
-    range.select_nth_unstable_by(mid, |&a, &b| {
-        let (ca, cb) = (
-            boxes[a as usize].centre()[axis],
-            boxes[b as usize].centre()[axis],
-        );
-        ca.total_cmp(&cb).then(a.cmp(&b))
+    range.select_nth_unstable_by(mid, |a, b| {
+        (a.centre()[axis].total_cmp(&b.centre()[axis])).then(a.triangle.cmp(&b.triangle))
     });
     mid
 }
