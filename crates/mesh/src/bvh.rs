@@ -1,9 +1,10 @@
 //! A mesh's BVH: the topology from a binned SAH build whose work is bounded whatever the
 //! triangles (`bvh_build`: BVH2, built from the triangles' boxes rounded to f32, at most
-//! [`MAX_DEPTH`](crate::MAX_DEPTH) deep), its boxes refitted in f64 around the f64 triangles (so they bound them exactly,
-//! whatever the rounding), traversed here nearest child first with a conservative slab test
-//! (Ize 2013: the far distance widened by `1 + 2γ₃`, so rounding never drops a box a ray
-//! touches). Nearest hit for camera and secondary rays, any hit for shadow rays.
+//! [`MAX_DEPTH`](crate::MAX_DEPTH) deep), its boxes refitted in f64 around the f64 triangles
+//! (so they bound them exactly, whatever the rounding), traversed here nearest child first with
+//! a conservative slab test (Ize 2013: the far distance widened by `1 + 2γ₃`, so rounding never
+//! drops a box a ray touches). Nearest hit for camera and secondary rays, any hit for shadow
+//! rays.
 
 use crate::TriangleMesh;
 use crate::bvh_build::{self, PrimBox};
@@ -52,6 +53,11 @@ impl MeshBvh {
     /// f32), so a mesh far from the origin gets the tree it would get at the origin rather than
     /// one over f32 corners that have collapsed onto a coarse grid; the boxes are refitted in
     /// f64 around the absolute f64 corners either way.
+    ///
+    /// # Panics
+    /// If the mesh has more than [`MAX_TRIANGLES`](crate::MAX_TRIANGLES) triangles, which only a
+    /// mesh whose fields were filled by hand can have: [`TriangleMesh::new`] and the OBJ loader
+    /// refuse it.
     pub fn build(mesh: TriangleMesh) -> Self {
         let anchor = topology_anchor(&mesh);
         let boxes: Vec<PrimBox> = (0..mesh.triangles.len())
