@@ -1,5 +1,5 @@
-//! fray-mesh's BVH on the bunny (75 408 triangles): build time (obvhs's SAH build and the f64
-//! refit), and single-ray throughput of the f64 reference traversal — primary rays of a 256²
+//! fray-mesh's BVH on the bunny (75 408 triangles): build time (the binned SAH build and the
+//! f64 refit), and single-ray throughput of the f64 reference traversal — primary rays of a 256²
 //! pinhole view framing the bunny (a quarter-resolution sample of the 1024² view, the same
 //! rays per pixel), nearest hit and any hit, on one thread.
 

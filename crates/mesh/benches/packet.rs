@@ -1,7 +1,7 @@
 //! The mesh benchmark: the bunny (75 408 triangles) in a 1024² pinhole view framed so it
 //! fills most of the picture, rays handed over as a renderer would — 16×16-pixel tiles, Morton
 //! order inside a tile, one tile per rayon task — on pools of 1 and 2 threads. Build times
-//! (obvhs + the f64 refit; the packet data from it), then Mrays/s of primary rays (nearest hit)
+//! (the SAH build + the f64 refit; the packet data from it), then Mrays/s of primary rays (nearest hit)
 //! and of shadow rays (any hit) from the primary hits toward a fixed point light: the f64
 //! reference one ray at a time, the packet path one ray per call, and the packet path a tile per
 //! call. The view is `bunny_view`, shared with the Embree comparison (`benches/embree/`). One
@@ -24,7 +24,7 @@ fn bench(c: &mut Criterion) {
         .sample_size(10)
         .warm_up_time(Duration::from_secs(2))
         .measurement_time(Duration::from_secs(8));
-    group.bench_function("build MeshBvh (obvhs + f64 refit)", |b| {
+    group.bench_function("build MeshBvh (SAH + f64 refit)", |b| {
         b.iter(|| MeshBvh::build(black_box(mesh.clone())))
     });
     let bvh = MeshBvh::build(mesh);

@@ -1,10 +1,13 @@
-//! A mesh's BVH: the topology from `obvhs`'s SAH builder (BVH2, built from the triangles rounded
-//! to f32), its boxes refitted in f64 around the f64 triangles (so they bound them exactly,
-//! whatever the rounding), traversed here nearest child first with a conservative slab test
-//! (Ize 2013: the far distance widened by `1 + 2γ₃`, so rounding never drops a box a ray
-//! touches). Nearest hit for camera and secondary rays, any hit for shadow rays.
+//! A mesh's BVH: the topology from a binned SAH build whose work is bounded whatever the
+//! triangles (`bvh_build`: BVH2, built from the triangles' boxes rounded to f32, at most
+//! [`MAX_DEPTH`](crate::MAX_DEPTH) deep), its boxes refitted in f64 around the f64 triangles
+//! (so they bound them exactly, whatever the rounding), traversed here nearest child first with
+//! a conservative slab test (Ize 2013: the far distance widened by `1 + 2γ₃`, so rounding never
+//! drops a box a ray touches). Nearest hit for camera and secondary rays, any hit for shadow
+//! rays.
 
 use crate::TriangleMesh;
+use crate::bvh_build::{self, PrimBox};
 use crate::triangle::{RayFrame, intersect};
 use fray_core::{Aabb, Interval, Ray};
 use glam::DVec3;
@@ -36,7 +39,7 @@ pub struct MeshBvh {
     nodes: Vec<Node>,
     /// Triangle indices in leaf order.
     order: Vec<u32>,
-    /// How long the `obvhs` build took.
+    /// How long the topology build took.
     build_time: std::time::Duration,
 }
 
@@ -44,44 +47,25 @@ pub struct MeshBvh {
 const SLAB_WIDEN: f64 = 1.0 + 2.0 * (3.0 * f64::EPSILON * 0.5) / (1.0 - 3.0 * f64::EPSILON * 0.5);
 
 impl MeshBvh {
-    /// Builds the BVH of `mesh` (obvhs's medium-quality SAH build). The topology is built from
+    /// Builds the BVH of `mesh` (a binned SAH build, `O(n · MAX_DEPTH)` for any triangles: see
+    /// [`MeshBvh::build_bytes`] for its memory). The topology is built from
     /// the corners relative to [`topology_anchor`] (the difference in f64, then rounded to
     /// f32), so a mesh far from the origin gets the tree it would get at the origin rather than
     /// one over f32 corners that have collapsed onto a coarse grid; the boxes are refitted in
     /// f64 around the absolute f64 corners either way.
+    ///
+    /// # Panics
+    /// If the mesh has more than [`MAX_TRIANGLES`](crate::MAX_TRIANGLES) triangles, which only a
+    /// mesh whose fields were filled by hand can have: [`TriangleMesh::new`] and the OBJ loader
+    /// refuse it.
     pub fn build(mesh: TriangleMesh) -> Self {
         let anchor = topology_anchor(&mesh);
-        let tris: Vec<obvhs::triangle::Triangle> = (0..mesh.triangles.len())
-            .map(|i| {
-                let [a, b, c] = mesh.corners(i).map(|p| (p - anchor).as_vec3().into());
-                obvhs::triangle::Triangle {
-                    v0: a,
-                    v1: b,
-                    v2: c,
-                }
-            })
+        let boxes: Vec<PrimBox> = (0..mesh.triangles.len())
+            .map(|i| PrimBox::around(i as u32, mesh.corners(i).map(|p| p - anchor)))
             .collect();
-        let mut build_time = std::time::Duration::ZERO;
-        let (mut nodes, order) = if tris.is_empty() {
-            (Vec::new(), Vec::new())
-        } else {
-            let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(
-                &tris,
-                obvhs::BvhBuildParams::medium_build(),
-                &mut build_time,
-            );
-            let nodes = bvh
-                .nodes
-                .iter()
-                .map(|n| Node {
-                    min: DVec3::ZERO,
-                    max: DVec3::ZERO,
-                    first: n.first_index,
-                    count: n.prim_count,
-                })
-                .collect();
-            (nodes, bvh.primitive_indices.clone())
-        };
+        let start = std::time::Instant::now();
+        let (mut nodes, order) = bvh_build::build(boxes);
+        let build_time = start.elapsed();
         if !nodes.is_empty() {
             refit(&mut nodes, &order, &mesh, 0);
         }
@@ -93,12 +77,33 @@ impl MeshBvh {
         }
     }
 
+    /// The bytes a BVH of `triangles` triangles holds beside its mesh, at most: `2n − 1` nodes
+    /// and the leaf order (a tree with fuller leaves has fewer nodes: [`MeshBvh::bytes`]).
+    pub fn bytes_for(triangles: usize) -> u64 {
+        bvh_build::tree_bytes(triangles)
+    }
+
+    /// The bytes [`MeshBvh::build`] allocates for a mesh of `triangles` triangles at its peak,
+    /// beside the mesh it is given: the triangles' f32 boxes (dropped before the refit) and the
+    /// tree at its largest ([`MeshBvh::bytes_for`]) — and that again while the nodes' unused
+    /// room is given back.
+    pub fn build_bytes(triangles: usize) -> u64 {
+        let boxes = (triangles as u64).saturating_mul(std::mem::size_of::<PrimBox>() as u64);
+        boxes.saturating_add(Self::bytes_for(triangles).saturating_mul(2))
+    }
+
+    /// The bytes this BVH holds beside its mesh (its nodes and leaf order).
+    pub fn bytes(&self) -> u64 {
+        (self.nodes.len() * std::mem::size_of::<Node>() + self.order.len() * 4) as u64
+    }
+
     /// The mesh.
     pub fn mesh(&self) -> &TriangleMesh {
         &self.mesh
     }
 
-    /// How long `obvhs` took to build the topology (the refit not included).
+    /// How long the topology build took (the boxes' f32 rounding and the f64 refit not
+    /// included).
     pub fn build_time(&self) -> std::time::Duration {
         self.build_time
     }

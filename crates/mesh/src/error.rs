@@ -1,6 +1,6 @@
 //! The errors of `fray-mesh`: an unreadable or malformed OBJ file (path, line where one applies,
-//! reason), a mesh whose indices or values are bad, a mesh past its memory budget, a texture
-//! that cannot be loaded.
+//! reason), one with more triangles than a mesh may have, a mesh whose indices or values are
+//! bad, a mesh past its memory budget, a texture that cannot be loaded.
 
 use std::path::PathBuf;
 
@@ -16,6 +16,16 @@ pub enum MeshError {
         path: PathBuf,
         line: usize,
         reason: String,
+    },
+    /// The file's faces make more triangles than a mesh may have ([`crate::MAX_TRIANGLES`]).
+    #[error(
+        "{}: its faces make {triangles} triangles, more than the {limit} a mesh may have",
+        path.display()
+    )]
+    TooManyTriangles {
+        path: PathBuf,
+        triangles: u64,
+        limit: u64,
     },
     /// The file parsed but holds no usable mesh (no triangles, or `tobj` refused it).
     #[error("{}: {reason}", path.display())]

@@ -20,7 +20,8 @@ pub struct TriangleMesh {
 
 impl TriangleMesh {
     /// A mesh of `positions` and `triangles` with computed angle-weighted normals; every index
-    /// must name a vertex and every position be finite.
+    /// must name a vertex, every position be finite, and the triangles be at most
+    /// [`crate::MAX_TRIANGLES`].
     pub fn new(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<Self, MeshError> {
         Self::with_attributes(positions, triangles, None, None)
     }
@@ -34,6 +35,13 @@ impl TriangleMesh {
         uvs: Option<Vec<DVec2>>,
     ) -> Result<Self, MeshError> {
         let n = positions.len();
+        if triangles.len() > crate::MAX_TRIANGLES {
+            return Err(MeshError::Mesh(format!(
+                "{} triangles, more than the {} a mesh may have",
+                triangles.len(),
+                crate::MAX_TRIANGLES
+            )));
+        }
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
             return Err(MeshError::Mesh(format!(
                 "vertex {i} is not finite: {}",

@@ -1,9 +1,11 @@
 //! OBJ files through `tobj` (triangulated, one index per vertex: positions, normals and UVs
 //! unified), with the errors a user can act on: a missing file, and a malformed line named by
 //! its number and what is wrong with it (a pre-pass over the lines `tobj` reads — `v`, `vn`,
-//! `vt`, `f` — since `tobj` reports no line). Several objects in a file become one mesh.
+//! `vt`, `f`, `l` — since `tobj` reports no line), and a memory bound from the pre-pass's counts
+//! (`obj_size`) checked before `tobj` allocates. Several objects in a file become one mesh.
 
-use crate::{MeshError, TriangleMesh};
+use crate::obj_size::ObjCounts;
+use crate::{MAX_TRIANGLES, MeshError, TriangleMesh};
 use fray_core::MemoryBudget;
 use glam::{DVec2, DVec3};
 use std::path::Path;
@@ -20,13 +22,23 @@ impl TriangleMesh {
                 reason: other.to_string(),
             },
         })?;
-        let (vertices, faces) = check_lines(path, &text)?;
-        // Positions, normals and UVs in f64 and the triangles, per vertex of the unified
-        // indexing (at most 3 per face corner): a generous bound, checked before tobj allocates.
-        budget.check_elements(
-            format!("the mesh {}", path.display()),
-            (vertices + 3 * faces).saturating_mul(4),
-            8 * 3,
+        let counts = check_lines(path, &text)?;
+        if counts.too_many_triangles() {
+            return Err(MeshError::TooManyTriangles {
+                path: path.to_owned(),
+                triangles: counts.triangles,
+                limit: MAX_TRIANGLES as u64,
+            });
+        }
+        // tobj's buffers and the mesh made from them, checked before tobj allocates.
+        budget.check(
+            format!(
+                "loading the mesh {} ({} triangles from {} face corners)",
+                path.display(),
+                counts.triangles,
+                counts.corners
+            ),
+            counts.load_bytes(text.len() as u64),
         )?;
         let options = tobj::LoadOptions {
             triangulate: true,
@@ -90,11 +102,14 @@ impl TriangleMesh {
     }
 }
 
-/// Checks every `v`, `vn`, `vt` and `f` line (numbers finite, face indices naming existing
-/// elements, counting negative ones from the end); returns the vertex and face counts.
-fn check_lines(path: &Path, text: &str) -> Result<(u64, u64), MeshError> {
-    let (mut v, mut vt, mut vn, mut faces) = (0i64, 0i64, 0i64, 0u64);
+/// Checks every `v`, `vn`, `vt`, `f` and `l` line (numbers finite, face indices naming existing
+/// elements, counting negative ones from the end) without allocating per line; returns what it
+/// counted, for the memory bound (`obj_size`).
+fn check_lines(path: &Path, text: &str) -> Result<ObjCounts, MeshError> {
+    let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
+    let mut counts = ObjCounts::default();
     for (number, line) in text.lines().enumerate() {
+        counts.longest_line = counts.longest_line.max(line.len() as u64);
         let fail = |reason: String| MeshError::Obj {
             path: path.to_owned(),
             line: number + 1,
@@ -106,18 +121,17 @@ fn check_lines(path: &Path, text: &str) -> Result<(u64, u64), MeshError> {
             continue;
         };
         let numbers = |words: std::str::SplitWhitespace, need: usize, what: &str| {
-            let values: Vec<&str> = words.collect();
-            if values.len() < need {
-                return Err(fail(format!(
-                    "`{keyword}` needs {need} numbers ({what}), got {}",
-                    values.len()
-                )));
-            }
-            for value in &values {
+            let mut got = 0;
+            for value in words {
                 match value.parse::<f64>() {
-                    Ok(x) if x.is_finite() => {}
+                    Ok(x) if x.is_finite() => got += 1,
                     _ => return Err(fail(format!("`{value}` is not a finite number"))),
                 }
+            }
+            if got < need {
+                return Err(fail(format!(
+                    "`{keyword}` needs {need} numbers ({what}), got {got}"
+                )));
             }
             Ok(())
         };
@@ -134,15 +148,12 @@ fn check_lines(path: &Path, text: &str) -> Result<(u64, u64), MeshError> {
                 numbers(words, 1, "u [v]")?;
                 vt += 1;
             }
-            "f" => {
-                let corners: Vec<&str> = words.collect();
-                if corners.len() < 3 {
-                    return Err(fail(format!(
-                        "a face needs at least 3 corners, got {}",
-                        corners.len()
-                    )));
-                }
-                for corner in corners {
+            // `tobj` reads a line element (`l`) as it reads a face, and makes triangles of one
+            // with 3 corners or more.
+            "f" | "l" => {
+                let mut corners = 0u64;
+                for corner in words {
+                    corners += 1;
                     for (k, (index, count, what)) in corner
                         .split('/')
                         .zip([(v, "vertex"), (vt, "texture coordinate"), (vn, "normal")])
@@ -163,10 +174,23 @@ fn check_lines(path: &Path, text: &str) -> Result<(u64, u64), MeshError> {
                         }
                     }
                 }
-                faces += 1;
+                if keyword == "f" && corners < 3 {
+                    return Err(fail(format!(
+                        "a face needs at least 3 corners, got {corners}"
+                    )));
+                }
+                counts.faces += 1;
+                if corners >= 5 {
+                    counts.polygon_corners += corners;
+                }
+                if corners >= 3 {
+                    counts.corners += corners;
+                    counts.triangles += corners - 2;
+                }
             }
             _ => {}
         }
     }
-    Ok((v as u64, faces))
+    (counts.vertices, counts.texcoords, counts.normals) = (v as u64, vt as u64, vn as u64);
+    Ok(counts)
 }

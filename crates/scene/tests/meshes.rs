@@ -192,6 +192,78 @@ fn a_mesh_over_the_budget_is_refused() {
     );
 }
 
+/// A mesh's BVH build is reserved on the scene's memory account before it starts, and the tree
+/// and its packet data are charged to it for as long as the scene lives: the bunny's are in the
+/// ledger at their exact sizes; a face of 2·10⁵ corners over 4 vertices loads within 32 MiB
+/// (its load is bounded by ≈ 20 MB) but its BVH's build, ≈ 51 MB at its largest for 199 998
+/// triangles, does not fit, and is refused at the `path` field.
+#[test]
+fn a_mesh_bvh_is_reserved_before_its_build_and_charged_to_the_scene() {
+    let file = scenes().join("inline.ron");
+    let options = fray_scene::BuildOptions {
+        budget: fray_core::MemoryBudget::new(1 << 30),
+        ..Default::default()
+    };
+    let s = fray_scene::parse_with(
+        "(objects: [(shape: Mesh(path: \"../meshes/bunny00.obj\"))])",
+        &file.display().to_string(),
+        &options,
+    )
+    .unwrap();
+    let bvh = &s.meshes[0].instance.mesh;
+    let charged = |what: &str| {
+        s.budget
+            .ledger()
+            .into_iter()
+            .find(|(w, _)| w.starts_with(what) && w.contains("bunny00.obj (75408 triangles)"))
+            .unwrap_or_else(|| panic!("{what} not in {:?}", s.budget.ledger()))
+            .1
+    };
+    assert_eq!(charged("the BVH of the mesh"), bvh.bytes());
+    assert_eq!(
+        charged("the packet data of the mesh"),
+        fray_mesh::PacketBvh::bytes_for(bvh)
+    );
+
+    let dir = std::env::temp_dir().join(format!("fray-scene-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("face.obj");
+    let corners = 200_000;
+    let face: String = (0..corners)
+        .map(|i| [" 1", " 2", " 3", " 4"][i % 4])
+        .collect();
+    std::fs::write(
+        &obj,
+        format!("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf{face}\n"),
+    )
+    .unwrap();
+    let budget = 32 << 20;
+    let build = fray_mesh::MeshBvh::build_bytes(corners - 2);
+    assert!(build > budget, "{build}");
+    let options = fray_scene::BuildOptions {
+        budget: fray_core::MemoryBudget::new(budget),
+        ..Default::default()
+    };
+    let e = fray_scene::parse_with(
+        &format!(
+            "(objects: [(shape: Mesh(path: {:?}))])",
+            obj.display().to_string()
+        ),
+        &file.display().to_string(),
+        &options,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("objects[0].shape.path:")
+            && e.contains("building the BVH of the mesh")
+            && e.contains("face.obj (199998 triangles)")
+            && e.contains(&format!("({build} bytes)")),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn textures_load_once_and_bad_ones_are_located_errors() {
     let s = parse(
