@@ -19,6 +19,18 @@ pub struct TriangleMesh {
 }
 
 impl TriangleMesh {
+    /// The bytes its arrays hold (positions, triangles, normals and UVs).
+    pub fn heap_bytes(&self) -> u64 {
+        let size = |n: usize, each: usize| (n as u64).saturating_mul(each as u64);
+        size(self.positions.len(), std::mem::size_of::<DVec3>())
+            + size(self.triangles.len(), std::mem::size_of::<[u32; 3]>())
+            + size(self.normals.len(), std::mem::size_of::<DVec3>())
+            + self
+                .uvs
+                .as_ref()
+                .map_or(0, |u| size(u.len(), std::mem::size_of::<DVec2>()))
+    }
+
     /// A mesh of `positions` and `triangles` with computed angle-weighted normals; every index
     /// must name a vertex, every position be finite, and the triangles be at most
     /// [`crate::MAX_TRIANGLES`].

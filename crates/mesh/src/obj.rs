@@ -92,13 +92,16 @@ impl TriangleMesh {
         if triangles.is_empty() {
             return Err(invalid("the file holds no faces".into()));
         }
-        TriangleMesh::with_attributes(
+        let mesh = TriangleMesh::with_attributes(
             positions,
             triangles,
             all_normals.then_some(normals),
             all_uvs.then_some(uvs),
         )
-        .map_err(|e| invalid(e.to_string()))
+        .map_err(|e| invalid(e.to_string()))?;
+        // The mesh lives as long as the scene: charged to the render's account.
+        budget.charge(format!("the mesh {}", path.display()), mesh.heap_bytes())?;
+        Ok(mesh)
     }
 }
 

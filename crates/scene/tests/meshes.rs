@@ -220,6 +220,18 @@ fn a_mesh_bvh_is_reserved_before_its_build_and_charged_to_the_scene() {
             .1
     };
     assert_eq!(charged("the BVH of the mesh"), bvh.bytes());
+    // The mesh itself: its triangles (12 bytes each) and its vertices' positions and normals
+    // (24 bytes each; the bunny has no UVs).
+    let mesh = s
+        .budget
+        .ledger()
+        .into_iter()
+        .find(|(w, _)| w.starts_with("the mesh ") && w.ends_with("bunny00.obj"))
+        .unwrap_or_else(|| panic!("the mesh not in {:?}", s.budget.ledger()))
+        .1;
+    let m = bvh.mesh();
+    assert!(m.uvs.is_none());
+    assert_eq!(mesh, 75_408 * 12 + m.positions.len() as u64 * 48);
     assert_eq!(
         charged("the packet data of the mesh"),
         fray_mesh::PacketBvh::bytes_for(bvh)
