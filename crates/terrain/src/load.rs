@@ -7,6 +7,7 @@
 
 use crate::heightmap::check_size;
 use crate::{Heightmap, TerrainError, npy};
+use exr::prelude as x;
 use fray_core::MemoryBudget;
 use image::ImageDecoder;
 use std::path::Path;
@@ -121,8 +122,7 @@ impl Heightmap {
                     ),
                     decoded.saturating_add(samples_bytes(w, h)),
                 )?;
-                let image = exr::prelude::read_first_flat_layer_from_file(path)
-                    .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
+                let image = read_exr(path).map_err(format)?;
                 let layer = image.layer_data;
                 let (w, h) = (layer.size.x(), layer.size.y());
                 check(w, h).map_err(format)?;
@@ -166,4 +166,21 @@ impl Heightmap {
         };
         Heightmap::from_samples(width, height, samples).map_err(with_path)
     }
+}
+
+/// The first layer of the OpenEXR file at `path`, every channel, decoded on this thread (a panic
+/// of the decoder on a malformed block — on a worker thread it would abort the process — is
+/// caught and named).
+fn read_exr(path: &Path) -> Result<x::Image<x::Layer<x::AnyChannels<x::FlatSamples>>>, String> {
+    use x::{ReadChannels, ReadLayers};
+    let read = x::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .non_parallel();
+    fray_core::contain_panic(|| read.from_file(path))
+        .map_err(|panic| format!("the OpenEXR decoder failed on this file: {panic}"))?
+        .map_err(|e| format!("cannot decode the OpenEXR file: {e}"))
 }

@@ -13,6 +13,7 @@
 
 use super::texels::check_size;
 use super::{Channels, Texture, TextureError};
+use exr::prelude as x;
 use fray_core::MemoryBudget;
 use image::ImageDecoder;
 use std::path::Path;
@@ -208,8 +209,7 @@ fn load_exr(path: &Path, budget: &MemoryBudget) -> Result<Texture, TextureError>
         ),
         decoded.saturating_add(Texture::chain_bytes(w, h, channels)),
     )?;
-    let image = exr::prelude::read_first_flat_layer_from_file(path)
-        .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
+    let image = read_exr(path).map_err(&format)?;
     let layer = image.layer_data;
     if (layer.size.x(), layer.size.y()) != (w as usize, h as usize) {
         return Err(format(
@@ -248,6 +248,23 @@ fn load_exr(path: &Path, budget: &MemoryBudget) -> Result<Texture, TextureError>
         }
     }
     Ok(Texture::build(w, h, channels, data))
+}
+
+/// The first layer of the OpenEXR file at `path`, every channel, decoded on this thread (a panic
+/// of the decoder on a malformed block — on a worker thread it would abort the process — is
+/// caught and named).
+fn read_exr(path: &Path) -> Result<x::Image<x::Layer<x::AnyChannels<x::FlatSamples>>>, String> {
+    use x::{ReadChannels, ReadLayers};
+    let read = x::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .non_parallel();
+    fray_core::contain_panic(|| read.from_file(path))
+        .map_err(|panic| format!("the OpenEXR decoder failed on this file: {panic}"))?
+        .map_err(|e| format!("cannot decode the OpenEXR file: {e}"))
 }
 
 /// The channels a texture takes from an OpenEXR layer's names, in texel order.
