@@ -8,6 +8,7 @@ use crate::{Scene, SceneError};
 use fray_core::MemoryBudget;
 use ron::error::{Error as RonError, SpannedError};
 use ron::extensions::Extensions;
+use std::cell::Cell;
 use std::path::Path;
 
 /// Reads, parses, validates and resolves the scene file at `path`. Errors name the file.
@@ -34,7 +35,7 @@ pub fn parse(source: &str, file: &str) -> Result<Scene, SceneError> {
 
 /// [`parse`] building as `options` say.
 pub fn parse_with(source: &str, file: &str, options: &BuildOptions) -> Result<Scene, SceneError> {
-    parse_at_depth(source, file, 0, options).map(|(scene, _)| scene)
+    parse_at_depth(source, file, 0, &Cell::new(0), options).map(|(scene, _)| scene)
 }
 
 /// A report of a long build's progress: what, steps done, steps in all (from any thread).
@@ -79,12 +80,19 @@ impl BuildOptions<'_> {
 /// How deep `include`s may nest (a file that includes itself stops here).
 const MAX_INCLUDE_DEPTH: usize = 8;
 
-/// [`parse`] of a file `depth` includes deep; also returns its description with its includes
-/// merged, for the file that includes it.
+/// How many files one scene may read through `include`s, all levels together: far more than a
+/// scene made of parts needs (the data scenes include one), few enough that includes fanning out
+/// — each file including the next several times, `k^depth` files from a few lines — are refused
+/// at once instead of read and resolved one by one.
+const MAX_INCLUDED_FILES: usize = 64;
+
+/// [`parse`] of a file `depth` includes deep; `included` counts the files read through includes
+/// so far. Also returns its description with its includes merged, for the file that includes it.
 fn parse_at_depth(
     source: &str,
     file: &str,
     depth: usize,
+    included: &Cell<usize>,
     options: &BuildOptions,
 ) -> Result<(Scene, description::Scene), SceneError> {
     let mut d = parse_description(source, file)?;
@@ -109,11 +117,27 @@ fn parse_at_depth(
                 format!("includes nest deeper than {MAX_INCLUDE_DEPTH} files (a cycle?)"),
             ));
         }
+        included.set(included.get() + 1);
+        if included.get() > MAX_INCLUDED_FILES {
+            return Err(located(
+                at,
+                format!(
+                    "this would be file {} read through includes, past the limit of \
+                     {MAX_INCLUDED_FILES} per scene (files included many times over?)",
+                    included.get()
+                ),
+            ));
+        }
         let path = base.join(name);
         let text = std::fs::read_to_string(&path)
             .map_err(|e| located(at.clone(), format!("cannot read {}: {e}", path.display())))?;
-        let (_, mut included) =
-            parse_at_depth(&text, &path.display().to_string(), depth + 1, options)?;
+        let (_, mut included) = parse_at_depth(
+            &text,
+            &path.display().to_string(),
+            depth + 1,
+            included,
+            options,
+        )?;
         rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
         for (material, m) in included.materials {
             match d.materials.get(&material) {
