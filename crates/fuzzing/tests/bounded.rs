@@ -19,12 +19,12 @@ use std::time::{Duration, Instant};
 /// the test profile, so 5 s is a hang, not a slow machine.
 const INPUT_TIME_BOUND: Duration = Duration::from_secs(5);
 
-/// Mutated inputs per target: 3000 of a file (about 0.1 ms to 1 ms each in the test profile), 400
+/// Mutated inputs per target: 3000 of a file (about 0.1 ms to 1 ms each in the test profile), 800
 /// of a scene bundle (about 10 ms each: the largest inputs, several files, whole scenes built) —
 /// a few seconds per target.
 fn mutations(target: Target) -> u32 {
     match target {
-        Target::Scene => 400,
+        Target::Scene => 800,
         _ => 3000,
     }
 }
