@@ -1,7 +1,7 @@
 //! Includes that fan out: a scene reads at most 64 files through `include`s, all levels together,
 //! so a few lines that include a file which includes the next several times over (`k^depth`
-//! files; found while writing the scene loader's fuzz target) are refused at once, at the include past the
-//! limit, instead of being read and resolved one by one.
+//! files; found while writing the scene loader's fuzz target) are refused at once, at the
+//! include past the limit, instead of being read and resolved one by one.
 
 use std::time::{Duration, Instant};
 
