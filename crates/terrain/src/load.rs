@@ -66,8 +66,11 @@ impl Heightmap {
         let (width, height, samples) = match ext.as_deref() {
             Some("png") => {
                 let bytes = read("PNG")?;
-                let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
-                    .map_err(|e| format(format!("not a readable PNG: {e}")))?;
+                let decoder = fray_core::contain_panic("the PNG decoder", || {
+                    image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
+                })
+                .map_err(format)?
+                .map_err(|e| format(format!("not a readable PNG: {e}")))?;
                 let (w, h) = decoder.dimensions();
                 let (w, h) = (w as usize, h as usize);
                 check(w, h).map_err(format)?;
@@ -81,8 +84,11 @@ impl Heightmap {
                     ),
                     peak,
                 )?;
-                let image = image::DynamicImage::from_decoder(decoder)
-                    .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
+                let image = fray_core::contain_panic("the PNG decoder", || {
+                    image::DynamicImage::from_decoder(decoder)
+                })
+                .map_err(format)?
+                .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
                 let samples: Vec<f32> = match image {
                     image::DynamicImage::ImageLuma16(g) => {
                         g.into_raw().into_iter().map(f32::from).collect()
@@ -180,7 +186,6 @@ fn read_exr(path: &Path) -> Result<x::Image<x::Layer<x::AnyChannels<x::FlatSampl
         .first_valid_layer()
         .all_attributes()
         .non_parallel();
-    fray_core::contain_panic(|| read.from_file(path))
-        .map_err(|panic| format!("the OpenEXR decoder failed on this file: {panic}"))?
+    fray_core::contain_panic("the OpenEXR decoder", || read.from_file(path))?
         .map_err(|e| format!("cannot decode the OpenEXR file: {e}"))
 }

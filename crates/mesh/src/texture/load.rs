@@ -91,8 +91,11 @@ fn load_png(
     let len = std::fs::metadata(path).map_err(io(path))?.len();
     over(path, budget, "reading the PNG texture file".into(), len)?;
     let bytes = std::fs::read(path).map_err(io(path))?;
-    let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
-        .map_err(|e| format(format!("not a readable PNG: {e}")))?;
+    let decoder = fray_core::contain_panic("the PNG decoder", || {
+        image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
+    })
+    .map_err(&format)?
+    .map_err(|e| format(format!("not a readable PNG: {e}")))?;
     let (w, h) = decoder.dimensions();
     check_size(Some(path), u64::from(w), u64::from(h))?;
     let channels = match decoder.color_type().channel_count() {
@@ -113,8 +116,11 @@ fn load_png(
         ),
         peak,
     )?;
-    let image = image::DynamicImage::from_decoder(decoder)
-        .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
+    let image = fray_core::contain_panic("the PNG decoder", || {
+        image::DynamicImage::from_decoder(decoder)
+    })
+    .map_err(&format)?
+    .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
     drop(bytes);
     let n = channels.count();
     let alpha = channels.has_alpha();
@@ -262,8 +268,7 @@ fn read_exr(path: &Path) -> Result<x::Image<x::Layer<x::AnyChannels<x::FlatSampl
         .first_valid_layer()
         .all_attributes()
         .non_parallel();
-    fray_core::contain_panic(|| read.from_file(path))
-        .map_err(|panic| format!("the OpenEXR decoder failed on this file: {panic}"))?
+    fray_core::contain_panic("the OpenEXR decoder", || read.from_file(path))?
         .map_err(|e| format!("cannot decode the OpenEXR file: {e}"))
 }
 
