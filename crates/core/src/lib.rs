@@ -25,6 +25,7 @@
 mod aabb;
 pub mod budget;
 mod colour;
+mod contain;
 mod footprint;
 mod frame;
 pub mod gpu_struct;
@@ -39,6 +40,7 @@ pub mod samples;
 pub use aabb::Aabb;
 pub use budget::{BudgetError, MemoryBudget, Reservation};
 pub use colour::{Rgb, ToneMap, linear_to_srgb, srgb_to_linear};
+pub use contain::contain_panic;
 pub use footprint::PixelFootprint;
 pub use frame::{Frame, RenderStats};
 pub use glam;

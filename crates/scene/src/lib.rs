@@ -55,7 +55,8 @@ pub use description::TerrainLod;
 pub use error::SceneError;
 pub use features::FeatureSet;
 pub use load::{
-    BuildOptions, BuildProgress, MAX_OBJECTS, load, load_with, parse, parse_description, parse_with,
+    BuildOptions, BuildProgress, MAX_INCLUDED_FILES, MAX_OBJECTS, load, load_with, parse,
+    parse_description, parse_with,
 };
 pub use primitive::{PrimitiveId, PrimitiveKind};
 pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR, MAX_SECONDARY_RAYS};

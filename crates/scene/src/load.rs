@@ -117,7 +117,15 @@ const OBJECT_BYTES: u64 =
 #[derive(Default)]
 struct Includes {
     merged: HashMap<PathBuf, description::Scene>,
+    /// Files being read now (an include whose own includes are still being read).
+    reading: usize,
 }
+
+/// How many distinct files one scene may read through `include`s, all levels together: far more
+/// than a scene made of parts needs (the data scenes include one), few enough that includes
+/// fanning out — each file including several others, `k^depth` files from a few lines — are
+/// refused at once instead of read and resolved one by one.
+pub const MAX_INCLUDED_FILES: usize = 64;
 
 /// [`parse`] of a file `depth` includes deep; also returns its description with its includes
 /// merged, for the file that includes it.
@@ -155,6 +163,17 @@ fn parse_at_depth(
         let included = match includes.merged.get(&key) {
             Some(included) => included,
             None => {
+                if includes.merged.len() + includes.reading >= MAX_INCLUDED_FILES {
+                    return Err(located(
+                        at,
+                        format!(
+                            "{} would be file {} read through includes, past the limit of \
+                             {MAX_INCLUDED_FILES}",
+                            path.display(),
+                            MAX_INCLUDED_FILES + 1
+                        ),
+                    ));
+                }
                 let text = read_scene_file(&path, &options.budget).map_err(|e| match e {
                     SceneError::Io { source, .. } => located(
                         at.clone(),
@@ -169,13 +188,16 @@ fn parse_at_depth(
                     budget: MemoryBudget::new(options.budget.remaining()),
                     progress: options.progress,
                 };
-                let (_, mut included) = parse_at_depth(
+                includes.reading += 1;
+                let parsed = parse_at_depth(
                     &text,
                     &path.display().to_string(),
                     depth + 1,
                     &alone,
                     includes,
-                )?;
+                );
+                includes.reading -= 1;
+                let (_, mut included) = parsed?;
                 rebase_assets(&mut included, path.parent().unwrap_or(Path::new("")));
                 includes.merged.entry(key).or_insert(included)
             }

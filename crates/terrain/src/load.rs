@@ -7,6 +7,7 @@
 
 use crate::heightmap::check_size;
 use crate::{Heightmap, TerrainError, npy};
+use exr::prelude as x;
 use fray_core::MemoryBudget;
 use fray_core::input::{InputError, checked_file_size, read_file};
 use image::ImageDecoder;
@@ -76,8 +77,11 @@ impl Heightmap {
         let (width, height, samples) = match ext.as_deref() {
             Some("png") => {
                 let bytes = read()?;
-                let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
-                    .map_err(|e| format(format!("not a readable PNG: {e}")))?;
+                let decoder = fray_core::contain_panic("the PNG decoder", || {
+                    image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
+                })
+                .map_err(format)?
+                .map_err(|e| format(format!("not a readable PNG: {e}")))?;
                 let (w, h) = decoder.dimensions();
                 let (w, h) = (w as usize, h as usize);
                 check(w, h).map_err(format)?;
@@ -92,8 +96,11 @@ impl Heightmap {
                     peak,
                 )?;
                 charge_samples(w, h)?;
-                let image = image::DynamicImage::from_decoder(decoder)
-                    .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
+                let image = fray_core::contain_panic("the PNG decoder", || {
+                    image::DynamicImage::from_decoder(decoder)
+                })
+                .map_err(format)?
+                .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
                 let samples: Vec<f32> = match image {
                     image::DynamicImage::ImageLuma16(g) => {
                         g.into_raw().into_iter().map(f32::from).collect()
@@ -135,8 +142,7 @@ impl Heightmap {
                     decoded.saturating_add(samples_bytes(w, h)),
                 )?;
                 charge_samples(w, h)?;
-                let image = exr::prelude::read_first_flat_layer_from_file(path)
-                    .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
+                let image = read_exr(path).map_err(format)?;
                 let layer = image.layer_data;
                 let (w, h) = (layer.size.x(), layer.size.y());
                 check(w, h).map_err(format)?;
@@ -181,4 +187,20 @@ impl Heightmap {
         };
         Heightmap::from_samples(width, height, samples).map_err(with_path)
     }
+}
+
+/// The first layer of the OpenEXR file at `path`, every channel, decoded on this thread (a panic
+/// of the decoder on a malformed block — on a worker thread it would abort the process — is
+/// caught and named).
+fn read_exr(path: &Path) -> Result<x::Image<x::Layer<x::AnyChannels<x::FlatSamples>>>, String> {
+    use x::{ReadChannels, ReadLayers};
+    let read = x::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .non_parallel();
+    fray_core::contain_panic("the OpenEXR decoder", || read.from_file(path))?
+        .map_err(|e| format!("cannot decode the OpenEXR file: {e}"))
 }

@@ -13,6 +13,7 @@
 
 use super::texels::check_size;
 use super::{Channels, Texture, TextureError};
+use exr::prelude as x;
 use fray_core::MemoryBudget;
 use fray_core::input::{InputError, checked_file_size, read_file};
 use image::ImageDecoder;
@@ -110,8 +111,11 @@ fn load_png(
 ) -> Result<Texture, TextureError> {
     let format = format(path);
     let bytes = read_file(path, budget).map_err(input(path))?;
-    let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
-        .map_err(|e| format(format!("not a readable PNG: {e}")))?;
+    let decoder = fray_core::contain_panic("the PNG decoder", || {
+        image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes))
+    })
+    .map_err(&format)?
+    .map_err(|e| format(format!("not a readable PNG: {e}")))?;
     let (w, h) = decoder.dimensions();
     check_size(Some(path), u64::from(w), u64::from(h))?;
     let channels = match decoder.color_type().channel_count() {
@@ -133,8 +137,11 @@ fn load_png(
         peak,
     )?;
     charge_chain(path, budget, (w, h, channels))?;
-    let image = image::DynamicImage::from_decoder(decoder)
-        .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
+    let image = fray_core::contain_panic("the PNG decoder", || {
+        image::DynamicImage::from_decoder(decoder)
+    })
+    .map_err(&format)?
+    .map_err(|e| format(format!("cannot decode the PNG: {e}")))?;
     drop(bytes);
     let n = channels.count();
     let alpha = channels.has_alpha();
@@ -231,8 +238,7 @@ fn load_exr(path: &Path, budget: &MemoryBudget) -> Result<Texture, TextureError>
         decoded.saturating_add(Texture::chain_bytes(w, h, channels)),
     )?;
     charge_chain(path, budget, (w, h, channels))?;
-    let image = exr::prelude::read_first_flat_layer_from_file(path)
-        .map_err(|e| format(format!("cannot decode the OpenEXR file: {e}")))?;
+    let image = read_exr(path).map_err(&format)?;
     let layer = image.layer_data;
     if (layer.size.x(), layer.size.y()) != (w as usize, h as usize) {
         return Err(format(
@@ -271,6 +277,22 @@ fn load_exr(path: &Path, budget: &MemoryBudget) -> Result<Texture, TextureError>
         }
     }
     Ok(Texture::build(w, h, channels, data))
+}
+
+/// The first layer of the OpenEXR file at `path`, every channel, decoded on this thread (a panic
+/// of the decoder on a malformed block — on a worker thread it would abort the process — is
+/// caught and named).
+fn read_exr(path: &Path) -> Result<x::Image<x::Layer<x::AnyChannels<x::FlatSamples>>>, String> {
+    use x::{ReadChannels, ReadLayers};
+    let read = x::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .non_parallel();
+    fray_core::contain_panic("the OpenEXR decoder", || read.from_file(path))?
+        .map_err(|e| format!("cannot decode the OpenEXR file: {e}"))
 }
 
 /// The channels a texture takes from an OpenEXR layer's names, in texel order.
