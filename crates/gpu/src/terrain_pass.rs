@@ -389,7 +389,12 @@ mod tests {
                 limit: 330
             }
         );
-        assert!(e.to_string().contains("terrain sample bytes = 344"), "{e}");
+        assert!(
+            e.to_string().contains(
+                "terrain sample bytes — the scene needs 344, the GPU backend allows at most 330"
+            ),
+            "{e}"
+        );
     }
 
     /// The terrain module (generated struct + shader) parses and validates with naga, and the
