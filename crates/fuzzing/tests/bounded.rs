@@ -19,13 +19,13 @@ use std::time::{Duration, Instant};
 /// the test profile, so 5 s is a hang, not a slow machine.
 const INPUT_TIME_BOUND: Duration = Duration::from_secs(5);
 
-/// Mutated inputs per target: 3000 of a file (about 0.1 ms to 1 ms each in the test profile), 800
-/// of a scene bundle (about 10 ms each: the largest inputs, several files, whole scenes built) —
-/// a few seconds per target.
+/// Mutated inputs per target: 8000 of a file (0.25–0.4 ms each in the test profile, on 2 cores
+/// shared with the other targets), 2400 of a scene bundle (1.3–1.5 ms each: the largest inputs,
+/// several files, whole scenes built) — 2 to 4 s per target.
 fn mutations(target: Target) -> u32 {
     match target {
-        Target::Scene => 800,
-        _ => 3000,
+        Target::Scene => 2400,
+        _ => 8000,
     }
 }
 
