@@ -1,9 +1,10 @@
 //! The bounded fuzz run on stable, part of `cargo test --workspace`: each target is fed its seed
 //! corpus (`fuzz/corpus/<target>/`, every seed must load), every input fuzzing once broke
-//! (`fuzz/regressions/<target>/`) and a fixed number ([`mutations`]) of deterministic mutations of its seeds
-//! (proptest with a fixed seed, so every run feeds the same inputs). It fails on a panic and on
-//! any input that takes longer than [`INPUT_TIME_BOUND`]; the failing input is saved under the
-//! target folder's `fuzz-failures/` and its path printed, ready for `fuzz/regressions/`.
+//! (`fuzz/regressions/<target>/`) and a fixed number ([`mutations`]) of deterministic mutations
+//! of its seeds (proptest with a fixed seed, so every run feeds the same inputs). It fails on a
+//! panic and on any input that takes longer than [`INPUT_TIME_BOUND`]; the failing input is
+//! saved under `target/tmp/fuzz-failures/<target>/` and its path printed, ready for
+//! `fuzz/regressions/`.
 
 mod mutation;
 
