@@ -1,4 +1,4 @@
-// clouds.wgsl — the cloud volume in f32, the twin of fray_clouds::march (DESIGN §6): the density
+// clouds.wgsl — the cloud volume in f32, the twin of fray_clouds::march (docs/methods.md §6): the density
 // grid's trilinear samples (cell-centred, clamped to the edge, exactly DensityGrid::sample; the
 // grid is an r32float 3D texture read with textureLoad, no sampler), the max grid's empty-space
 // skipping (MaxGrid::block_at: a block whose bound is 0 is jumped past), the march of a ray

@@ -1,4 +1,4 @@
-// mesh.wgsl — triangle meshes (DESIGN §7), the f32 twin of fray_mesh's MeshBvh::nearest_hit /
+// mesh.wgsl — triangle meshes (docs/methods.md §7), the f32 twin of fray_mesh's MeshBvh::nearest_hit /
 // any_hit and Instance, over the arrays fray_mesh::gpu_layout flattens: every mesh's BVH nodes,
 // triangles (leaf order, corners relative to the mesh's anchor) and vertex attributes
 // concatenated, one GpuMeshInstance block per placed mesh (its root node and the affine rows

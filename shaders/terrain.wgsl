@@ -1,4 +1,4 @@
-// terrain.wgsl — height-map terrain ray casting (DESIGN §4), the f32 twin of
+// terrain.wgsl — height-map terrain ray casting (docs/methods.md §4), the f32 twin of
 // fray_terrain::Terrain::cast_footprint for bilinear patches and uniform cubic B-splines, for any
 // number of terrains: terrain `k` is `terrains[k]` (a GpuTerrainParams block declared in Rust,
 // fray_terrain::gpu_layout, and prepended), its pyramid and samples at its own offsets in the

@@ -1,4 +1,4 @@
-//! `fray-atmosphere`: the atmosphere of the method (DESIGN.md §5), the reference implementation.
+//! `fray-atmosphere`: the atmosphere of the method (docs/methods.md §5), the reference implementation.
 //! Usable alone: no GPU, no scene files.
 //!
 //! - [`FogLayer`]: Klassen's horizontal fog layer — a slab of extinction `B` (optionally falling

@@ -1,4 +1,4 @@
-//! The method's fog terms (Klassen; DESIGN §5), written radiometrically. For an object at the
+//! The method's fog terms (Klassen; docs/methods.md §5), written radiometrically. For an object at the
 //! layer's bottom seen from height `h` at elevation `α`, the sun at elevation `β`:
 //! object light (14) `I = A e^{−B h cosec α} + Ic e^{−B h cosec α − B H cosec β} R`, fog light
 //! (15) `It = Ic e^{−B H cosec β} S (1 − e^{−B h cosec α}) / B`. Read radiometrically:

@@ -1,4 +1,4 @@
-//! `fray-clouds`: volumetric clouds (DESIGN.md §6), the reference implementation. Usable alone:
+//! `fray-clouds`: volumetric clouds (docs/methods.md §6), the reference implementation. Usable alone:
 //! no GPU, no scene files.
 //!
 //! So far: [`perlin`], Ken Perlin's improved noise ("Improving Noise", SIGGRAPH 2002) exactly —

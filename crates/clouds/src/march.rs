@@ -1,4 +1,4 @@
-//! The cloud march (DESIGN §6), the CPU reference: a ray is clipped to the volume's box, then
+//! The cloud march (docs/methods.md §6), the CPU reference: a ray is clipped to the volume's box, then
 //! marched in equidistant steps (offset by a per-pixel jitter against banding); at each sample with
 //! density a secondary ray toward the sun of a few steps gives the light that reaches it
 //! (Beer–Lambert), scattered by a Henyey–Greenstein phase (a dual-lobe mix as an option) plus an

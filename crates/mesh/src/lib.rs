@@ -1,4 +1,4 @@
-//! `fray-mesh`: triangle meshes (DESIGN.md §7), the reference implementation. Usable alone: no
+//! `fray-mesh`: triangle meshes (docs/methods.md §7), the reference implementation. Usable alone: no
 //! GPU, no scene files.
 //!
 //! So far: [`TriangleMesh`] from OBJ files ([`TriangleMesh::load_obj`], through `tobj`) with the

@@ -461,7 +461,7 @@ pub enum TerrainLod {
     /// Every ray descends to the finest level: the exact surface (with `lod_bias` 0).
     Exact,
     /// A segment stops at the level whose cells cover the camera pixel at its distance and hits
-    /// that level's max-column tops (DESIGN §4): cost follows the screen, not the map size.
+    /// that level's max-column tops (docs/methods.md §4): cost follows the screen, not the map size.
     #[default]
     Pixel,
 }
@@ -563,7 +563,7 @@ pub struct Atmosphere {
     pub grid: Option<f64>,
 }
 
-/// Klassen's horizontal fog layer (DESIGN §5).
+/// Klassen's horizontal fog layer (docs/methods.md §5).
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Fog {
@@ -656,7 +656,7 @@ pub enum FogModel {
     Method,
 }
 
-/// A cloud volume (DESIGN §6, `docs/clouds.md`): a density over a world box, marched in equal
+/// A cloud volume (docs/methods.md §6, `docs/clouds.md`): a density over a world box, marched in equal
 /// steps with a sun ray at each sample.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]

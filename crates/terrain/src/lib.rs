@@ -1,4 +1,4 @@
-//! `fray-terrain`: height-map terrain as a scalar perturbation of a base plane (DESIGN.md §4),
+//! `fray-terrain`: height-map terrain as a scalar perturbation of a base plane (docs/methods.md §4),
 //! the reference implementation of its ray casting. Usable alone: no GPU, no scene files.
 //!
 //! A [`Heightmap`] (from a 16-bit PNG, an EXR, a `.npy` array or memory; any size, never

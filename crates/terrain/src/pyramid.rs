@@ -6,7 +6,7 @@
 //! sample: the bound of that cell's interpolant — the maximum of its 4 corners for bilinear
 //! (exact), of its 16 B-spline control points for bicubic (convex hull: conservative). `n` is the
 //! smallest with `2ⁿ ≥` the longer side in cells, so a level-`k` cell covers `2ⁿ⁻ᵏ × 2ⁿ⁻ᵏ`
-//! finest cells (the footprint rule of DESIGN §4 needs that square), but the levels are
+//! finest cells (the footprint rule of docs/methods.md §4 needs that square), but the levels are
 //! **rectangular**: level `k` has `⌈columns / 2ⁿ⁻ᵏ⌉ × ⌈rows / 2ⁿ⁻ᵏ⌉` values, only those that
 //! cover part of the map. A 32768 × 2 map has 16 levels of one row each (≈ 2 × 32767 values),
 //! not the `(4¹⁶ − 1) / 3` of a padded square. The last block of a row or column may reach past

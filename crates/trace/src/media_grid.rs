@@ -1,4 +1,4 @@
-//! The method's "per vertex" evaluation of the media (DESIGN §5): their terms computed on a grid
+//! The method's "per vertex" evaluation of the media (docs/methods.md §5): their terms computed on a grid
 //! of pixels `spacing` apart (the centre rays of pixels `(i·s, j·s)` and of the last row and
 //! column, cast to their own nearest hit) and interpolated bilinearly in between — depth-aware:
 //! a ray whose four nodes are not all hits (or all misses, for a miss), or whose depth differs by

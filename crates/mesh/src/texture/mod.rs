@@ -1,4 +1,4 @@
-//! Textures (DESIGN.md §7): linear `f32` images with their mip chains, loaded from PNG or
+//! Textures (docs/methods.md §7): linear `f32` images with their mip chains, loaded from PNG or
 //! OpenEXR under a memory budget; nearest, bilinear and trilinear lookups with a wrap mode per
 //! axis; the footprint rule that picks the level from a pixel's footprint; projected mappings
 //! for surfaces without UVs; colour ramps and drapes for terrain. No GPU, no scene files.

@@ -1,5 +1,5 @@
 //! The terrain: a height map placed in the world with its max pyramid, and its ray casting by
-//! halving the ray segment in height-map space (DESIGN.md §4).
+//! halving the ray segment in height-map space (docs/methods.md §4).
 //!
 //! The solid is `{ bottom ≤ r ≤ S(u, v) }` over the solid cells, `S` the interpolated surface
 //! and `bottom = min(0, lowest surface bound)`: the base plane `r = 0` (or the lowest point if
