@@ -394,10 +394,21 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         } else {
             String::new()
         };
-        // The GPU's kernel time, where the device measured it (timestamp queries).
+        // The GPU's kernel time, where the device measured it (timestamp queries), pass by pass.
         let kernel = s
             .kernel_time
-            .map(|k| format!(", GPU kernels {:.1} ms", k.as_secs_f64() * 1e3))
+            .map(|k| {
+                let passes: Vec<String> = s
+                    .pass_times
+                    .iter()
+                    .map(|(label, d)| format!("{label} {:.1}", d.as_secs_f64() * 1e3))
+                    .collect();
+                format!(
+                    ", GPU kernels {:.1} ms [{} ms]",
+                    k.as_secs_f64() * 1e3,
+                    passes.join(", ")
+                )
+            })
             .unwrap_or_default();
         println!(
             "{name} → {}: {}×{} in {:.1} ms{kernel} ({}, {} threads) — {:.2} Mrays/s, {} primary + {} shadow rays, {:.1}% hit, {:.2} bound + {:.2} point evaluations per ray{closed}{terrain}{grid}{clouds}{meshes}{whitted}, ε = {:.3e}; ran: {}",

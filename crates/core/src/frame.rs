@@ -77,6 +77,9 @@ pub struct RenderStats {
     /// GPU time of the kernels alone (timestamp queries around the compute passes), when the
     /// backend measured it: `None` on the CPU and on devices without timestamp queries.
     pub kernel_time: Option<Duration>,
+    /// GPU time per pass (`raygen`, `free forms`, `shade`, …) summed over the frame's bands, in the
+    /// order the passes ran; their sum is `kernel_time`. Empty where `kernel_time` is `None`.
+    pub pass_times: Vec<(String, Duration)>,
     /// Bytes the frame sent from the host to the device (GPU backends; 0 on the CPU): the
     /// camera, the work list and, when the scene was uploaded for this frame, the scene.
     pub uploaded_bytes: u64,

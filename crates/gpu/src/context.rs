@@ -17,6 +17,10 @@ pub struct GpuContext {
     /// [`wgpu::Features::TIMESTAMP_QUERY`] (requested only where the adapter offers it); `None`
     /// without it, and passes then report no kernel time.
     pub timestamp_period_ns: Option<f64>,
+    /// A software adapter running on the host's CPU (wgpu `DeviceType::Cpu`, e.g. Mesa lavapipe):
+    /// its timestamps are not taken when its dispatches run, so passes are timed by the host's
+    /// clock instead (`crate::timestamps`).
+    pub software: bool,
     /// The first GPU error no error scope caught, or a device loss, since it was last taken:
     /// wgpu's default handler would panic on it; fray turns it into a [`GpuError`] instead.
     uncaptured: Arc<Mutex<Option<String>>>,
@@ -107,6 +111,7 @@ impl GpuContext {
             backend: format!("{:?}", info.backend),
             limits,
             timestamp_period_ns,
+            software: info.device_type == wgpu::DeviceType::Cpu,
             uncaptured,
         })
     }

@@ -20,7 +20,7 @@ use crate::passes::{PassSetup, PipelineCache};
 use crate::readback::{map_read, read_back, readback_buffer};
 use crate::resident::{ResidentScene, terrain_lods};
 use crate::shader::{self, ModuleOptions, Specialisation};
-use crate::timestamps::Timestamps;
+use crate::timestamps::{PassClock, PassTimes, TimedEncoder, Timestamps};
 use crate::work::{GpuWork, TILE, quadtree_config};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::{GpuFog, GpuSky, GpuSkyOptions};
@@ -494,24 +494,9 @@ impl<'a> GpuScene<'a> {
         params.min_contribution = scene.settings.min_contribution as f32;
         params.queue_capacity = (band_rays * u64::from(self.queue_slots)) as u32;
         params.max_secondary_rays = scene.settings.max_secondary_rays;
-        // Rebase the resident scene to this camera if it moved, and this view's terrain levels.
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("rebase"),
-            });
-        let offset = (params.camera_hi, params.camera_lo);
-        if self.rebased_for != Some(offset) {
-            uploaded += self.passes.rebase.encode(
-                ctx,
-                &mut encoder,
-                &self.resident.rebased(),
-                params.camera_hi,
-                params.camera_lo,
-            );
-            self.resident.copy_tables(&mut encoder);
-            self.rebased_for = Some(offset);
-        }
+        // This view's media, mesh instances, texture mappings and terrain levels (queue writes,
+        // before the submission below), then the resident scene rebased to this camera if it moved.
+        let mut pass_times = PassTimes::default();
         uploaded += self.write_media(view);
         if let Some(m) = &mut self.resident.meshes {
             // The instance blocks relative to this camera, from f64 (nothing else of the
@@ -529,11 +514,24 @@ impl<'a> GpuScene<'a> {
                 .write_buffer(&t.lods, 0, bytemuck::cast_slice(&lods));
             uploaded += (lods.len() * 16) as u64;
         }
+        let clock = PassClock::of(ctx, self.timestamps.as_ref());
+        let mut encoder = TimedEncoder::new(ctx, clock);
+        let offset = (params.camera_hi, params.camera_lo);
+        if self.rebased_for != Some(offset) {
+            uploaded += self.passes.rebase.encode(
+                ctx,
+                &mut encoder.pass("rebase")?,
+                &self.resident.rebased(),
+                params.camera_hi,
+                params.camera_lo,
+            );
+            self.resident.copy_tables(encoder.encoder());
+            self.rebased_for = Some(offset);
+        }
         ctx.queue
             .write_buffer(&self.buffers.counters, 0, &[0u8; counters::WORDS * 4]);
-        ctx.queue.submit([encoder.finish()]);
+        encoder.submit(&mut pass_times)?;
         let groups = self.bind_groups()?;
-        let mut kernel_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
         let rays_per_pixel = view.rays_per_pixel();
         for y0 in (0..height).step_by(band_rows as usize) {
             let rows = band_rows.min(height - y0);
@@ -554,77 +552,10 @@ impl<'a> GpuScene<'a> {
                     &[0u8; counters::QUEUE_WORDS * 4],
                 );
             }
-            let mut encoder = ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("band"),
-                });
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("band"),
-                    timestamp_writes: self.timestamps.as_ref().map(Timestamps::writes),
-                });
-                let rays = width * rows * rays_per_pixel;
-                self.passes
-                    .raygen
-                    .encode(&mut pass, ctx, &groups.frame, rays);
-                if let Some(ff) = &self.passes.free_forms {
-                    ff.encode(
-                        &mut pass,
-                        ctx,
-                        [&groups.frame, &groups.free_forms, &groups.work],
-                        items.len() as u32,
-                    );
-                }
-                if let (Some(tp), Some(terrains)) = (&self.passes.terrains, &groups.terrains) {
-                    let groups = [&groups.frame, &groups.work, terrains];
-                    tp.encode(&mut pass, ctx, groups, items.len() as u32);
-                }
-                if let (Some(mp), Some(meshes)) = (&self.passes.meshes, &groups.meshes) {
-                    let groups = [&groups.frame, &groups.work, meshes];
-                    mp.encode(&mut pass, ctx, groups, items.len() as u32);
-                }
-                self.passes.shade.encode(
-                    &mut pass,
-                    ctx,
-                    [&groups.frame, &groups.free_forms, &groups.shading],
-                    groups.surfaces.as_ref(),
-                    rays,
-                );
-                if let (Some(whitted), Some(queue)) = (&self.passes.whitted, &groups.queue) {
-                    let whitted_groups = WhittedGroups {
-                        frame: &groups.frame,
-                        free_forms: &groups.free_forms,
-                        shading: &groups.shading,
-                        surfaces: groups.surfaces.as_ref(),
-                        queue,
-                    };
-                    whitted.encode(
-                        &mut pass,
-                        (&self.passes.shade, self.passes.media.as_ref()),
-                        &whitted_groups,
-                        &self.buffers.queue_args,
-                        scene.settings.max_depth,
-                    );
-                }
-                if let Some(media) = &self.passes.media {
-                    // The shading group holds the media's parameters and tables.
-                    media.encode(&mut pass, ctx, [&groups.frame, &groups.shading], rays);
-                }
-                self.passes.resolve.encode(
-                    &mut pass,
-                    [&groups.frame, &groups.targets],
-                    width,
-                    rows,
-                );
-            }
-            if let Some(t) = &self.timestamps {
-                t.resolve(&mut encoder);
-            }
-            ctx.queue.submit([encoder.finish()]);
-            if let (Some(t), Some(total)) = (&self.timestamps, kernel_time.as_mut()) {
-                *total += t.read(&ctx.device)?;
-            }
+            let mut band = TimedEncoder::new(ctx, clock);
+            let rays = width * rows * rays_per_pixel;
+            self.encode_band(&mut band, &groups, (width, rows, rays), items.len() as u32)?;
+            band.submit(&mut pass_times)?;
         }
         let mut encoder = ctx
             .device
@@ -697,7 +628,8 @@ impl<'a> GpuScene<'a> {
             epsilon,
             passes,
             elapsed: start.elapsed(),
-            kernel_time,
+            kernel_time: clock.times().then(|| pass_times.total()),
+            pass_times: pass_times.into_stats(),
             terrain_rays: Counter::TerrainRays.read(&words),
             terrain_segments: Counter::TerrainSegments.read(&words),
             terrain_cells: Counter::TerrainCells.read(&words),
@@ -727,6 +659,73 @@ impl<'a> GpuScene<'a> {
             },
             overflows,
         ))
+    }
+
+    /// Encodes one band's passes (`width × rows` pixels, `rays` camera rays), each its own
+    /// (timed) compute pass: ray generation, the intersection pass of each kind the scene has,
+    /// shading, Whitted's levels, the media, and the resolve into the frame's textures.
+    fn encode_band(
+        &self,
+        band: &mut TimedEncoder<'_>,
+        groups: &Groups,
+        (width, rows, rays): (u32, u32, u32),
+        items: u32,
+    ) -> Result<(), GpuError> {
+        let ctx = &self.renderer.ctx;
+        self.passes
+            .raygen
+            .encode(&mut band.pass("raygen")?, ctx, &groups.frame, rays);
+        if let Some(ff) = &self.passes.free_forms {
+            let g = [&groups.frame, &groups.free_forms, &groups.work];
+            ff.encode(&mut band.pass("free forms")?, ctx, g, items);
+        }
+        if let (Some(tp), Some(terrains)) = (&self.passes.terrains, &groups.terrains) {
+            let g = [&groups.frame, &groups.work, terrains];
+            tp.encode(&mut band.pass("terrains")?, ctx, g, items);
+        }
+        if let (Some(mp), Some(meshes)) = (&self.passes.meshes, &groups.meshes) {
+            let g = [&groups.frame, &groups.work, meshes];
+            mp.encode(&mut band.pass("meshes")?, ctx, g, items);
+        }
+        self.passes.shade.encode(
+            &mut band.pass("shade")?,
+            ctx,
+            [&groups.frame, &groups.free_forms, &groups.shading],
+            groups.surfaces.as_ref(),
+            rays,
+        );
+        if let (Some(whitted), Some(queue)) = (&self.passes.whitted, &groups.queue) {
+            let whitted_groups = WhittedGroups {
+                frame: &groups.frame,
+                free_forms: &groups.free_forms,
+                shading: &groups.shading,
+                surfaces: groups.surfaces.as_ref(),
+                queue,
+            };
+            whitted.encode(
+                &mut band.pass("whitted")?,
+                (&self.passes.shade, self.passes.media.as_ref()),
+                &whitted_groups,
+                &self.buffers.queue_args,
+                self.scene.settings.max_depth,
+            );
+        }
+        if let Some(media) = &self.passes.media {
+            // The shading group holds the media's parameters and tables.
+            media.encode(
+                &mut band.pass("media")?,
+                ctx,
+                [&groups.frame, &groups.shading],
+                rays,
+            );
+        }
+        self.passes.resolve.encode(
+            &mut band.pass("resolve")?,
+            [&groups.frame, &groups.targets],
+            width,
+            rows,
+        );
+        Ok(())
     }
 
     /// This view's media parameters, from f64: the fog's heights relative to the eye (and the

@@ -86,15 +86,37 @@ fn a_second_frame_builds_no_pipeline_and_uploads_no_scene() {
             ),
             "{name}: stale counters"
         );
-        // The passes' GPU time exists exactly when the device has timestamp queries, and lies
-        // within the frame's wall time.
-        let timestamps = gpu.context().timestamp_period_ns.is_some();
-        assert_eq!(again.stats.kernel_time.is_some(), timestamps, "{name}");
+        // The passes' GPU time exists exactly when the device has timestamp queries (or is a
+        // software adapter, timed by the host's clock), lies within the frame's wall time, and
+        // is the sum of the per-pass table, which names every pass the frame ran, in order.
+        let ctx = gpu.context();
+        let timed = ctx.timestamp_period_ns.is_some() || ctx.software;
+        assert_eq!(again.stats.kernel_time.is_some(), timed, "{name}");
         if let Some(k) = again.stats.kernel_time {
             assert!(
                 k > std::time::Duration::ZERO && k <= again.stats.elapsed,
                 "{name}: {k:?}"
             );
+            let sum: std::time::Duration = again.stats.pass_times.iter().map(|(_, d)| *d).sum();
+            assert_eq!(sum, k, "{name}: the passes' sum");
+            let labels: Vec<&str> = again
+                .stats
+                .pass_times
+                .iter()
+                .map(|(l, _)| l.as_str())
+                .collect();
+            assert_eq!(labels.first(), Some(&"raygen"), "{name}: {labels:?}");
+            assert_eq!(labels.last(), Some(&"resolve"), "{name}: {labels:?}");
+            assert!(labels.contains(&"shade"), "{name}: {labels:?}");
+            let kinds = [
+                ("free forms", !scene.objects.is_empty()),
+                ("terrains", !scene.terrains.is_empty()),
+            ];
+            for (label, present) in kinds {
+                assert_eq!(labels.contains(&label), present, "{name}: {labels:?}");
+            }
+        } else {
+            assert!(again.stats.pass_times.is_empty(), "{name}");
         }
         let mut view2 = view;
         view2.camera = moved(&scene, glam::DVec3::new(0.4, 0.2, -0.3));

@@ -185,7 +185,7 @@ impl RebasePass {
     pub fn encode(
         &self,
         ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
+        pass: &mut wgpu::ComputePass<'_>,
         arrays: &[&Rebased],
         hi: [f32; 4],
         lo: [f32; 4],
@@ -206,13 +206,9 @@ impl RebasePass {
                 .write_buffer(&a.params, 0, bytemuck::bytes_of(&params));
             bytes += std::mem::size_of::<RebaseParams>() as u64;
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("rebase"),
-            timestamp_writes: None,
-        });
         for a in arrays {
             self.kernel
-                .run(&mut pass, ctx, &[&a.bind_group], a.words.div_ceil(64));
+                .run(pass, ctx, &[&a.bind_group], a.words.div_ceil(64));
         }
         bytes
     }
