@@ -54,10 +54,18 @@ fn main() {
         let first_ms = start.elapsed().as_secs_f64() * 1e3;
         let (mut frames, mut kernels, mut moved, mut whole) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut passes = String::new();
         for k in 0..reps {
             let t = Instant::now();
             let f = resident.render(&view).expect("frame");
             frames.push(t.elapsed().as_secs_f64() * 1e3);
+            passes = f
+                .stats
+                .pass_times
+                .iter()
+                .map(|(l, d)| format!("{l} {:.1}", d.as_secs_f64() * 1e3))
+                .collect::<Vec<_>>()
+                .join(", ");
             kernels.push(
                 f.stats
                     .kernel_time
@@ -76,7 +84,7 @@ fn main() {
             whole.push(t.elapsed().as_secs_f64() * 1e3);
         }
         println!(
-            "{path} {width}×{}: first {first_ms:.1} ms ({} pipelines {:.1} ms); resident frame median {:.2} ms (passes {:.2} ms); moved camera median {:.2} ms; whole render (upload + frame) median {:.2} ms",
+            "{path} {width}×{}: first {first_ms:.1} ms ({} pipelines {:.1} ms); resident frame median {:.2} ms (passes {:.2} ms: the last [{passes}]); moved camera median {:.2} ms; whole render (upload + frame) median {:.2} ms",
             scene.height,
             first.stats.pipelines_built,
             first.stats.pipeline_build_time.as_secs_f64() * 1e3,
