@@ -296,6 +296,9 @@ fn surface_combine(is_max: bool, a: LeafGradient, b: LeafGradient) -> LeafGradie
 
 // The program of the solid being cast: (first word, length) in `indices`.
 var<private> cast_program: vec2<u32>;
+// The search's any-hit form (shadow rays, `occluded_by_solids`): any point proven inside ends it
+// (fray-geometry's `search::<_, true>`).
+var<private> search_any: bool;
 
 fn solid_bound(lo: f32, hi: f32) -> vec4<f32> {
     bound_evals++;
@@ -391,6 +394,9 @@ fn search(lo: f32, hi: f32, eps: f32) -> f32 {
             if fb < 0.0 {
                 continue;
             }
+            if search_any {
+                return b;
+            }
             let fa = solid_value(a);
             if fa >= 0.0 {
                 return a;
@@ -412,6 +418,9 @@ fn search(lo: f32, hi: f32, eps: f32) -> f32 {
                 return b;
             }
             continue;
+        }
+        if search_any && solid_value(m) >= 0.0 {
+            return m;
         }
         segments[n] = vec2<f32>(m, b);
         segments[n + 1u] = vec2<f32>(a, m);
@@ -452,14 +461,19 @@ fn all_parts(si: u32) -> Parts {
     return parts;
 }
 
-// Whether any solid lies on the ray within [0, distance] (shadow rays: whole solids).
+// Whether any solid lies on the ray within [0, distance] (shadow rays: whole solids, the search's
+// any-hit form).
 fn occluded_by_solids(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+    search_any = true;
+    var blocked = false;
     for (var si = 0u; si < frame.solids; si++) {
         if cast_solid(si, all_parts(si), o, d, 0.0, distance, eps) >= 0.0 {
-            return true;
+            blocked = true;
+            break;
         }
     }
-    return false;
+    search_any = false;
+    return blocked;
 }
 
 // ---- surface -------------------------------------------------------------------------------

@@ -127,6 +127,21 @@ fn check(
     let hit = caster.cast(solid, ray, full, eps, &mut stats);
     tally.stats += stats;
     let again = caster.cast(solid, ray, full, eps, &mut stats);
+    // The any-hit query (shadow rays) answers yes wherever the first-hit search hits; it may
+    // also say yes where the search stepped over a span shorter than ε (checked below against
+    // the dense reference: only where no sample is clearly inside).
+    let mut any_stats = CastStats::default();
+    let occludes = caster.occludes(solid, ray, full, eps, None, &mut any_stats);
+    tally.any_stats += any_stats;
+    if hit.is_some() {
+        prop_assert!(
+            occludes,
+            "any-hit missed the hit at {:?} ({:?}) for {:?}",
+            hit,
+            kind,
+            ray
+        );
+    }
     tally.rays[kind as usize] += 1;
     tally.hits[kind as usize] += usize::from(hit.is_some());
     prop_assert_eq!(
@@ -180,6 +195,15 @@ fn check(
     let first_inside = (0..=SAMPLES)
         .map(|i| range.lo + h * i as f64)
         .find(|&t| solid.eval(ray.at(t)) >= TOL);
+    if occludes && hit.is_none() {
+        tally.any_only += 1;
+        prop_assert!(
+            first_inside.is_none(),
+            "any-hit says blocked, the first-hit search missed a sample inside ({:?}) for {:?}",
+            kind,
+            ray
+        );
+    }
     if let Some(tk) = first_inside {
         tally.reference_hits += 1;
         match hit {
@@ -317,6 +341,9 @@ struct Tally {
     hits: [usize; 3],
     reference_hits: usize,
     stats: CastStats,
+    /// The any-hit queries' work, and how often they alone said blocked (a span shorter than ε).
+    any_stats: CastStats,
+    any_only: usize,
 }
 
 /// Runs `cases` proptest cases of `strategy`, each casting `RAYS_PER_CASE` rays, and prints the
@@ -341,6 +368,8 @@ fn run<S: Strategy>(
         }
         t.reference_hits += local.reference_hits;
         t.stats += local.stats;
+        t.any_stats += local.any_stats;
+        t.any_only += local.any_only;
         Ok(())
     });
     if let Err(e) = result {
@@ -350,7 +379,7 @@ fn run<S: Strategy>(
     let total: usize = t.rays.iter().sum();
     eprintln!(
         "{name} ({method:?}): {total} rays (random {}, grazing {}, support-tangent {}), hits {:?}, reference (sampled) hits {}, \
-         mean {:.1} bound + {:.1} point evaluations per cast",
+         mean {:.1} bound + {:.1} point evaluations per cast; any-hit {:.1} + {:.1}, blocked where the search missed {}",
         t.rays[0],
         t.rays[1],
         t.rays[2],
@@ -358,6 +387,9 @@ fn run<S: Strategy>(
         t.reference_hits,
         t.stats.bound_evaluations as f64 / total as f64,
         t.stats.point_evaluations as f64 / total as f64,
+        t.any_stats.bound_evaluations as f64 / total as f64,
+        t.any_stats.point_evaluations as f64 / total as f64,
+        t.any_only,
     );
     assert!(total >= cases as usize * RAYS_PER_CASE);
 }

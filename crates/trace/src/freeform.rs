@@ -44,10 +44,17 @@ impl Primitive for FreeFormPrimitive<'_> {
     }
 
     fn transmittance(&self, ray: &Ray, range: Interval, eps: f64, ctx: &mut TraceContext) -> Rgb {
-        // Opaque: any point of the solid on the range blocks all light.
-        match self.nearest_hit(ray, range, eps, ctx) {
-            Some(_) => Rgb::ZERO,
-            None => Rgb::ONE,
+        // Opaque: any point of the solid on the range blocks all light, so the any-hit query
+        // (the GPU's `occluded_by_solids` runs the same).
+        let solid = &self.object.solid;
+        let stats = &mut ctx.counts.cast;
+        if ctx
+            .caster
+            .occludes(solid, ray, range, eps, self.active, stats)
+        {
+            Rgb::ZERO
+        } else {
+            Rgb::ONE
         }
     }
 

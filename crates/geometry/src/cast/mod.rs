@@ -148,7 +148,7 @@ impl RayCaster {
         eps: f64,
         stats: &mut CastStats,
     ) -> Option<f64> {
-        self.cast_program(solid, ray, range, eps, None, stats)
+        self.cast_program::<false>(solid, ray, range, eps, None, stats)
     }
 
     /// [`RayCaster::cast`] restricted to the leaves and perturbations of `active` (and its pruned
@@ -163,10 +163,28 @@ impl RayCaster {
         active: &ActiveSet,
         stats: &mut CastStats,
     ) -> Option<f64> {
-        self.cast_program(solid, ray, range, eps, Some(active), stats)
+        self.cast_program::<false>(solid, ray, range, eps, Some(active), stats)
     }
 
-    fn cast_program(
+    /// Whether `solid` (restricted to `active`, when given — see [`RayCaster::cast_with`]) is
+    /// non-negative somewhere on `range`: the any-hit query of shadow rays. True wherever
+    /// [`RayCaster::cast`] finds a hit, and also where it steps over a span shorter than `eps`
+    /// that a midpoint test meets; cheaper, as it stops at the first point it proves inside.
+    pub fn occludes(
+        &mut self,
+        solid: &Solid,
+        ray: &Ray,
+        range: Interval,
+        eps: f64,
+        active: Option<&ActiveSet>,
+        stats: &mut CastStats,
+    ) -> bool {
+        self.cast_program::<true>(solid, ray, range, eps, active, stats)
+            .is_some()
+    }
+
+    /// The first hit (`ANY` false) or any hit (`ANY`: see [`RayCaster::occludes`]).
+    fn cast_program<const ANY: bool>(
         &mut self,
         solid: &Solid,
         ray: &Ray,
@@ -184,7 +202,7 @@ impl RayCaster {
         // the same search over the same leaf, monomorphised (bit-identical to the general path).
         if let Some((leaf, covers, magnitude)) = plain_leaf(solid, program, active) {
             let terms = leaf.base().at_origin(ray.origin);
-            return self.cast_plain_leaf(
+            return self.cast_plain_leaf::<ANY>(
                 leaf, covers, magnitude, &terms, ray, inv_dir, range, eps, stats,
             );
         }
@@ -214,7 +232,7 @@ impl RayCaster {
                 return hit;
             }
         }
-        search(f, &mut self.segments, range, eps)
+        search::<_, ANY>(f, &mut self.segments, range, eps)
     }
 
     /// `1 / dir`, componentwise (the same bits as dividing afresh).
@@ -233,7 +251,7 @@ impl RayCaster {
     /// bits.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn cast_plain_leaf(
+    fn cast_plain_leaf<const ANY: bool>(
         &mut self,
         leaf: &FreeForm,
         covers: bool,
@@ -271,7 +289,7 @@ impl RayCaster {
                 return hit;
             }
         }
-        search_plain_leaf(f, &mut self.segments, range, eps)
+        search_plain_leaf::<ANY>(f, &mut self.segments, range, eps)
     }
 
     /// Restricts `solid` to `ray` for [`RayCaster::segment_bound`]: clips `range` to the solid's
@@ -316,13 +334,13 @@ impl RayCaster {
 /// with [`CastMethod::Halving`]) and, inlined, would crowd the loop (measured: a 12 % slower
 /// frame).
 #[inline(never)]
-fn search_plain_leaf(
+fn search_plain_leaf<const ANY: bool>(
     f: PlainLeaf<'_>,
     segments: &mut Vec<(f64, f64)>,
     range: Interval,
     eps: f64,
 ) -> Option<f64> {
-    search(f, segments, range, eps)
+    search::<_, ANY>(f, segments, range, eps)
 }
 
 impl Solid {

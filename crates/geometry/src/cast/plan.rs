@@ -70,7 +70,7 @@ impl RayCaster {
         stats: &mut CastStats,
     ) -> Option<f64> {
         let Some((leaf, covers, magnitude)) = plan.plain else {
-            return self.cast_program(plan.solid, ray, range, eps, plan.active, stats);
+            return self.cast_program::<false>(plan.solid, ray, range, eps, plan.active, stats);
         };
         let inv_dir = self.inverse_of(ray.dir);
         let range = plan
@@ -87,7 +87,7 @@ impl RayCaster {
                 terms
             }
         };
-        self.cast_plain_leaf(
+        self.cast_plain_leaf::<false>(
             leaf, covers, magnitude, &terms, ray, inv_dir, range, eps, stats,
         )
     }

@@ -1,5 +1,7 @@
 //! The halving search: split the segment nearer half first, drop a half whose value range is
-//! negative, finish a half whose slope range proves one sign change ([`super::finish`]).
+//! negative, finish a half whose slope range proves one sign change ([`super::finish`]). Its
+//! any-hit form (`ANY`, for shadow rays) stops at the first point it proves non-negative: it also
+//! tests each split's midpoint, and a monotone segment whose end is non-negative needs no finish.
 
 use super::finish::finish;
 use super::program::RayFunction;
@@ -7,8 +9,11 @@ use fray_core::Interval;
 
 /// The halving search (module docs) over `range`; `segments` is scratch space. `#[inline]` so
 /// that each instantiation may be inlined into its caller's code unit, as when this lived there.
+/// With `ANY` the answer is some point of `range` where the function is non-negative (not
+/// necessarily the first), found wherever the first search finds one — and also in spans
+/// shorter than ε that the first search may step over.
 #[inline]
-pub(super) fn search<F: RayFunction>(
+pub(super) fn search<F: RayFunction, const ANY: bool>(
     mut f: F,
     segments: &mut Vec<(f64, f64)>,
     range: Interval,
@@ -48,6 +53,10 @@ pub(super) fn search<F: RayFunction>(
                 known = (b, fb);
                 continue;
             }
+            if ANY {
+                hit = Some(b);
+                break;
+            }
             let fa = value_at(&mut f, a, known);
             if fa >= 0.0 {
                 hit = Some(a);
@@ -78,6 +87,16 @@ pub(super) fn search<F: RayFunction>(
             }
             known = (b, fb);
             continue;
+        }
+        if ANY {
+            // Any point inside ends the search: a ray through a thick solid stops at the first
+            // split instead of descending to its surface.
+            let fm = f.value(m);
+            if fm >= 0.0 {
+                hit = Some(m);
+                break;
+            }
+            known = (m, fm);
         }
         segments.push((m, b));
         segments.push((a, m));
