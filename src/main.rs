@@ -421,7 +421,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
             s.rays_per_second() / 1e6,
             s.primary_rays,
             s.shadow_rays,
-            100.0 * s.hits as f64 / s.primary_rays.max(1) as f64,
+            100.0 * frame.hit_fraction(),
             s.steps_per_ray(),
             s.point_evaluations as f64 / s.rays().max(1) as f64,
             s.epsilon,

@@ -554,3 +554,39 @@ fn check_refuses_a_cloud_march_or_bake_past_its_cap_at_once() {
     );
     assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
 }
+
+/// The summary's hit fraction is of pixels: anti-aliasing samples do not divide it (each pixel's
+/// depth comes from its centre ray, whatever the samples).
+#[test]
+fn hit_fraction_is_of_pixels_whatever_the_samples() {
+    let dir = temp_dir("hits");
+    let out = dir.join("csg.png");
+    let hit_percent = |samples: &str| -> f64 {
+        let o = fray(&[
+            "render",
+            "data/scenes/csg.ron",
+            "--backend",
+            "cpu",
+            "--width",
+            "80",
+            "--samples",
+            samples,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+        let at = stdout
+            .find("% hit")
+            .unwrap_or_else(|| panic!("no hit fraction: {stdout}"));
+        let number = stdout[..at].rsplit(' ').next().unwrap();
+        number.parse().unwrap_or_else(|e| panic!("{number:?}: {e}"))
+    };
+    let one = hit_percent("1");
+    let four = hit_percent("4");
+    assert!(
+        one > 30.0,
+        "csg.ron's objects cover most of the frame: {one}%"
+    );
+    assert_eq!(one, four, "the same pixels hit");
+}

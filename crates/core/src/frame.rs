@@ -26,7 +26,8 @@ pub struct RenderStats {
     pub primary_rays: u64,
     /// Rays toward lights.
     pub shadow_rays: u64,
-    /// Primary rays that hit a surface.
+    /// Pixels whose centre ray hit a surface (one per pixel whatever the samples per pixel:
+    /// depth and normals come from the centre); [`Frame::hit_fraction`] divides by the pixels.
     pub hits: u64,
     /// Interval bounds evaluated over ray segments (halving steps).
     pub bound_evaluations: u64,
@@ -90,6 +91,14 @@ pub struct RenderStats {
     pub pipelines_built: u32,
     /// Time spent building them.
     pub pipeline_build_time: Duration,
+}
+
+impl Frame {
+    /// The fraction of pixels whose centre ray hit a surface.
+    pub fn hit_fraction(&self) -> f64 {
+        let pixels = self.colour.width() as u64 * self.colour.height() as u64;
+        self.stats.hits as f64 / pixels.max(1) as f64
+    }
 }
 
 impl RenderStats {

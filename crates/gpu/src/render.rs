@@ -600,6 +600,13 @@ impl<'a> GpuScene<'a> {
             self.specialisation.describe(),
             pipeline_build_time.as_secs_f64() * 1e3
         )];
+        if ctx.software && pipelines_built > 0 {
+            // Lavapipe compiles a pipeline's shader at its first dispatch, inside the passes.
+            passes.push(
+                "pass times may include the software adapter's shader compile (pipelines new to this process)"
+                    .to_owned(),
+            );
+        }
         if work.stats.is_some() {
             passes.push("quadtree".to_owned());
         }
