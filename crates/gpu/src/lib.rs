@@ -49,6 +49,7 @@ pub mod shader;
 pub mod sky_pass;
 mod sky_tables;
 pub mod terrain_pass;
+pub mod texture_layout;
 pub mod textures;
 mod timestamps;
 pub mod work;

@@ -93,9 +93,8 @@ pub fn mesh_layout(
     GpuMeshes::build(meshes, instances, reference, budget).map_err(layout_error)
 }
 
-/// Texels (of 16 bytes) per row of the mesh texture: a power of two, at most the 8192 texels
-/// per side every WebGPU device allows (`MESH_TEXTURE_WIDTH` in the prelude).
-pub const MESH_TEXTURE_WIDTH: u32 = 4096;
+/// Texels (of 16 bytes) per row of the mesh texture ([`crate::params::DATA_TEXTURE_WIDTH`]).
+pub const MESH_TEXTURE_WIDTH: u32 = crate::params::DATA_TEXTURE_WIDTH;
 
 /// Texels of one element of each array.
 const fn texels<T>() -> u64 {

@@ -9,6 +9,14 @@ use fray_geometry::gpu_layout::vec4;
 use fray_scene::{Light, Material, Scene};
 use glam::DVec3;
 
+/// Texels (of 16 bytes) per row of the data textures (the meshes' arrays, the textures'
+/// sections): a power of two, at most the 8192 texels per side every WebGPU device allows
+/// (`MESH_TEXTURE_WIDTH` in the prelude).
+pub const DATA_TEXTURE_WIDTH: u32 = 4096;
+/// The most transmissive surfaces a shadow ray passes through before it counts as blocked
+/// (fray-trace's `MAX_SHADOW_CROSSINGS`; a test holds the two equal).
+pub const MAX_SHADOW_CROSSINGS: u32 = 32;
+
 /// Projector kinds (the `PROJECTOR` override).
 pub const PROJECTOR_PINHOLE: u32 = 0;
 pub const PROJECTOR_PARALLEL: u32 = 1;
@@ -19,6 +27,23 @@ pub const LIGHT_POINT: u32 = 1;
 /// Tone maps of the display texture ([`FrameParams::tone_map`]).
 pub const TONE_MAP_CLAMP: u32 = 0;
 pub const TONE_MAP_REINHARD: u32 = 1;
+
+fray_core::gpu_struct! {
+    /// One array's rebase: the offset, the array's size in 16-byte slots, its element stride in
+    /// slots and which slots of an element hold a position, a box's lower corner or its upper
+    /// corner (bit masks).
+    pub struct RebaseParams {
+        pub hi: [f32; 4],
+        pub lo: [f32; 4],
+        pub words: u32,
+        pub stride: u32,
+        pub points: u32,
+        pub box_mins: u32,
+        pub box_maxs: u32,
+        pub pad: u32,
+        pub pad2: [u32; 2],
+    }
+}
 
 fray_core::gpu_struct! {
     /// One frame's (and one band's) parameters: the view, the image, counts and settings. A

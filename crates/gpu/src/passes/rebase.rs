@@ -12,22 +12,7 @@ use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use bytemuck::Pod;
 
-fray_core::gpu_struct! {
-    /// One array's rebase: the offset, the array's size in 16-byte slots, its element stride in
-    /// slots and which slots of an element hold a position, a box's lower corner or its upper
-    /// corner (bit masks).
-    pub struct RebaseParams {
-        pub hi: [f32; 4],
-        pub lo: [f32; 4],
-        pub words: u32,
-        pub stride: u32,
-        pub points: u32,
-        pub box_mins: u32,
-        pub box_maxs: u32,
-        pub pad: u32,
-        pub pad2: [u32; 2],
-    }
-}
+pub use crate::params::RebaseParams;
 
 /// Which 16-byte slots of a GPU struct hold positions and box corners (from the structs'
 /// `offset_of!`s; `resident.rs` lists the scene's).

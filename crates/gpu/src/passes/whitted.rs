@@ -19,9 +19,7 @@ use crate::GpuError;
 use crate::bindings::{self, FRAME, FREE_FORMS, Group, QUEUE};
 use crate::shader::ModuleOptions;
 
-/// The most transmissive surfaces a shadow ray passes through before it counts as blocked
-/// (fray-trace's `MAX_SHADOW_CROSSINGS`; a test holds the two equal).
-pub const MAX_SHADOW_CROSSINGS: u32 = 32;
+pub use crate::params::MAX_SHADOW_CROSSINGS;
 
 /// Queue slots per camera ray a band starts with (every level's rays at once); doubled, with
 /// the band halved, when a frame's queue overflows.
