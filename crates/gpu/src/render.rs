@@ -7,15 +7,9 @@
 use crate::bindings::{self, FRAME, FREE_FORMS, MESHES, QUEUE, TARGETS, TERRAINS, WORK};
 use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams, GpuPath, GpuSecondary, View};
-use crate::passes::freeform::FreeFormPass;
-use crate::passes::media::MediaPass;
-use crate::passes::mesh::MeshIntersectPass;
-use crate::passes::raygen::RayGenPass;
+use crate::passes::band::{Band, BindGroups, Pass, Role};
 use crate::passes::rebase::RebasePass;
-use crate::passes::resolve::ResolvePass;
-use crate::passes::shade::ShadePass;
-use crate::passes::terrain::TerrainIntersectPass;
-use crate::passes::whitted::{QUEUE_SLOTS_PER_RAY, WhittedGroups, WhittedPasses};
+use crate::passes::whitted::QUEUE_SLOTS_PER_RAY;
 use crate::passes::{PassSetup, PipelineCache};
 use crate::readback::{map_read, read_back, readback_buffer};
 use crate::resident::{ResidentScene, terrain_lods};
@@ -188,21 +182,16 @@ pub fn render(scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> 
     GpuRenderer::new()?.render(scene, settings)
 }
 
-/// The passes of a scene's frames.
+/// The passes of a scene's frames: the rebase (when the camera moved) and the frame's band
+/// passes in order (`passes::frame_passes`), built once per resident scene.
 #[derive(Debug)]
 struct Passes {
     rebase: RebasePass,
-    raygen: RayGenPass,
-    free_forms: Option<FreeFormPass>,
-    terrains: Option<TerrainIntersectPass>,
-    /// Only with meshes.
-    meshes: Option<MeshIntersectPass>,
-    shade: ShadePass,
-    /// Only with fog, a sky or clouds.
-    media: Option<MediaPass>,
-    /// Only with reflecting or transmitting materials.
-    whitted: Option<WhittedPasses>,
-    resolve: ResolvePass,
+    frame: Vec<Box<dyn Pass>>,
+    /// Whether the frame has a media pass (resolve then takes every ray's radiance).
+    media: bool,
+    /// Whether it has Whitted's queue passes (reflecting or transmitting materials).
+    whitted: bool,
 }
 
 /// The frame's buffers that grow with the work list or the image: reallocated (never per
@@ -319,30 +308,12 @@ impl<'a> GpuScene<'a> {
             options: &options,
             specialisation: &specialisation,
         };
+        let media = specialisation.media();
         let passes = Passes {
             rebase: RebasePass::new(cache, ctx)?,
-            raygen: RayGenPass::new(&setup)?,
-            free_forms: (!scene.objects.is_empty())
-                .then(|| FreeFormPass::new(&setup))
-                .transpose()?,
-            terrains: options
-                .terrain
-                .then(|| TerrainIntersectPass::new(&setup))
-                .transpose()?,
-            meshes: options
-                .meshes
-                .then(|| MeshIntersectPass::new(&setup))
-                .transpose()?,
-            shade: ShadePass::new(&setup)?,
-            media: specialisation
-                .media()
-                .then(|| MediaPass::new(&setup))
-                .transpose()?,
-            whitted: options
-                .whitted
-                .then(|| WhittedPasses::new(&setup))
-                .transpose()?,
-            resolve: ResolvePass::new(&setup)?,
+            frame: crate::passes::frame_passes(&setup, !scene.objects.is_empty(), media)?,
+            media,
+            whitted: options.whitted,
         };
         let pending_pipelines = cache.take_built();
         let buffers = FrameBuffers {
@@ -543,7 +514,7 @@ impl<'a> GpuScene<'a> {
             ctx.queue
                 .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
             uploaded += std::mem::size_of::<FrameParams>() as u64;
-            if self.passes.whitted.is_some() {
+            if self.passes.whitted {
                 // An empty queue at level 0 for this band.
                 let at = (counters::QUEUE_TOP * 4) as u64;
                 ctx.queue.write_buffer(
@@ -576,8 +547,7 @@ impl<'a> GpuScene<'a> {
             (counters::WORDS * 4) as u64,
             "counters",
         )?;
-        let (colour, depth, normals) =
-            self.read_frame(scene.background, self.passes.media.is_some())?;
+        let (colour, depth, normals) = self.read_frame(scene.background, self.passes.media)?;
         // An error no scope caught (or a lost device) would otherwise go unnoticed: fail with it.
         if let Some(reason) = ctx.take_uncaptured_error() {
             return Err(if reason.starts_with("device lost") {
@@ -618,7 +588,7 @@ impl<'a> GpuScene<'a> {
         if !self.specialisation.shadows {
             passes.retain(|p| p != "shadows");
         }
-        if self.passes.whitted.is_some() {
+        if self.passes.whitted {
             passes.push(format!(
                 "whitted queue: {} slots per camera ray",
                 self.queue_slots
@@ -668,70 +638,28 @@ impl<'a> GpuScene<'a> {
         ))
     }
 
-    /// Encodes one band's passes (`width × rows` pixels, `rays` camera rays), each its own
-    /// (timed) compute pass: ray generation, the intersection pass of each kind the scene has,
-    /// shading, Whitted's levels, the media, and the resolve into the frame's textures.
+    /// Encodes one band's passes (`width × rows` pixels, `rays` camera rays, `items` work
+    /// items), each its own (timed) compute pass, in the frame's order.
     fn encode_band(
         &self,
-        band: &mut TimedEncoder<'_>,
+        encoder: &mut TimedEncoder<'_>,
         groups: &Groups,
         (width, rows, rays): (u32, u32, u32),
         items: u32,
     ) -> Result<(), GpuError> {
-        let ctx = &self.renderer.ctx;
-        self.passes
-            .raygen
-            .encode(&mut band.pass("raygen")?, ctx, &groups.frame, rays);
-        if let Some(ff) = &self.passes.free_forms {
-            let g = [&groups.frame, &groups.free_forms, &groups.work];
-            ff.encode(&mut band.pass("free forms")?, ctx, g, items);
-        }
-        if let (Some(tp), Some(terrains)) = (&self.passes.terrains, &groups.terrains) {
-            let g = [&groups.frame, &groups.work, terrains];
-            tp.encode(&mut band.pass("terrains")?, ctx, g, items);
-        }
-        if let (Some(mp), Some(meshes)) = (&self.passes.meshes, &groups.meshes) {
-            let g = [&groups.frame, &groups.work, meshes];
-            mp.encode(&mut band.pass("meshes")?, ctx, g, items);
-        }
-        self.passes.shade.encode(
-            &mut band.pass("shade")?,
-            ctx,
-            [&groups.frame, &groups.free_forms, &groups.shading],
-            groups.surfaces.as_ref(),
-            rays,
-        );
-        if let (Some(whitted), Some(queue)) = (&self.passes.whitted, &groups.queue) {
-            let whitted_groups = WhittedGroups {
-                frame: &groups.frame,
-                free_forms: &groups.free_forms,
-                shading: &groups.shading,
-                surfaces: groups.surfaces.as_ref(),
-                queue,
-            };
-            whitted.encode(
-                &mut band.pass("whitted")?,
-                (&self.passes.shade, self.passes.media.as_ref()),
-                &whitted_groups,
-                &self.buffers.queue_args,
-                self.scene.settings.max_depth,
-            );
-        }
-        if let Some(media) = &self.passes.media {
-            // The shading group holds the media's parameters and tables.
-            media.encode(
-                &mut band.pass("media")?,
-                ctx,
-                [&groups.frame, &groups.shading],
-                rays,
-            );
-        }
-        self.passes.resolve.encode(
-            &mut band.pass("resolve")?,
-            [&groups.frame, &groups.targets],
+        let band = Band {
+            ctx: &self.renderer.ctx,
+            groups,
             width,
             rows,
-        );
+            rays,
+            items,
+            queue_args: &self.buffers.queue_args,
+            max_depth: self.scene.settings.max_depth,
+        };
+        for pass in &self.passes.frame {
+            pass.encode(&mut encoder.pass(pass.label())?, &band)?;
+        }
         Ok(())
     }
 
@@ -808,13 +736,13 @@ impl<'a> GpuScene<'a> {
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size)
             .min(BAND_BYTES);
-        let per_row = Self::bytes_per_ray(self.passes.whitted.is_some(), self.queue_slots)
+        let per_row = Self::bytes_per_ray(self.passes.whitted, self.queue_slots)
             * u64::from(view.width)
             * u64::from(view.rays_per_pixel());
         let tile = u64::from(TILE);
         if per_row * tile > limit {
             return Err(GpuError::TooLarge {
-                what: if self.passes.whitted.is_some() {
+                what: if self.passes.whitted {
                     "the rays in flight for one row of 8-pixel tiles, in bytes: each camera ray \
                      with its queue of secondary rays (at most settings.max_secondary_rays; a \
                      smaller budget, depth, width or sample count needs less)"
@@ -832,7 +760,7 @@ impl<'a> GpuScene<'a> {
 
     /// Room for `rays` camera rays in flight, and with Whitted their records and queue.
     fn ensure_paths(&mut self, rays: u64) -> Result<(), GpuError> {
-        let slots = if self.passes.whitted.is_some() {
+        let slots = if self.passes.whitted {
             rays * (1 + u64::from(self.queue_slots))
         } else {
             rays
@@ -841,7 +769,7 @@ impl<'a> GpuScene<'a> {
         if self.buffers.paths.size() < bytes {
             self.buffers.paths = bindings::empty(&self.renderer.ctx, "paths", bytes, U::STORAGE)?;
         }
-        if self.passes.whitted.is_some() {
+        if self.passes.whitted {
             let bytes = slots * std::mem::size_of::<GpuSecondary>() as u64;
             if self.buffers.secondaries.size() < bytes {
                 self.buffers.secondaries =
@@ -980,7 +908,7 @@ impl<'a> GpuScene<'a> {
             ],
         );
         // The lights and materials with the scene's media (`bindings::shading`), in its order.
-        let whitted = self.passes.whitted.is_some();
+        let whitted = self.passes.whitted;
         let shading_group = bindings::shading(
             r.fog.is_some(),
             r.sky.is_some(),
@@ -1275,6 +1203,22 @@ struct Groups {
     /// The shade pass's fourth (with terrains, meshes or textures: `bindings::surfaces`).
     surfaces: Option<wgpu::BindGroup>,
     targets: wgpu::BindGroup,
+}
+
+impl BindGroups for Groups {
+    fn group(&self, role: Role) -> Option<&wgpu::BindGroup> {
+        match role {
+            Role::Frame => Some(&self.frame),
+            Role::FreeForms => Some(&self.free_forms),
+            Role::Work => Some(&self.work),
+            Role::Shading => Some(&self.shading),
+            Role::Surfaces => self.surfaces.as_ref(),
+            Role::Terrains => self.terrains.as_ref(),
+            Role::Meshes => self.meshes.as_ref(),
+            Role::Queue => self.queue.as_ref(),
+            Role::Targets => Some(&self.targets),
+        }
+    }
 }
 
 /// Bytes per row of a texture copy: `width × texel`, padded to wgpu's 256-byte alignment.

@@ -8,52 +8,14 @@
 //! only for scenes with fog, a sky or clouds; resolve is then specialised to take every ray's
 //! radiance.
 
-use super::{Kernel, PassSetup};
-use crate::bindings::{self, FRAME, Group};
-use crate::shader::ModuleOptions;
-use crate::{GpuContext, GpuError};
+use super::band::{PassSpec, Role, Workload};
 
-/// The media pass.
-#[derive(Debug)]
-pub struct MediaPass {
-    kernel: Kernel,
-}
-
-impl MediaPass {
-    /// The groups it binds for a scene composed with `options`: the frame (paths), the lights
-    /// (suns, ambient in the frame) with the fog layer, the sky and the clouds
-    /// (`bindings::shading`).
-    pub fn groups(options: &ModuleOptions) -> [Group; 2] {
-        [
-            FRAME,
-            bindings::shading(options.fog, options.sky, options.clouds, options.whitted),
-        ]
-    }
-
-    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(setup, "media.wgsl", &Self::groups(setup.options))?;
-        Ok(Self { kernel })
-    }
-
-    /// Takes `rays` rays (the band's) through the media.
-    pub fn encode(
-        &self,
-        pass: &mut wgpu::ComputePass<'_>,
-        ctx: &GpuContext,
-        groups: [&wgpu::BindGroup; 2],
-        rays: u32,
-    ) {
-        self.kernel.run(pass, ctx, &groups, rays.div_ceil(64));
-    }
-
-    /// Takes the queue's current level of secondary rays through the media
-    /// (`crate::passes::whitted`), as many workgroups as `args` says.
-    pub fn encode_indirect(
-        &self,
-        pass: &mut wgpu::ComputePass<'_>,
-        groups: [&wgpu::BindGroup; 2],
-        args: &wgpu::Buffer,
-    ) {
-        self.kernel.run_indirect(pass, &groups, args);
-    }
-}
+/// The media pass: the frame (paths) and the lights (suns, ambient in the frame) with the fog
+/// layer, the sky and the clouds (`bindings::shading`). One invocation per ray of the band;
+/// Whitted's levels dispatch it indirectly.
+pub const MEDIA: PassSpec = PassSpec {
+    label: "media",
+    entry: "media.wgsl",
+    roles: &[Role::Frame, Role::Shading],
+    workload: Workload::Rays,
+};

@@ -6,34 +6,12 @@
 //! recording the instance, the triangle and its barycentrics for the shade pass. Built only
 //! for scenes with meshes.
 
-use super::{Kernel, PassSetup};
-use crate::bindings::{FRAME, Group, MESHES, WORK};
-use crate::{GpuContext, GpuError};
+use super::band::{PassSpec, Role, Workload};
 
 /// The mesh intersection pass.
-#[derive(Debug)]
-pub struct MeshIntersectPass {
-    kernel: Kernel,
-}
-
-impl MeshIntersectPass {
-    /// The groups it binds.
-    pub const GROUPS: [Group; 3] = [FRAME, WORK, MESHES];
-
-    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(setup, "intersect_mesh.wgsl", &Self::GROUPS)?;
-        Ok(Self { kernel })
-    }
-
-    /// Casts the rays of `items` work items at their mesh candidates (bind groups in
-    /// [`MeshIntersectPass::GROUPS`] order).
-    pub fn encode(
-        &self,
-        pass: &mut wgpu::ComputePass<'_>,
-        ctx: &GpuContext,
-        groups: [&wgpu::BindGroup; 3],
-        items: u32,
-    ) {
-        self.kernel.run(pass, ctx, &groups, items);
-    }
-}
+pub const MESHES: PassSpec = PassSpec {
+    label: "meshes",
+    entry: "intersect_mesh.wgsl",
+    roles: &[Role::Frame, Role::Work, Role::Meshes],
+    workload: Workload::Items,
+};

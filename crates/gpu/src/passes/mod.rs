@@ -1,10 +1,14 @@
-//! The GPU frame in passes, one struct each, each owning its pipeline (and its own buffers):
-//! rebase (the resident scene moved to the camera) → ray generation → intersection per
-//! primitive kind (free forms, terrains, meshes), each narrowing the rays' nearest hits → surfaces and
-//! shading (shadow rays any-hit per kind) → media (fog and the sky, only with them) → resolve
-//! into the frame's storage textures. The frame's shared buffers (paths, counters, parameters) and bind groups belong to
-//! `crate::render::GpuScene`; pipelines come from the renderer's cache.
+//! The GPU frame in passes, each a value ([`band::Pass`]): rebase (the resident scene moved to
+//! the camera) → ray generation → intersection per primitive kind (free forms, terrains,
+//! meshes), each narrowing the rays' nearest hits → surfaces and shading (shadow rays any-hit
+//! per kind) → Whitted's levels (with reflecting or transmitting materials) → media (fog, the sky,
+//! clouds, only with them) → resolve into the frame's storage textures. A pass that is one
+//! kernel is a [`band::PassSpec`] (label, entry module, the roles of the groups it binds,
+//! workload) in its own file; [`frame_passes`] builds the list a scene's features call for, once
+//! per resident scene. The frame's shared buffers (paths, counters, parameters) and bind groups
+//! belong to `crate::render::GpuScene`; pipelines come from the renderer's cache.
 
+pub mod band;
 pub mod freeform;
 pub mod media;
 pub mod mesh;
@@ -158,7 +162,7 @@ pub struct PassSetup<'a> {
 
 /// A pass's compute pipeline and the bind groups it takes (in its module's order): what every
 /// pass struct holds, so that each pass is only its module, its groups and its dispatch size.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Kernel {
     pipeline: Arc<wgpu::ComputePipeline>,
 }
@@ -238,91 +242,137 @@ pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, ctx: &GpuContext, group
     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
 }
 
+/// The band passes of a scene composed with `options`, in frame order, before and after
+/// Whitted's queue passes (which follow shade when `options.whitted`): ray generation; the
+/// intersection pass of each kind the scene has (`free_forms`: it has free-form objects); shade;
+/// then the media (`media`: fog, a sky or clouds) and resolve.
+pub fn frame_specs(
+    options: &ModuleOptions,
+    free_forms: bool,
+    media: bool,
+) -> (Vec<band::PassSpec>, Vec<band::PassSpec>) {
+    let mut before = vec![raygen::RAYGEN];
+    for (present, spec) in [
+        (free_forms, freeform::FREE_FORMS),
+        (options.terrain, terrain::TERRAINS),
+        (options.meshes, mesh::MESHES),
+    ] {
+        if present {
+            before.push(spec);
+        }
+    }
+    before.push(shade::SHADE);
+    let mut after = Vec::new();
+    if media {
+        after.push(media::MEDIA);
+    }
+    after.push(resolve::RESOLVE);
+    (before, after)
+}
+
+/// A scene's frame: its passes in order ([`frame_specs`], Whitted's between shade and the media),
+/// built once when the scene is uploaded.
+pub fn frame_passes(
+    setup: &PassSetup<'_>,
+    free_forms: bool,
+    media: bool,
+) -> Result<Vec<Box<dyn band::Pass>>, GpuError> {
+    let (before, after) = frame_specs(setup.options, free_forms, media);
+    let mut passes: Vec<Box<dyn band::Pass>> = Vec::new();
+    for spec in before {
+        passes.push(Box::new(band::BandPass::new(setup, spec)?));
+    }
+    if setup.options.whitted {
+        passes.push(Box::new(whitted::WhittedPasses::new(setup, media)?));
+    }
+    for spec in after {
+        passes.push(Box::new(band::BandPass::new(setup, spec)?));
+    }
+    Ok(passes)
+}
+
 #[cfg(test)]
 mod tests {
     use crate::bindings::{CLOUDS_BATCH, FOG_BATCH, SKY_BATCH, TERRAIN_BATCH, TERRAINS};
     use crate::shader::{self, ModuleOptions};
 
     /// Every pass binds its groups in the order its module numbers them (so a pipeline layout
-    /// has no gaps and a bind group lands at the index the WGSL declares).
+    /// has no gaps and a bind group lands at the index the WGSL declares), for every composition.
     #[test]
     fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for k in 0..64u32 {
-            let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
-            let (meshes, textures) = (k & 16 != 0, k & 32 != 0);
-            let options = ModuleOptions {
-                terrain,
-                meshes,
-                fog,
-                sky,
-                clouds,
-                textures,
-                ..ModuleOptions::default()
-            };
-            let shade = super::shade::ShadePass::groups(&options);
-            let media = super::media::MediaPass::groups(&options);
-            for (entry, groups) in [
-                ("raygen.wgsl", &super::raygen::RayGenPass::GROUPS[..]),
-                (
-                    "intersect_freeform.wgsl",
-                    &super::freeform::FreeFormPass::GROUPS[..],
-                ),
-                (
-                    "intersect_terrain.wgsl",
-                    &super::terrain::TerrainIntersectPass::GROUPS[..],
-                ),
-                (
-                    "intersect_mesh.wgsl",
-                    &super::mesh::MeshIntersectPass::GROUPS[..],
-                ),
-                ("shade.wgsl", &shade[..]),
-                ("media.wgsl", &media[..]),
-                ("resolve.wgsl", &super::resolve::ResolvePass::GROUPS[..]),
-                ("rebase.wgsl", &[crate::bindings::REBASE][..]),
-                ("terrain_batch.wgsl", &[TERRAIN_BATCH, TERRAINS][..]),
-                ("fog_batch.wgsl", &[FOG_BATCH][..]),
-                ("sky_batch.wgsl", &[SKY_BATCH][..]),
-                ("clouds_batch.wgsl", &[CLOUDS_BATCH][..]),
-                (
-                    "mesh_batch.wgsl",
-                    &[crate::bindings::MESH_BATCH, crate::bindings::MESHES][..],
-                ),
-            ] {
-                let declared = shader::module_groups(entry, &options).unwrap();
-                assert_eq!(
-                    declared, groups,
-                    "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds}, textures {textures})"
-                );
-            }
-        }
-        // Whitted's passes, with and without media.
-        for k in 0..32u32 {
+        for k in 0..128u32 {
             let options = ModuleOptions {
                 terrain: k & 1 != 0,
                 meshes: k & 2 != 0,
                 fog: k & 4 != 0,
                 sky: k & 8 != 0,
                 clouds: k & 16 != 0,
-                whitted: true,
+                textures: k & 32 != 0,
+                whitted: k & 64 != 0,
                 ..ModuleOptions::default()
             };
-            let media = super::media::MediaPass::groups(&options);
-            let shade = super::shade::ShadePass::groups(&options);
-            let intersect = super::whitted::WhittedPasses::intersect_groups(&options);
-            let gather = super::whitted::WhittedPasses::gather_groups(&options);
-            let queue = &super::whitted::WhittedPasses::QUEUE_GROUPS[..];
-            for (entry, groups) in [
-                ("shade.wgsl", &shade[..]),
-                ("intersect_secondary.wgsl", &intersect[..]),
-                ("whitted_gather.wgsl", &gather[..]),
-                ("media.wgsl", &media[..]),
-                ("queue_forward.wgsl", queue),
-                ("queue_level.wgsl", queue),
-                ("queue_gather.wgsl", queue),
-            ] {
-                let declared = shader::module_groups(entry, &options).unwrap();
-                assert_eq!(declared, groups, "{entry} ({options:?})");
+            let media = options.fog || options.sky || options.clouds;
+            let (before, after) = super::frame_specs(&options, true, media);
+            let mut specs: Vec<_> = before.into_iter().chain(after).collect();
+            if options.whitted {
+                use super::whitted::{FORWARD, GATHER, INTERSECT, SELECT_LEVEL, SELECT_PARENTS};
+                specs.extend([FORWARD, INTERSECT, SELECT_PARENTS, GATHER, SELECT_LEVEL]);
+            }
+            for spec in specs {
+                let declared = shader::module_groups(spec.entry, &options).unwrap();
+                let groups: Vec<_> = spec.groups(&options).into_iter().map(|(_, g)| g).collect();
+                assert_eq!(declared, groups, "{} ({options:?})", spec.entry);
             }
         }
+        for (entry, groups) in [
+            ("rebase.wgsl", &[crate::bindings::REBASE][..]),
+            ("terrain_batch.wgsl", &[TERRAIN_BATCH, TERRAINS][..]),
+            ("fog_batch.wgsl", &[FOG_BATCH][..]),
+            ("sky_batch.wgsl", &[SKY_BATCH][..]),
+            ("clouds_batch.wgsl", &[CLOUDS_BATCH][..]),
+            (
+                "mesh_batch.wgsl",
+                &[crate::bindings::MESH_BATCH, crate::bindings::MESHES][..],
+            ),
+        ] {
+            let declared = shader::module_groups(entry, &ModuleOptions::BATCH).unwrap();
+            assert_eq!(declared, groups, "{entry}");
+        }
+    }
+
+    /// The frame holds exactly the passes the scene's features call for, in order.
+    #[test]
+    fn the_frame_follows_the_features() {
+        let labels = |options: &ModuleOptions, free_forms, media| {
+            let (before, after) = super::frame_specs(options, free_forms, media);
+            before
+                .iter()
+                .chain(&after)
+                .map(|s| s.label)
+                .collect::<Vec<_>>()
+        };
+        let plain = ModuleOptions {
+            terrain: false,
+            meshes: false,
+            fog: false,
+            sky: false,
+            clouds: false,
+            textures: false,
+            ..ModuleOptions::default()
+        };
+        assert_eq!(
+            labels(&plain, true, false),
+            ["raygen", "free forms", "shade", "resolve"]
+        );
+        let all = ModuleOptions {
+            terrain: true,
+            meshes: true,
+            fog: true,
+            ..plain
+        };
+        assert_eq!(
+            labels(&all, false, true),
+            ["raygen", "terrains", "meshes", "shade", "media", "resolve"]
+        );
     }
 }

@@ -3,33 +3,12 @@
 //! `fray_core::Projector::ray` with `fray_core::PixelSamples` (the GPU's depth and anti-aliased
 //! colour are checked against the CPU's frames).
 
-use super::{Kernel, PassSetup};
-use crate::bindings::{FRAME, Group};
-use crate::{GpuContext, GpuError};
+use super::band::{PassSpec, Role, Workload};
 
-/// The ray generation pass.
-#[derive(Debug)]
-pub struct RayGenPass {
-    kernel: Kernel,
-}
-
-impl RayGenPass {
-    /// The groups it binds.
-    pub const GROUPS: [Group; 1] = [FRAME];
-
-    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let kernel = Kernel::new(setup, "raygen.wgsl", &Self::GROUPS)?;
-        Ok(Self { kernel })
-    }
-
-    /// Generates `rays` rays (the band's pixels × rays per pixel).
-    pub fn encode(
-        &self,
-        pass: &mut wgpu::ComputePass<'_>,
-        ctx: &GpuContext,
-        frame: &wgpu::BindGroup,
-        rays: u32,
-    ) {
-        self.kernel.run(pass, ctx, &[frame], rays.div_ceil(64));
-    }
-}
+/// The ray generation pass: the band's pixels × rays per pixel, 64 a workgroup.
+pub const RAYGEN: PassSpec = PassSpec {
+    label: "raygen",
+    entry: "raygen.wgsl",
+    roles: &[Role::Frame],
+    workload: Workload::Rays,
+};

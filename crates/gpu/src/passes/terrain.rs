@@ -4,35 +4,12 @@
 //! `[t_near, nearest hit so far]`, narrowing the paths' hits after the free forms. Built only
 //! for scenes with terrains.
 
-use super::{Kernel, PassSetup};
-use crate::bindings::{FRAME, Group, TERRAINS, WORK};
-use crate::{GpuContext, GpuError};
+use super::band::{PassSpec, Role, Workload};
 
 /// The terrain intersection pass.
-#[derive(Debug)]
-pub struct TerrainIntersectPass {
-    kernel: Kernel,
-}
-
-impl TerrainIntersectPass {
-    /// The groups it binds.
-    pub const GROUPS: [Group; 3] = [FRAME, WORK, TERRAINS];
-
-    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let entry = "intersect_terrain.wgsl";
-        let kernel = Kernel::new(setup, entry, &Self::GROUPS)?;
-        Ok(Self { kernel })
-    }
-
-    /// Casts the rays of `items` work items at their terrain candidates (bind groups in
-    /// [`TerrainIntersectPass::GROUPS`] order).
-    pub fn encode(
-        &self,
-        pass: &mut wgpu::ComputePass<'_>,
-        ctx: &GpuContext,
-        groups: [&wgpu::BindGroup; 3],
-        items: u32,
-    ) {
-        self.kernel.run(pass, ctx, &groups, items);
-    }
-}
+pub const TERRAINS: PassSpec = PassSpec {
+    label: "terrains",
+    entry: "intersect_terrain.wgsl",
+    roles: &[Role::Frame, Role::Work, Role::Terrains],
+    workload: Workload::Items,
+};

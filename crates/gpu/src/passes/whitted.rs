@@ -12,12 +12,11 @@
 //! is rendered again in smaller bands (`crate::render`). Built only for scenes whose materials
 //! reflect or transmit.
 
-use super::media::MediaPass;
-use super::shade::ShadePass;
-use super::{Kernel, PassSetup};
+use super::PassSetup;
+use super::band::{Band, BandPass, Pass, PassSpec, Role, Workload};
+use super::media::MEDIA;
+use super::shade::SHADE;
 use crate::GpuError;
-use crate::bindings::{self, FRAME, FREE_FORMS, Group, QUEUE};
-use crate::shader::ModuleOptions;
 
 pub use crate::params::MAX_SHADOW_CROSSINGS;
 
@@ -25,108 +24,109 @@ pub use crate::params::MAX_SHADOW_CROSSINGS;
 /// the band halved, when a frame's queue overflows.
 pub const QUEUE_SLOTS_PER_RAY: u32 = 2;
 
-/// Whitted's queue passes.
+/// Makes the level the level before spawned current, and writes its indirect dispatch.
+pub const FORWARD: PassSpec = PassSpec {
+    label: "whitted forward",
+    entry: "queue_forward.wgsl",
+    roles: &[Role::Frame, Role::Queue],
+    workload: Workload::Single,
+};
+/// Intersects the current level with every primitive kind (dispatched indirectly).
+pub const INTERSECT: PassSpec = PassSpec {
+    label: "whitted intersect",
+    entry: "intersect_secondary.wgsl",
+    roles: &[Role::Frame, Role::FreeForms, Role::Surfaces],
+    workload: Workload::Rays,
+};
+/// Makes a level's parents current for the gather.
+pub const SELECT_PARENTS: PassSpec = PassSpec {
+    label: "whitted parents",
+    entry: "queue_gather.wgsl",
+    roles: &[Role::Frame, Role::Queue],
+    workload: Workload::Single,
+};
+/// Adds each level's radiance to its parents, weighted by `kr` or `kt` (dispatched indirectly).
+pub const GATHER: PassSpec = PassSpec {
+    label: "whitted gather",
+    entry: "whitted_gather.wgsl",
+    roles: &[Role::Frame, Role::Shading],
+    workload: Workload::Rays,
+};
+/// Only with media: makes the level being gathered current for the media pass.
+pub const SELECT_LEVEL: PassSpec = PassSpec {
+    label: "whitted level",
+    entry: "queue_level.wgsl",
+    roles: &[Role::Frame, Role::Queue],
+    workload: Workload::Single,
+};
+
+/// Whitted's queue passes, with the shade and media passes they run again per level.
 #[derive(Debug)]
 pub struct WhittedPasses {
-    forward: Kernel,
-    intersect: Kernel,
-    select_parents: Kernel,
-    gather: Kernel,
-    /// Only with media: makes the level being gathered current for the media pass.
-    select_level: Option<Kernel>,
-    /// Whether the intersection pass binds the terrains-and-meshes group.
-    surfaces: bool,
-}
-
-/// The bind groups the queue passes take (see [`WhittedPasses::encode`]).
-#[derive(Debug)]
-pub struct WhittedGroups<'a> {
-    pub frame: &'a wgpu::BindGroup,
-    pub free_forms: &'a wgpu::BindGroup,
-    pub shading: &'a wgpu::BindGroup,
-    pub surfaces: Option<&'a wgpu::BindGroup>,
-    pub queue: &'a wgpu::BindGroup,
+    forward: BandPass,
+    intersect: BandPass,
+    select_parents: BandPass,
+    gather: BandPass,
+    shade: BandPass,
+    /// Only with media: the level's selection and the media pass.
+    media: Option<(BandPass, BandPass)>,
 }
 
 impl WhittedPasses {
-    /// The groups of the intersection pass for a scene composed with `options`.
-    pub fn intersect_groups(options: &ModuleOptions) -> Vec<Group> {
-        let mut groups = vec![FRAME, FREE_FORMS];
-        groups.extend(bindings::surfaces(
-            options.terrain,
-            options.meshes,
-            options.textures,
-        ));
-        groups
-    }
-
-    /// The groups of the queue passes.
-    pub const QUEUE_GROUPS: [Group; 2] = [FRAME, QUEUE];
-
-    /// The groups of the gather pass for a scene composed with `options`.
-    pub fn gather_groups(options: &ModuleOptions) -> Vec<Group> {
-        vec![
-            FRAME,
-            bindings::shading(options.fog, options.sky, options.clouds, options.whitted),
-        ]
-    }
-
-    pub fn new(setup: &PassSetup<'_>) -> Result<Self, GpuError> {
-        let options = setup.options;
+    /// The queue passes of the scene `setup` composes (`media`: whether it has fog, a sky or
+    /// clouds).
+    pub fn new(setup: &PassSetup<'_>, media: bool) -> Result<Self, GpuError> {
         Ok(Self {
-            forward: Kernel::new(setup, "queue_forward.wgsl", &Self::QUEUE_GROUPS)?,
-            intersect: Kernel::new(
-                setup,
-                "intersect_secondary.wgsl",
-                &Self::intersect_groups(options),
-            )?,
-            select_parents: Kernel::new(setup, "queue_gather.wgsl", &Self::QUEUE_GROUPS)?,
-            gather: Kernel::new(setup, "whitted_gather.wgsl", &Self::gather_groups(options))?,
-            select_level: (options.fog || options.sky || options.clouds)
-                .then(|| Kernel::new(setup, "queue_level.wgsl", &Self::QUEUE_GROUPS))
+            forward: BandPass::new(setup, FORWARD)?,
+            intersect: BandPass::new(setup, INTERSECT)?,
+            select_parents: BandPass::new(setup, SELECT_PARENTS)?,
+            gather: BandPass::new(setup, GATHER)?,
+            shade: BandPass::new(setup, SHADE)?,
+            media: media
+                .then(|| {
+                    Ok((
+                        BandPass::new(setup, SELECT_LEVEL)?,
+                        BandPass::new(setup, MEDIA)?,
+                    ))
+                })
                 .transpose()?,
-            surfaces: bindings::surfaces(options.terrain, options.meshes, options.textures)
-                .is_some(),
         })
     }
+}
 
-    /// Encodes `max_depth` levels of secondary rays after the band's shade pass, then their
-    /// gathers — each level first through `media` where the scene has them: `args` holds the
-    /// indirect dispatch the queue passes write (bound in `queue`).
-    pub fn encode(
-        &self,
-        pass: &mut wgpu::ComputePass<'_>,
-        (shade, media): (&ShadePass, Option<&MediaPass>),
-        groups: &WhittedGroups<'_>,
-        args: &wgpu::Buffer,
-        max_depth: u32,
-    ) {
-        let queue = [groups.frame, groups.queue];
-        for _ in 0..max_depth {
-            self.forward.run_2d(pass, &queue, 1, 1);
-            let mut intersect = vec![groups.frame, groups.free_forms];
-            if self.surfaces
-                && let Some(s) = groups.surfaces
-            {
-                intersect.push(s);
-            }
-            self.intersect.run_indirect(pass, &intersect, args);
-            shade.encode_indirect(
-                pass,
-                [groups.frame, groups.free_forms, groups.shading],
-                groups.surfaces,
-                args,
-            );
+impl Pass for WhittedPasses {
+    fn label(&self) -> &'static str {
+        "whitted"
+    }
+
+    fn roles(&self) -> Vec<Role> {
+        let mut roles = vec![Role::Frame, Role::FreeForms, Role::Shading, Role::Queue];
+        roles.extend(
+            self.intersect
+                .roles()
+                .into_iter()
+                .filter(|r| *r == Role::Surfaces),
+        );
+        roles
+    }
+
+    /// Encodes the band's `max_depth` levels of secondary rays after its shade pass, then their
+    /// gathers — each level first through the media where the scene has them.
+    fn encode(&self, pass: &mut wgpu::ComputePass<'_>, band: &Band<'_>) -> Result<(), GpuError> {
+        for _ in 0..band.max_depth {
+            self.forward.encode(pass, band)?;
+            self.intersect.encode_indirect(pass, band)?;
+            self.shade.encode_indirect(pass, band)?;
         }
-        for _ in 0..max_depth {
-            if let (Some(select_level), Some(media)) = (&self.select_level, media) {
-                select_level.run_2d(pass, &queue, 1, 1);
-                media.encode_indirect(pass, [groups.frame, groups.shading], args);
+        for _ in 0..band.max_depth {
+            if let Some((select_level, media)) = &self.media {
+                select_level.encode(pass, band)?;
+                media.encode_indirect(pass, band)?;
             }
-            self.select_parents.run_2d(pass, &queue, 1, 1);
-            self.gather
-                .run_indirect(pass, &[groups.frame, groups.shading], args);
+            self.select_parents.encode(pass, band)?;
+            self.gather.encode_indirect(pass, band)?;
         }
+        Ok(())
     }
 }
 
