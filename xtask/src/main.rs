@@ -5,6 +5,7 @@ mod bench_atmosphere;
 mod bench_clouds;
 mod bless;
 mod compare;
+mod package;
 mod polygonise;
 mod regress;
 mod render;
@@ -40,6 +41,10 @@ enum Command {
     /// A scene's free forms as one closed triangle mesh (OBJ): marching tetrahedra with vertices
     /// on F = 0 and normals from its gradient; prints both descriptions' sizes.
     Polygonise(PolygoniseArgs),
+    /// Package every library crate (`cargo package --no-verify --offline`, in dependency
+    /// order) and check that each archive holds every file its sources `include_str!` or
+    /// `include_bytes!`, its README and both licence texts.
+    Package,
 }
 
 #[derive(Debug, Args)]
@@ -150,6 +155,7 @@ fn main() -> ExitCode {
             println!("{summary}");
             true
         }),
+        Command::Package => package::run(),
         Command::Bench(args) => {
             let out = args.out.unwrap_or_else(workspace::default_bench_out);
             let repeats = args.repeats as usize;

@@ -1,5 +1,6 @@
-//! `fray-atmosphere`: the atmosphere of the method (docs/methods.md §5), the reference implementation.
-//! Usable alone: no GPU, no scene files.
+#![doc = include_str!("../README.md")]
+//!
+//! ## In detail
 //!
 //! - [`FogLayer`]: Klassen's horizontal fog layer — a slab of extinction `B` (optionally falling
 //!   off exponentially with height) — with the method's two terms (eq. 14, object light; eq. 15,

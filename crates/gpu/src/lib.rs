@@ -1,4 +1,8 @@
-//! `fray-gpu`: the wgpu backend, in passes (one struct each, `passes`): the scene stays resident
+#![doc = include_str!("../README.md")]
+//!
+//! ## In detail
+//!
+//! The wgpu backend, in passes (one struct each, `passes`): the scene stays resident
 //! on the device (`resident`), uploaded once relative to a fixed anchor and moved to each
 //! frame's camera on the GPU (the rebase pass); per frame the quadtree work list, then ray
 //! generation (with anti-aliasing samples), intersection per primitive kind — free forms by the
@@ -14,23 +18,6 @@
 //! read back only to make a [`fray_core::Frame`]. f32, every position camera-relative; pipelines
 //! specialised to the scene (absent features compile to nothing) and cached. ε on the GPU is
 //! `max(scene ε, 2⁻²⁰ · camera distance)` ([`gpu_epsilon`]).
-//!
-//! ```no_run
-//! let scene = fray_scene::parse(
-//!     "Scene(camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
-//!     "inline.ron",
-//! )?;
-//! let gpu = fray_gpu::GpuRenderer::new()?;
-//! let settings = fray_gpu::GpuSettings::for_scene(&scene);
-//! let mut resident = gpu.upload(&scene, &settings)?;
-//! let view = fray_gpu::View::of_scene(&scene, settings.samples);
-//! let first = resident.render(&view)?;
-//! // A second frame of the resident scene builds no pipeline and uploads no scene.
-//! let second = resident.render(&view)?;
-//! assert_eq!((second.stats.pipelines_built, second.stats.scene_uploaded_bytes), (0, 0));
-//! assert!(first.stats.backend.starts_with("gpu"));
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
 
 pub mod bindings;
 pub mod cloud_textures;

@@ -23,206 +23,162 @@ use fray_core::gpu_struct::GpuStruct;
 use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
-/// Every shader file with its name: embedded at build time from `shaders/`.
+/// Every shader file with its name: embedded at build time from `shaders/` (the crate's
+/// `shaders` is a link to the repository's, so a packaged crate holds them too).
 pub const SHADER_FILES: [(&str, &str); 61] = [
-    ("camera.wgsl", include_str!("../../../shaders/camera.wgsl")),
-    ("clouds.wgsl", include_str!("../../../shaders/clouds.wgsl")),
+    ("camera.wgsl", include_str!("../shaders/camera.wgsl")),
+    ("clouds.wgsl", include_str!("../shaders/clouds.wgsl")),
     (
         "clouds_batch.wgsl",
-        include_str!("../../../shaders/clouds_batch.wgsl"),
+        include_str!("../shaders/clouds_batch.wgsl"),
     ),
     (
         "clouds_media.wgsl",
-        include_str!("../../../shaders/clouds_media.wgsl"),
+        include_str!("../shaders/clouds_media.wgsl"),
     ),
     (
         "clouds_shading.wgsl",
-        include_str!("../../../shaders/clouds_shading.wgsl"),
+        include_str!("../shaders/clouds_shading.wgsl"),
     ),
-    (
-        "counters.wgsl",
-        include_str!("../../../shaders/counters.wgsl"),
-    ),
-    ("csg.wgsl", include_str!("../../../shaders/csg.wgsl")),
-    ("decay.wgsl", include_str!("../../../shaders/decay.wgsl")),
-    ("fog.wgsl", include_str!("../../../shaders/fog.wgsl")),
-    (
-        "fog_batch.wgsl",
-        include_str!("../../../shaders/fog_batch.wgsl"),
-    ),
-    (
-        "fog_media.wgsl",
-        include_str!("../../../shaders/fog_media.wgsl"),
-    ),
+    ("counters.wgsl", include_str!("../shaders/counters.wgsl")),
+    ("csg.wgsl", include_str!("../shaders/csg.wgsl")),
+    ("decay.wgsl", include_str!("../shaders/decay.wgsl")),
+    ("fog.wgsl", include_str!("../shaders/fog.wgsl")),
+    ("fog_batch.wgsl", include_str!("../shaders/fog_batch.wgsl")),
+    ("fog_media.wgsl", include_str!("../shaders/fog_media.wgsl")),
     (
         "fog_shading.wgsl",
-        include_str!("../../../shaders/fog_shading.wgsl"),
+        include_str!("../shaders/fog_shading.wgsl"),
     ),
-    (
-        "freeform.wgsl",
-        include_str!("../../../shaders/freeform.wgsl"),
-    ),
+    ("freeform.wgsl", include_str!("../shaders/freeform.wgsl")),
     (
         "intersect_freeform.wgsl",
-        include_str!("../../../shaders/intersect_freeform.wgsl"),
+        include_str!("../shaders/intersect_freeform.wgsl"),
     ),
     (
         "intersect_mesh.wgsl",
-        include_str!("../../../shaders/intersect_mesh.wgsl"),
+        include_str!("../shaders/intersect_mesh.wgsl"),
     ),
     (
         "intersect_terrain.wgsl",
-        include_str!("../../../shaders/intersect_terrain.wgsl"),
+        include_str!("../shaders/intersect_terrain.wgsl"),
     ),
-    ("media.wgsl", include_str!("../../../shaders/media.wgsl")),
-    ("mesh.wgsl", include_str!("../../../shaders/mesh.wgsl")),
+    ("media.wgsl", include_str!("../shaders/media.wgsl")),
+    ("mesh.wgsl", include_str!("../shaders/mesh.wgsl")),
     (
         "mesh_batch.wgsl",
-        include_str!("../../../shaders/mesh_batch.wgsl"),
+        include_str!("../shaders/mesh_batch.wgsl"),
     ),
     (
         "mesh_shading.wgsl",
-        include_str!("../../../shaders/mesh_shading.wgsl"),
+        include_str!("../shaders/mesh_shading.wgsl"),
     ),
     (
         "mesh_texture.wgsl",
-        include_str!("../../../shaders/mesh_texture.wgsl"),
+        include_str!("../shaders/mesh_texture.wgsl"),
     ),
-    (
-        "no_clouds.wgsl",
-        include_str!("../../../shaders/no_clouds.wgsl"),
-    ),
+    ("no_clouds.wgsl", include_str!("../shaders/no_clouds.wgsl")),
     (
         "no_clouds_media.wgsl",
-        include_str!("../../../shaders/no_clouds_media.wgsl"),
+        include_str!("../shaders/no_clouds_media.wgsl"),
     ),
-    ("no_fog.wgsl", include_str!("../../../shaders/no_fog.wgsl")),
-    (
-        "no_mesh.wgsl",
-        include_str!("../../../shaders/no_mesh.wgsl"),
-    ),
+    ("no_fog.wgsl", include_str!("../shaders/no_fog.wgsl")),
+    ("no_mesh.wgsl", include_str!("../shaders/no_mesh.wgsl")),
     (
         "no_mesh_texture.wgsl",
-        include_str!("../../../shaders/no_mesh_texture.wgsl"),
+        include_str!("../shaders/no_mesh_texture.wgsl"),
     ),
     (
         "no_fog_media.wgsl",
-        include_str!("../../../shaders/no_fog_media.wgsl"),
+        include_str!("../shaders/no_fog_media.wgsl"),
     ),
-    ("no_sky.wgsl", include_str!("../../../shaders/no_sky.wgsl")),
+    ("no_sky.wgsl", include_str!("../shaders/no_sky.wgsl")),
     (
         "no_sky_media.wgsl",
-        include_str!("../../../shaders/no_sky_media.wgsl"),
+        include_str!("../shaders/no_sky_media.wgsl"),
     ),
     (
         "no_terrain.wgsl",
-        include_str!("../../../shaders/no_terrain.wgsl"),
+        include_str!("../shaders/no_terrain.wgsl"),
     ),
     (
         "no_terrain_texture.wgsl",
-        include_str!("../../../shaders/no_terrain_texture.wgsl"),
+        include_str!("../shaders/no_terrain_texture.wgsl"),
     ),
     (
         "no_texture.wgsl",
-        include_str!("../../../shaders/no_texture.wgsl"),
+        include_str!("../shaders/no_texture.wgsl"),
     ),
-    (
-        "quadric.wgsl",
-        include_str!("../../../shaders/quadric.wgsl"),
-    ),
-    ("ray.wgsl", include_str!("../../../shaders/ray.wgsl")),
-    ("raygen.wgsl", include_str!("../../../shaders/raygen.wgsl")),
-    ("rebase.wgsl", include_str!("../../../shaders/rebase.wgsl")),
-    (
-        "resolve.wgsl",
-        include_str!("../../../shaders/resolve.wgsl"),
-    ),
-    (
-        "samples.wgsl",
-        include_str!("../../../shaders/samples.wgsl"),
-    ),
-    ("shade.wgsl", include_str!("../../../shaders/shade.wgsl")),
-    ("sky.wgsl", include_str!("../../../shaders/sky.wgsl")),
-    (
-        "sky_batch.wgsl",
-        include_str!("../../../shaders/sky_batch.wgsl"),
-    ),
-    (
-        "sky_media.wgsl",
-        include_str!("../../../shaders/sky_media.wgsl"),
-    ),
+    ("quadric.wgsl", include_str!("../shaders/quadric.wgsl")),
+    ("ray.wgsl", include_str!("../shaders/ray.wgsl")),
+    ("raygen.wgsl", include_str!("../shaders/raygen.wgsl")),
+    ("rebase.wgsl", include_str!("../shaders/rebase.wgsl")),
+    ("resolve.wgsl", include_str!("../shaders/resolve.wgsl")),
+    ("samples.wgsl", include_str!("../shaders/samples.wgsl")),
+    ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
+    ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
+    ("sky_batch.wgsl", include_str!("../shaders/sky_batch.wgsl")),
+    ("sky_media.wgsl", include_str!("../shaders/sky_media.wgsl")),
     (
         "sky_shading.wgsl",
-        include_str!("../../../shaders/sky_shading.wgsl"),
+        include_str!("../shaders/sky_shading.wgsl"),
     ),
-    (
-        "terrain.wgsl",
-        include_str!("../../../shaders/terrain.wgsl"),
-    ),
+    ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
     (
         "terrain_batch.wgsl",
-        include_str!("../../../shaders/terrain_batch.wgsl"),
+        include_str!("../shaders/terrain_batch.wgsl"),
     ),
     (
         "terrain_shadows.wgsl",
-        include_str!("../../../shaders/terrain_shadows.wgsl"),
+        include_str!("../shaders/terrain_shadows.wgsl"),
     ),
     (
         "terrain_texture.wgsl",
-        include_str!("../../../shaders/terrain_texture.wgsl"),
+        include_str!("../shaders/terrain_texture.wgsl"),
     ),
-    (
-        "texture.wgsl",
-        include_str!("../../../shaders/texture.wgsl"),
-    ),
-    (
-        "work_item.wgsl",
-        include_str!("../../../shaders/work_item.wgsl"),
-    ),
-    ("queue.wgsl", include_str!("../../../shaders/queue.wgsl")),
+    ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
+    ("work_item.wgsl", include_str!("../shaders/work_item.wgsl")),
+    ("queue.wgsl", include_str!("../shaders/queue.wgsl")),
     (
         "queue_dispatch.wgsl",
-        include_str!("../../../shaders/queue_dispatch.wgsl"),
+        include_str!("../shaders/queue_dispatch.wgsl"),
     ),
     (
         "queue_level.wgsl",
-        include_str!("../../../shaders/queue_level.wgsl"),
+        include_str!("../shaders/queue_level.wgsl"),
     ),
     (
         "whitted_media.wgsl",
-        include_str!("../../../shaders/whitted_media.wgsl"),
+        include_str!("../shaders/whitted_media.wgsl"),
     ),
     (
         "no_whitted_media.wgsl",
-        include_str!("../../../shaders/no_whitted_media.wgsl"),
+        include_str!("../shaders/no_whitted_media.wgsl"),
     ),
     (
         "queue_forward.wgsl",
-        include_str!("../../../shaders/queue_forward.wgsl"),
+        include_str!("../shaders/queue_forward.wgsl"),
     ),
     (
         "queue_gather.wgsl",
-        include_str!("../../../shaders/queue_gather.wgsl"),
+        include_str!("../shaders/queue_gather.wgsl"),
     ),
     (
         "secondary_hit.wgsl",
-        include_str!("../../../shaders/secondary_hit.wgsl"),
+        include_str!("../shaders/secondary_hit.wgsl"),
     ),
     (
         "intersect_secondary.wgsl",
-        include_str!("../../../shaders/intersect_secondary.wgsl"),
+        include_str!("../shaders/intersect_secondary.wgsl"),
     ),
-    (
-        "whitted.wgsl",
-        include_str!("../../../shaders/whitted.wgsl"),
-    ),
+    ("whitted.wgsl", include_str!("../shaders/whitted.wgsl")),
     (
         "no_whitted.wgsl",
-        include_str!("../../../shaders/no_whitted.wgsl"),
+        include_str!("../shaders/no_whitted.wgsl"),
     ),
     (
         "whitted_gather.wgsl",
-        include_str!("../../../shaders/whitted_gather.wgsl"),
+        include_str!("../shaders/whitted_gather.wgsl"),
     ),
 ];
 
@@ -829,7 +785,7 @@ mod tests {
 
     #[test]
     fn every_shader_file_is_embedded_and_every_entry_module_validates_with_naga() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
         let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
             .unwrap()
             .filter_map(|e| e.ok())

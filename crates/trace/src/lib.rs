@@ -1,33 +1,18 @@
-//! `fray-trace`: the CPU backend and f64 reference renderer. Every primitive kind — free-form
-//! CSG solids (`fray-geometry`), height-map terrains (`fray-terrain`), triangle meshes
-//! (`fray-mesh`) — answers the same few queries ([`Primitive`]: bounds, nearest hit over a ray
-//! range, transmittance, the surface at a hit); the nearest hit over all of them becomes a
-//! [`SurfaceInteraction`], which the one [`Integrator`] shades: ambient + Lambert (albedo/π) +
-//! normalised Phong light, each light through the RGB transmittance of a shadow ray, plus
-//! Whitted's mirror reflection and refraction ([`optics`]) to a maximum depth and within a
-//! secondary-ray budget per camera ray ([`ray_budget`]). Tiles render in parallel with rayon; the image
-//! does not depend on the thread count. With [`TraceSettings::culling`] (the default) the tiles
-//! come from the `fray-quadtree` scheduler: empty tiles are skipped and each tile casts only the
-//! primitives, CSG leaves and perturbations its rays may meet — the same image, less work.
+#![doc = include_str!("../README.md")]
 //!
-//! ```
-//! use fray_trace::{render, TraceSettings};
+//! ## In detail
 //!
-//! let scene = fray_scene::parse(
-//!     r#"Scene(
-//!         image: (width: 32, height: 24),
-//!         camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)),
-//!         lights: [Sun(direction: (0, 1, -1), irradiance: (3, 3, 3))],
-//!         objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))],
-//!     )"#,
-//!     "inline.ron",
-//! )?;
-//! let frame = render(&scene, &TraceSettings::for_scene(&scene), None)?;
-//! // The centre pixel sees the sphere at distance 3 (to within ε).
-//! assert!((frame.depth.get(16, 12) - 3.0).abs() < 1e-2);
-//! assert!(frame.depth.get(0, 0).is_infinite());
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
+//! Every primitive kind — free-form CSG solids (`fray-geometry`), height-map terrains
+//! (`fray-terrain`), triangle meshes (`fray-mesh`) — answers the same few queries ([`Primitive`]:
+//! bounds, nearest hit over a ray range, transmittance, the surface at a hit); the nearest hit over
+//! all of them becomes a [`SurfaceInteraction`], which the one [`Integrator`] shades: ambient +
+//! Lambert (albedo/π) + normalised Phong light, each light through the RGB transmittance of a
+//! shadow ray, plus Whitted's mirror reflection and refraction ([`optics`]) to a maximum depth and
+//! within a secondary-ray budget per camera ray ([`ray_budget`]). Tiles render in parallel with
+//! rayon; the image does not depend on the thread count. With [`TraceSettings::culling`] (the
+//! default) the tiles come from the `fray-quadtree` scheduler: empty tiles are skipped and each
+//! tile casts only the primitives, CSG leaves and perturbations its rays may meet — the same image,
+//! less work.
 
 mod freeform;
 mod hit;
