@@ -1,4 +1,4 @@
-//! The workspace's layering (ARCHITECTURE.md, "Invariants" 1, 3 and 7), checked on the real
+//! The workspace's layering (ARCHITECTURE.md, "Invariants" 1), checked on the real
 //! dependency graph that `cargo metadata` reports, normal and dev dependencies apart:
 //!
 //! - `fray-core` is the bottom: it depends on no fray crate, not even in its tests;

@@ -2,10 +2,10 @@
 //! nearest hit over a ray range, the transmittance over a ray range and the surface at a hit —
 //! and the per-thread context its queries share (scratch space and work counters).
 //!
-//! Free forms (`freeform.rs`) and terrains (`terrain.rs`) implement [`Primitive`]; the
-//! scene-wide queries (`hit.rs`) walk the kinds in [`PrimitiveKind::ALL`] order. A new kind is a
-//! new file implementing the trait plus one arm in each scene-wide query (see ARCHITECTURE.md's
-//! checklist).
+//! Free forms (`freeform.rs`), terrains (`terrain.rs`) and meshes (`mesh.rs`) implement
+//! [`Primitive`]; the scene-wide queries (`hit.rs`) walk the kinds in [`PrimitiveKind::ALL`]
+//! order. A new kind is a new file implementing the trait plus one arm in each scene-wide query
+//! (see ARCHITECTURE.md's checklist).
 //!
 //! [`PrimitiveKind::ALL`]: fray_scene::PrimitiveKind::ALL
 
