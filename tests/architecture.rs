@@ -31,6 +31,8 @@ const SCENE: &str = "fray-scene";
 const TRACE: &str = "fray-trace";
 const GPU: &str = "fray-gpu";
 const RENDER: &str = "fray-render";
+/// Helpers tests share: any crate's tests may use it; no crate's own code may.
+const TEST_SUPPORT: &str = "fray-test-support";
 /// The packages that may depend on `fray-render` in their own code: the CLI and xtask.
 const RENDER_USERS: [&str; 2] = ["fray", "xtask"];
 
@@ -139,6 +141,15 @@ fn violations(graph: &Graph) -> Vec<String> {
             Kind::Dev => "dev-depends on",
         };
         let mut report = |rule: &str| found.push(format!("{} {kind} {}: {rule}", e.from, e.to));
+        if e.to == TEST_SUPPORT {
+            if e.kind == Kind::Normal {
+                report("fray-test-support is for tests: a dev-dependency only (invariant 1)");
+            }
+            continue;
+        }
+        if e.from == TEST_SUPPORT {
+            report("fray-test-support depends on no fray crate, so any crate's tests may use it");
+        }
         if e.from == CORE {
             report("fray-core is the bottom and depends on no fray crate (invariant 1)");
         }
@@ -150,22 +161,22 @@ fn violations(graph: &Graph) -> Vec<String> {
         }
         if e.kind == Kind::Normal {
             if e.from == QUADTREE && e.to != CORE {
-                report("fray-quadtree knows only fray-core (invariant 3)");
+                report("fray-quadtree knows only fray-core (invariant 1)");
             }
             let below_scene = e.to == CORE || e.to == QUADTREE || MODELS.contains(&e.to.as_str());
             if e.from == SCENE && !below_scene {
                 report(
                     "fray-scene sits on the model crates, fray-core and fray-quadtree \
-                     (invariant 7)",
+                     (invariant 1)",
                 );
             }
             if e.from == GPU && e.to == TRACE {
-                report("fray-gpu never depends on fray-trace; only its tests do (invariant 7)");
+                report("fray-gpu never depends on fray-trace; only its tests do (invariant 1)");
             }
             if e.to == RENDER && !RENDER_USERS.contains(&e.from.as_str()) {
                 report(
                     "only the CLI, xtask, tests and benches depend on fray-render \
-                     (invariant 7)",
+                     (invariant 1)",
                 );
             }
         }
@@ -174,7 +185,7 @@ fn violations(graph: &Graph) -> Vec<String> {
         if graph.packages.contains(backend) && !graph.has(backend, SCENE, Kind::Normal) {
             found.push(format!(
                 "{backend} does not depend on {SCENE}: both backends take a fray-scene Scene \
-                 (invariant 7)"
+                 (invariant 1)"
             ));
         }
     }
@@ -336,4 +347,19 @@ fn a_library_depending_on_the_facade_is_caught() {
         "only the CLI, xtask, tests and benches",
     );
     // As a dev-dependency (a test or bench), fray-render is allowed (fray-gpu's, above).
+}
+
+#[test]
+fn test_support_in_a_library_or_on_a_fray_crate_is_caught() {
+    // Any crate's tests may use it (a model crate's too): that is sound.
+    assert!(broken(&[("fray-geometry", TEST_SUPPORT, Kind::Dev)], &[]).is_empty());
+    let problems = broken(&[("fray-geometry", TEST_SUPPORT, Kind::Normal)], &[]);
+    assert_one(
+        &problems,
+        "fray-geometry",
+        TEST_SUPPORT,
+        "a dev-dependency only",
+    );
+    let problems = broken(&[(TEST_SUPPORT, SCENE, Kind::Normal)], &[]);
+    assert_one(&problems, TEST_SUPPORT, SCENE, "depends on no fray crate");
 }

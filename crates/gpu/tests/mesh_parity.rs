@@ -108,29 +108,7 @@ fn gpu() -> &'static GpuContext {
     GPU.get_or_init(|| common::gpu("mesh_parity")).context()
 }
 
-/// splitmix64 in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn direction(&mut self) -> DVec3 {
-        loop {
-            let d = DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0;
-            let l = d.length();
-            if l > 1e-3 && l <= 1.0 {
-                return d / l;
-            }
-        }
-    }
-    fn in_box(&mut self, b: &Aabb) -> DVec3 {
-        b.min + (b.max - b.min) * DVec3::new(self.next(), self.next(), self.next())
-    }
-}
+use fray_test_support::Rng;
 
 /// Meshes placed in the world, on both sides.
 struct World {
@@ -579,8 +557,8 @@ fn random_queries(rng: &mut Rng, b: &Aabb, n: usize) -> Vec<Query> {
     let r = b.diagonal() * 0.5;
     (0..n)
         .map(|_| {
-            let o = b.center() + rng.direction() * r * (1.5 + 1.5 * rng.next());
-            let ray = Ray::new(o, rng.in_box(b) - o).unwrap();
+            let o = b.center() + rng.direction() * r * (1.5 + 1.5 * rng.unit());
+            let ray = Ray::new(o, rng.in_box(b.min, b.max) - o).unwrap();
             Query {
                 ray,
                 range: Interval::new(0.0, f64::INFINITY),

@@ -52,26 +52,6 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// A `side × side` RGB PNG whose quadrants are red (top left), green (top right), blue (bottom
-/// left) and white (bottom right).
-fn quadrants_png(dir: &Path, side: u32) -> String {
-    let mut pixels = Vec::new();
-    for y in 0..side {
-        for x in 0..side {
-            let (left, top) = (x < side / 2, y < side / 2);
-            pixels.extend_from_slice(match (left, top) {
-                (true, true) => &[255, 0, 0],
-                (false, true) => &[0, 255, 0],
-                (true, false) => &[0, 0, 255],
-                (false, false) => &[255, 255, 255],
-            });
-        }
-    }
-    let path = dir.join(format!("quadrants{side}.png"));
-    image::save_buffer(&path, &pixels, side, side, image::ColorType::Rgb8).unwrap();
-    path.display().to_string()
-}
-
 /// A quad facing −z at z = 0, 2 × 2, uv `(0, 0)` at its `(+x, −y)` corner and `(k, k)` at the
 /// opposite one.
 fn quad_obj(dir: &Path, k: f64) -> String {
@@ -103,8 +83,8 @@ const EXPECTED: [Vec3; 4] = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::ONE];
 fn a_known_image_lands_the_same_way_round() {
     let gpu = common::gpu("a_known_image_lands_the_same_way_round");
     let dir = temp_dir("orientation");
-    let png = quadrants_png(&dir, 2);
-    let png4 = quadrants_png(&dir, 4);
+    let png = fray_test_support::images::quadrants_png(&dir, 2);
+    let png4 = fray_test_support::images::quadrants_png(&dir, 4);
     let quad = quad_obj(&dir, 1.0);
     let map = dir.join("flat.png");
     image::save_buffer(&map, &[0u8; 16], 4, 4, image::ColorType::L8).unwrap();

@@ -21,26 +21,7 @@ fn load(name: &str) -> TriangleMesh {
     TriangleMesh::load_obj(&data(name), &MemoryBudget::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// splitmix64 in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn direction(&mut self) -> DVec3 {
-        loop {
-            let d = DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0;
-            let l = d.length();
-            if l > 1e-3 && l <= 1.0 {
-                return d / l;
-            }
-        }
-    }
-}
+use fray_test_support::Rng;
 
 const ALL: Interval = Interval {
     lo: 0.0,
@@ -52,11 +33,11 @@ fn triangle_hits_match_the_plane_and_barycentre_closed_form() {
     let mut rng = Rng(1);
     let mut checked = 0;
     for _ in 0..20_000 {
-        let corners = [0; 3].map(|_| DVec3::new(rng.next(), rng.next(), rng.next()) * 4.0 - 2.0);
-        let o = DVec3::new(rng.next(), rng.next(), rng.next()) * 10.0 - 5.0;
+        let corners = [0; 3].map(|_| DVec3::new(rng.unit(), rng.unit(), rng.unit()) * 4.0 - 2.0);
+        let o = DVec3::new(rng.unit(), rng.unit(), rng.unit()) * 10.0 - 5.0;
         let [a, b, c] = corners;
         // Aimed at a point of the triangle's plane in or near it (weights in [−0.3, 1.3]).
-        let (u, v) = (rng.next() * 1.6 - 0.3, rng.next() * 1.6 - 0.3);
+        let (u, v) = (rng.unit() * 1.6 - 0.3, rng.unit() * 1.6 - 0.3);
         let target = a + (b - a) * u + (c - a) * v;
         let Some(ray) = Ray::new(o, target - o) else {
             continue;
@@ -179,8 +160,8 @@ fn the_bvh_finds_what_a_brute_force_finds() {
     let mut rng = Rng(3);
     let (mut hits, mut checked) = (0, 0);
     for _ in 0..4000 {
-        let o = b.center() + rng.direction() * b.diagonal() * (0.1 + rng.next());
-        let toward = b.min + (b.max - b.min) * DVec3::new(rng.next(), rng.next(), rng.next());
+        let o = b.center() + rng.direction() * b.diagonal() * (0.1 + rng.unit());
+        let toward = b.min + (b.max - b.min) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
         let ray = Ray::new(o, toward - o).unwrap();
         let frame = RayFrame::new(&ray);
         // The least (t, triangle index): the tie rule.
@@ -230,7 +211,7 @@ fn instances_hit_where_the_transformed_mesh_does() {
     let mut hits = 0;
     for _ in 0..2000 {
         let o = b.center() + rng.direction() * b.diagonal();
-        let toward = b.min + (b.max - b.min) * DVec3::new(rng.next(), rng.next(), rng.next());
+        let toward = b.min + (b.max - b.min) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
         let ray = Ray::new(o, toward - o).unwrap();
         let (a, d) = (
             instance.nearest_hit(&ray, ALL),
@@ -429,8 +410,8 @@ fn a_far_bunny_gets_the_origins_tree_and_the_brute_forces_hits() {
         let mut rng = Rng(11 + k as u64);
         let mut hits = 0;
         for _ in 0..2000 {
-            let o = b.center() + rng.direction() * b.diagonal() * (0.2 + rng.next());
-            let toward = b.min + (b.max - b.min) * DVec3::new(rng.next(), rng.next(), rng.next());
+            let o = b.center() + rng.direction() * b.diagonal() * (0.2 + rng.unit());
+            let toward = b.min + (b.max - b.min) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
             let ray = Ray::new(o, toward - o).unwrap();
             let frame = RayFrame::new(&ray);
             let best = (0..m.triangles.len())

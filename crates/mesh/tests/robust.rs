@@ -12,17 +12,7 @@ use fray_mesh::{MAX_DEPTH, MAX_LEAF, MeshBvh, MeshError, PacketBvh, TriangleMesh
 use glam::{DAffine3, DVec3};
 use std::time::{Duration, Instant};
 
-/// splitmix64 in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use fray_test_support::Rng;
 
 const ALL: Interval = Interval {
     lo: 0.0,
@@ -101,11 +91,11 @@ fn rays_down(rng: &mut Rng, lo: DVec3, hi: DVec3, count: usize) -> Vec<Ray> {
     let eye = DVec3::new(0.3, -0.2, 5.0);
     (0..count)
         .map(|i| {
-            let target = lo + (hi - lo) * DVec3::new(rng.next(), rng.next(), 0.0);
+            let target = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), 0.0);
             let origin = if i % 2 == 0 {
                 eye
             } else {
-                target + DVec3::new(rng.next() - 0.5, rng.next() - 0.5, 2.0)
+                target + DVec3::new(rng.unit() - 0.5, rng.unit() - 0.5, 2.0)
             };
             Ray::new(origin, target - origin).unwrap()
         })
@@ -276,8 +266,8 @@ fn empty_and_degenerate_only_meshes_answer_without_a_panic() {
                 1 => (DVec3::new(0.5, 0.5, 2.0), DVec3::NEG_Z),
                 2 => (DVec3::new(1.0, 0.0, 1.0), DVec3::NEG_Z),
                 _ => (
-                    DVec3::new(rng.next(), rng.next(), rng.next()) * 4.0 - 2.0,
-                    DVec3::new(rng.next(), rng.next(), rng.next()) - 0.5,
+                    DVec3::new(rng.unit(), rng.unit(), rng.unit()) * 4.0 - 2.0,
+                    DVec3::new(rng.unit(), rng.unit(), rng.unit()) - 0.5,
                 ),
             };
             Ray::new(o, d).unwrap()

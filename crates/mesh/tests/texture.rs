@@ -167,17 +167,7 @@ fn wrap_modes_at_and_past_the_edges() {
     }
 }
 
-/// splitmix64 in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use fray_test_support::Rng;
 
 /// Level sizes are `⌈w/2⌉ × ⌈h/2⌉` down to 1 × 1, and every level's mean is the base mean to
 /// 1e-6 (values in [0, 1]), for power-of-two, odd, thin and photo-like sizes.
@@ -196,7 +186,7 @@ fn mip_levels_halve_and_keep_the_mean() {
         for channels in [Channels::Grey, Channels::Rgba] {
             let n = channels.count();
             let texels: Vec<f32> = (0..w as usize * h as usize * n)
-                .map(|_| rng.next() as f32)
+                .map(|_| rng.unit() as f32)
                 .collect();
             let t = Texture::from_texels(w, h, channels, texels, &MemoryBudget::default()).unwrap();
             let sizes: Vec<(u32, u32)> =

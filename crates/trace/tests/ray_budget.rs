@@ -10,45 +10,6 @@ use fray_core::Interval;
 use fray_scene::Scene;
 use fray_trace::{Integrator, TraceContext, TraceSettings, render};
 
-/// The two plates (400 × 210 × 0.25, 2 apart) under a sun, `depth` and `budget` given.
-fn two_plates(width: u32, height: u32, depth: u32, budget: u32) -> Scene {
-    let text = format!(
-        "Scene(image: (width: {width}, height: {height}),
-           camera: Pinhole(eye: (0, 0, 0), look_at: (0, 0.2, 10), fov_y: 70),
-           background: (0.3, 0.45, 0.7), ambient: (0.05, 0.05, 0.05),
-           lights: [Sun(direction: (0.2, 1, -0.3), irradiance: (2, 2, 2))],
-           materials: {{ \"plate\": (diffuse: (0.1, 0.1, 0.1), specular: (0.2, 0.2, 0.2), shininess: 50,
-                                     reflect: (0.5, 0.5, 0.5), transmit: (0.5, 0.5, 0.5), ior: 1.5) }},
-           objects: [
-             (material: \"plate\", shape: FreeForm(base: HalfSpace(point: (0, -1, 0), normal: (0, 1, 0)),
-                bounds: (min: (-200, -1.25, -10), max: (200, -1, 200)))),
-             (material: \"plate\", shape: FreeForm(base: HalfSpace(point: (0, 1, 0), normal: (0, -1, 0)),
-                bounds: (min: (-200, 1, -10), max: (200, 1.25, 200)))),
-           ],
-           settings: (max_depth: {depth}, min_contribution: 0, max_secondary_rays: {budget}))"
-    );
-    fray_scene::parse(&text, "two_plates.ron").unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Two concentric glass shells (radii 1.8–2 and 3–3.2, `kr = kt = 0.5`) round the camera: every
-/// secondary ray of the first three levels meets a surface that reflects and transmits, so each
-/// camera ray's tree at depth 4 is full, `2⁵ − 2 = 30` rays.
-fn shells(depth: u32, budget: u32) -> Scene {
-    let text = format!(
-        "Scene(image: (width: 16, height: 12),
-           camera: Pinhole(eye: (0, 0, 0), look_at: (0.3, 0.2, 1), fov_y: 60, near: 0.05),
-           background: (0.3, 0.45, 0.7), ambient: (0.05, 0.05, 0.05),
-           lights: [Point(position: (0.5, 0.5, 0.2), intensity: (1, 1, 1))],
-           materials: {{ \"glass\": (diffuse: (0.1, 0.1, 0.1), reflect: (0.5, 0.5, 0.5), transmit: (0.5, 0.5, 0.5), ior: 1.5) }},
-           objects: [
-             (material: \"glass\", shape: Difference(Sphere(radius: 2), Sphere(radius: 1.8))),
-             (material: \"glass\", shape: Difference(Sphere(radius: 3.2), Sphere(radius: 3))),
-           ],
-           settings: (max_depth: {depth}, min_contribution: 0, max_secondary_rays: {budget}))"
-    );
-    fray_scene::parse(&text, "shells.ron").unwrap_or_else(|e| panic!("{e}"))
-}
-
 /// At depth 64 (the cap; the full tree would be `2⁶⁵ − 2` rays) no camera ray traces more than
 /// the budget — each pixel's camera ray counted alone through the integrator —, and the
 /// frame's secondary rays are at most `budget ×` its camera rays; a smaller budget traces
@@ -130,4 +91,16 @@ fn a_budget_holding_the_full_tree_changes_no_bit() {
     let short = frame(29);
     assert_eq!(short.stats.secondary_rays, 29 * camera);
     assert_ne!(short.colour.pixels(), whole.colour.pixels());
+}
+
+/// The two plates of `fray_test_support::scenes`, parsed.
+fn two_plates(width: u32, height: u32, depth: u32, budget: u32) -> Scene {
+    let text = fray_test_support::scenes::two_plates(width, height, depth, budget);
+    fray_scene::parse(&text, "two_plates.ron").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The two shells of `fray_test_support::scenes`, parsed.
+fn shells(depth: u32, budget: u32) -> Scene {
+    let text = fray_test_support::scenes::shells(depth, budget);
+    fray_scene::parse(&text, "shells.ron").unwrap_or_else(|e| panic!("{e}"))
 }

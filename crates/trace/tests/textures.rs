@@ -11,26 +11,6 @@ use fray_trace::{TraceSettings, render};
 use glam::DVec3;
 use std::path::Path;
 
-/// A `side × side` RGB PNG whose quadrants are red (top left), green (top right), blue (bottom
-/// left) and white (bottom right).
-fn quadrants_png(dir: &Path, side: u32) -> String {
-    let mut pixels = Vec::new();
-    for y in 0..side {
-        for x in 0..side {
-            let (left, top) = (x < side / 2, y < side / 2);
-            pixels.extend_from_slice(match (left, top) {
-                (true, true) => &[255, 0, 0],
-                (false, true) => &[0, 255, 0],
-                (true, false) => &[0, 0, 255],
-                (false, false) => &[255, 255, 255],
-            });
-        }
-    }
-    let path = dir.join(format!("quadrants{side}.png"));
-    image::save_buffer(&path, &pixels, side, side, image::ColorType::Rgb8).unwrap();
-    path.display().to_string()
-}
-
 fn parse(text: &str) -> Scene {
     fray_scene::parse(text, "textures.ron").unwrap_or_else(|e| panic!("{e}"))
 }
@@ -55,7 +35,7 @@ fn assert_quadrants(what: &str, got: [DVec3; 4]) {
 #[test]
 fn a_known_image_lands_the_right_way_round() {
     let dir = common::temp_dir("textures", "orientation");
-    let png = quadrants_png(&dir, 2);
+    let png = fray_test_support::images::quadrants_png(&dir, 2);
     // A quad facing the camera, uv (0, 0) at its screen bottom left (+x, −y).
     let quad = dir.join("quad.obj");
     std::fs::write(
@@ -99,7 +79,7 @@ fn a_known_image_lands_the_right_way_round() {
 #[test]
 fn terrain_drapes_and_ramps() {
     let dir = common::temp_dir("textures", "terrain");
-    let png = quadrants_png(&dir, 4);
+    let png = fray_test_support::images::quadrants_png(&dir, 4);
     let map = dir.join("flat.png");
     image::save_buffer(&map, &[0u8; 16], 4, 4, image::ColorType::L8).unwrap();
     let scene = |material: &str| {

@@ -1,0 +1,10 @@
+//! Helpers fray's tests share across crates (`publish = false`, a dev-dependency only): a seeded
+//! random stream ([`Rng`]), the text of scenes two crates' tests render ([`scenes`]) and image
+//! fixtures ([`images`]). It depends on no fray crate, so the model crates' tests may use it and
+//! stay independent of each other.
+
+pub mod images;
+pub mod rng;
+pub mod scenes;
+
+pub use rng::Rng;
