@@ -19,6 +19,9 @@ use std::time::Instant;
 /// The largest image side `--sizes` accepts (the CLI's).
 const MAX_SIDE: u32 = 16384;
 
+/// `--quick`'s one size.
+pub const QUICK_SIZE: (u32, u32) = (1280, 720);
+
 /// What `cargo xtask bench gpu` runs.
 #[derive(Clone, Debug)]
 pub struct GpuBenchOptions {

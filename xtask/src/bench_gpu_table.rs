@@ -146,11 +146,11 @@ pub fn summarise(frames: &[FrameTimes]) -> Option<Summary> {
             let times = frames
                 .iter()
                 .map(|f| {
+                    // From +0 (`sum` of no floats is −0, printed "-0.000").
                     f.passes
                         .iter()
                         .filter(|(l, _)| *l == label)
-                        .map(|(_, d)| ms(*d))
-                        .sum()
+                        .fold(0.0, |t, (_, d)| t + ms(*d))
                 })
                 .collect();
             // `frames` is not empty here (the wall median exists).
@@ -248,6 +248,15 @@ fn fmt_ms(v: f64) -> String {
     }
 }
 
+/// `n` `thing`s, in words.
+fn count(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
 /// The sizes of the runs in the order first seen.
 fn sizes(bench: &GpuBench) -> Vec<(u32, u32)> {
     let mut sizes = Vec::new();
@@ -276,8 +285,8 @@ pub fn to_markdown(bench: &GpuBench) -> String {
     let a = &bench.adapter;
     let mut s = format!(
         "# GPU frames pass by pass (`cargo xtask bench gpu`)\n\n\
-         Adapter **{}** ({}{}); {}. Each scene uploaded once (resident); per size {} warm-up \
-         frame(s) discarded, then the median of {} timed frames, in ms. *frame*: the `render` \
+         Adapter **{}** ({}{}); {}. Each scene uploaded once (resident); per size {} \
+         discarded, then the median of {}, in ms. *frame*: the `render` \
          call's wall time; *encode*: the host's time to build the work list, write, encode and \
          submit (waits excluded); *kernels*: the passes' total.\n",
         md_cell(&a.name),
@@ -288,8 +297,8 @@ pub fn to_markdown(bench: &GpuBench) -> String {
             ""
         },
         clock_words(a),
-        bench.warmup,
-        bench.frames,
+        count(bench.warmup, "warm-up frame"),
+        count(bench.frames, "timed frame"),
     );
     for (width, height) in sizes(bench) {
         let runs: Vec<&Run> = bench
@@ -494,12 +503,12 @@ mod tests {
         assert_eq!(
             lines[5],
             format!(
-                "{adapter},terrain_low,1280,720,timed,2,2,15.0000,1.5000,9.5000,raygen,1.5000,"
+                "{adapter},terrain_low,1280,720,timed,2,2,15.0000,1.5000,9.0000,raygen,1.5000,"
             )
         );
         assert_eq!(
             lines[7],
-            format!("{adapter},terrain_low,1280,720,timed,2,2,15.0000,1.5000,9.5000,media,2.5000,")
+            format!("{adapter},terrain_low,1280,720,timed,2,2,15.0000,1.5000,9.0000,media,2.5000,")
         );
         assert_eq!(
             lines[12],
@@ -527,7 +536,7 @@ mod tests {
         let md = to_markdown(&bench());
         assert!(md.contains("**llvmpipe (LLVM 15.0.6, 256 bits)** (Vulkan, software"));
         assert!(md.contains("not GPU figures"));
-        assert!(md.contains("2 warm-up frame(s)"), "{md}");
+        assert!(md.contains("per size 2 warm-up frames discarded"), "{md}");
         assert!(md.contains("median of 3 timed frames"), "{md}");
         let first = md.find("## 1280 × 720").expect("first size");
         let second = md.find("## 1920 × 1080").expect("second size");
@@ -543,7 +552,7 @@ mod tests {
             "{one}"
         );
         assert!(
-            one.contains("| terrain_low | 15.0 | 1.50 | 9.50 | – | 1.50 | – | 5.00 | – | 2.50 |\n"),
+            one.contains("| terrain_low | 15.0 | 1.50 | 9.00 | – | 1.50 | – | 5.00 | – | 2.50 |\n"),
             "{one}"
         );
         assert!(!one.contains("Refused"), "{one}");
@@ -561,7 +570,12 @@ mod tests {
     fn a_size_where_every_scene_was_refused_says_so() {
         let mut b = bench();
         b.runs.retain(|r| r.scene == "big");
+        (b.warmup, b.frames) = (1, 1);
         let md = to_markdown(&b);
+        assert!(
+            md.contains("per size 1 warm-up frame discarded, then the median of 1 timed frame,"),
+            "{md}"
+        );
         assert!(
             md.contains("## 1920 × 1080\n\nNo scene was timed at this size.\n"),
             "{md}"

@@ -89,6 +89,10 @@ struct BenchArgs {
     /// `gpu`: refuse a software adapter (e.g. lavapipe), exit code 3
     #[arg(long)]
     hardware_only: bool,
+    /// `gpu`: a run that fits ~10 minutes on lavapipe (2 cores): 1280x720 alone, 1 warm-up
+    /// frame, 3 timed frames
+    #[arg(long, conflicts_with_all = ["sizes", "warmup", "repeats"])]
+    quick: bool,
 }
 
 /// The sweep sets of `cargo xtask bench`.
@@ -174,12 +178,17 @@ fn main() -> ExitCode {
             true
         }),
         Command::Bench(args) if args.sweeps == Sweeps::Gpu => {
+            let (sizes, warmup, frames) = if args.quick {
+                (vec![bench_gpu::QUICK_SIZE], 1, 3)
+            } else {
+                (args.sizes, args.warmup as usize, args.repeats as usize)
+            };
             let options = bench_gpu::GpuBenchOptions {
                 scenes: args.scenes.unwrap_or_else(workspace::default_scenes),
                 stems: args.stems,
-                sizes: args.sizes,
-                warmup: args.warmup as usize,
-                frames: args.repeats as usize,
+                sizes,
+                warmup,
+                frames,
                 out: args.out.unwrap_or_else(workspace::default_bench_out),
                 hardware_only: args.hardware_only,
             };
