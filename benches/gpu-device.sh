@@ -10,11 +10,11 @@
 #
 #   bash benches/gpu-device.sh [--allow-software] [XTASK BENCH OPTIONS…]
 #
-# --allow-software  time a software adapter anyway (lavapipe at these settings: ~15 minutes on
-#                   2 cores; add e.g. --sizes 1280x720 --repeats 3 --warmup 1)
-# Other options go to `cargo xtask bench gpu` (defaults here: --warmup 3 --repeats 9), e.g.
-# --sizes 1280x720,3840x2160, --scene csg --scene turboprop, --out DIR. Environment: WGPU_BACKEND
-# (default vulkan), OUT (default target/bench).
+# --allow-software  time a software adapter anyway (lavapipe at these settings: over an hour on
+#                   2 cores; add --quick for ~9 minutes: 1280x720, 1 warm-up + 3 timed frames)
+# Other options go to `cargo xtask bench gpu` (defaults here: --warmup 3 --repeats 9, each left
+# out where given), e.g. --sizes 1280x720,3840x2160, --scene csg --scene turboprop, --quick.
+# Environment: WGPU_BACKEND (default vulkan), OUT (the output folder, default target/bench).
 # Exit codes: 0 done; 3 only a software adapter; 2 no adapter or the bench failed; 1 the build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -54,7 +54,12 @@ echo "building xtask (release)…" >&2
 cargo build --release -p xtask || exit 1
 built=$(date +%s)
 
-flags=(--warmup 3 --repeats 9)
+# This script's defaults where the options do not say otherwise (`--quick` sets both).
+flags=()
+given=" ${extra[*]:-} "
+case $given in *" --quick "*) given="$given --warmup --repeats " ;; esac
+case $given in *" --warmup"[\ =]*) ;; *) flags+=(--warmup 3) ;; esac
+case $given in *" --repeats"[\ =]*) ;; *) flags+=(--repeats 9) ;; esac
 if [ "$allow_software" = 0 ]; then
   flags+=(--hardware-only)
 fi
@@ -63,7 +68,7 @@ trap 'rm -f "$log"' EXIT
 set +e
 # The Markdown on stdout; progress (the adapter first) on stderr, also kept for the summary.
 {
-  cargo run --release -q -p xtask -- bench gpu --out "$out" "${flags[@]}" "${extra[@]}" \
+  cargo run --release -q -p xtask -- bench gpu --out "$out" ${flags[@]+"${flags[@]}"} ${extra[@]+"${extra[@]}"} \
     2>&1 1>&3 3>&- | tee "$log" >&2 3>&-
 } 3>&1
 status=${PIPESTATUS[0]}
@@ -77,7 +82,7 @@ case $status in
     echo "time: build $((built - start)) s, bench $(($(date +%s) - built)) s"
     ;;
   3)
-    echo "refused: the only adapter is a software one (${adapter:-unknown}); its times are the host CPU's. Install or expose the GPU's Vulkan driver (VK_ICD_FILENAMES), or pass --allow-software." >&2
+    echo "refused: the only adapter is a software one — ${adapter:-unknown}. Its times are the host CPU's. Install or expose the GPU's Vulkan driver (VK_ICD_FILENAMES), or pass --allow-software." >&2
     exit 3
     ;;
   *)

@@ -142,7 +142,7 @@ pub fn run(options: &GpuBenchOptions) -> Result<String, GpuBenchError> {
     if scenes.is_empty() {
         return Err(failed(format!("no scenes in {}", options.scenes.display())));
     }
-    let gpu = GpuRenderer::new().map_err(|e| failed(format!("no GPU: {e}")))?;
+    let gpu = GpuRenderer::new().map_err(|e| failed(format!("cannot open the GPU: {e}")))?;
     let ctx = gpu.context();
     let adapter = Adapter {
         name: ctx.adapter_name.clone(),
