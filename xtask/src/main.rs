@@ -3,6 +3,8 @@
 mod bench;
 mod bench_atmosphere;
 mod bench_clouds;
+mod bench_gpu;
+mod bench_gpu_table;
 mod bless;
 mod compare;
 mod package;
@@ -36,7 +38,9 @@ enum Command {
     /// `atmosphere`: frame time and error against the numerical reference of each fog
     /// evaluation mode; target/bench/atmosphere.md. `clouds`: frame time against the march's
     /// step and sun steps with the error against a fine-step reference, empty-space skipping
-    /// on and off, bake time against grid size; target/bench/clouds.md. Default: all.
+    /// on and off, bake time against grid size; target/bench/clouds.md. Default: all (these
+    /// three). `gpu`: every scene's frames on the GPU at 1280×720 and 1920×1080, each pass's
+    /// median time; target/bench/gpu.{csv,md} (not part of `all`).
     Bench(BenchArgs),
     /// A scene's free forms as one closed triangle mesh (OBJ): marching tetrahedra with vertices
     /// on F = 0 and normals from its gradient; prints both descriptions' sizes.
@@ -65,13 +69,35 @@ struct BenchArgs {
     /// Which sweeps to run
     #[arg(value_enum, default_value_t = Sweeps::All)]
     sweeps: Sweeps,
-    /// Directory for terrain.csv, terrain.md, atmosphere.md and clouds.md [default: target/bench]
+    /// Directory for terrain.csv, terrain.md, atmosphere.md, clouds.md, gpu.csv and gpu.md
+    /// [default: target/bench]
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Repetitions per timing (the median is reported)
+    /// Repetitions per timing (the median is reported); `gpu`: timed frames per scene and size
     #[arg(long, value_name = "N", default_value_t = 5,
           value_parser = clap::value_parser!(u32).range(1..=100))]
     repeats: u32,
+    /// `gpu`: image sizes, exactly (the camera's aspect follows the size)
+    #[arg(long, value_name = "WxH,…", value_delimiter = ',',
+          default_value = "1280x720,1920x1080", value_parser = bench_gpu::parse_size)]
+    sizes: Vec<(u32, u32)>,
+    /// `gpu`: frames rendered and discarded per scene and size before timing
+    #[arg(long, value_name = "N", default_value_t = 2,
+          value_parser = clap::value_parser!(u32).range(0..=100))]
+    warmup: u32,
+    /// `gpu`: only these scenes (file stems; repeatable) [default: all]
+    #[arg(long = "scene", value_name = "STEM")]
+    stems: Vec<String>,
+    /// `gpu`: directory of `*.ron` scenes [default: data/scenes]
+    #[arg(long, value_name = "DIR")]
+    scenes: Option<PathBuf>,
+    /// `gpu`: refuse a software adapter (e.g. lavapipe), exit code 3
+    #[arg(long)]
+    hardware_only: bool,
+    /// `gpu`: a run that fits ~10 minutes on lavapipe (2 cores): 1280x720 alone, 1 warm-up
+    /// frame, 3 timed frames
+    #[arg(long, conflicts_with_all = ["sizes", "warmup", "repeats"])]
+    quick: bool,
 }
 
 /// The sweep sets of `cargo xtask bench`.
@@ -80,6 +106,7 @@ enum Sweeps {
     Terrain,
     Atmosphere,
     Clouds,
+    Gpu,
     All,
 }
 
@@ -156,6 +183,33 @@ fn main() -> ExitCode {
             true
         }),
         Command::Package => package::run(),
+        Command::Bench(args) if args.sweeps == Sweeps::Gpu => {
+            let (sizes, warmup, frames) = if args.quick {
+                (vec![bench_gpu::QUICK_SIZE], 1, 3)
+            } else {
+                (args.sizes, args.warmup as usize, args.repeats as usize)
+            };
+            let options = bench_gpu::GpuBenchOptions {
+                scenes: args.scenes.unwrap_or_else(workspace::default_scenes),
+                stems: args.stems,
+                sizes,
+                warmup,
+                frames,
+                out: args.out.unwrap_or_else(workspace::default_bench_out),
+                hardware_only: args.hardware_only,
+            };
+            match bench_gpu::run(&options) {
+                Ok(md) => {
+                    println!("{md}");
+                    Ok(true)
+                }
+                Err(e @ bench_gpu::GpuBenchError::SoftwareOnly(_)) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(3);
+                }
+                Err(e) => Err(e.to_string()),
+            }
+        }
         Command::Bench(args) => {
             let out = args.out.unwrap_or_else(workspace::default_bench_out);
             let repeats = args.repeats as usize;

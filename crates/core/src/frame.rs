@@ -81,6 +81,13 @@ pub struct RenderStats {
     /// GPU time per pass (`raygen`, `free forms`, `shade`, …) summed over the frame's bands, in the
     /// order the passes ran; their sum is `kernel_time`. Empty where `kernel_time` is `None`.
     pub pass_times: Vec<(String, Duration)>,
+    /// The host's time to make the frame's work and hand it to the device (GPU backends; zero
+    /// on the CPU): from the start of the frame to its last submission — the work list, buffer
+    /// writes, encoding and submitting — less the time spent waiting for the device in between
+    /// (timestamp readbacks; on a software adapter, whose passes are each submitted and waited
+    /// for alone, those waits). The readback after the last submission is not in it. Of the
+    /// frame's last try, like `pass_times`.
+    pub encode_time: Duration,
     /// Bytes the frame sent from the host to the device (GPU backends; 0 on the CPU): the
     /// camera, the work list and, when the scene was uploaded for this frame, the scene.
     pub uploaded_bytes: u64,

@@ -541,6 +541,8 @@ impl<'a> GpuScene<'a> {
             (counters::WORDS * 4) as u64,
         );
         ctx.queue.submit([encoder.finish()]);
+        // The host's part of the frame: up to its last submission, less the waits for timings.
+        let encode_time = start.elapsed().saturating_sub(pass_times.waited());
         let words: Vec<u32> = read_back(
             &ctx.device,
             &self.buffers.counters_readback,
@@ -607,6 +609,7 @@ impl<'a> GpuScene<'a> {
             elapsed: start.elapsed(),
             kernel_time: clock.times().then(|| pass_times.total()),
             pass_times: pass_times.into_stats(),
+            encode_time,
             terrain_rays: Counter::TerrainRays.read(&words),
             terrain_segments: Counter::TerrainSegments.read(&words),
             terrain_cells: Counter::TerrainCells.read(&words),

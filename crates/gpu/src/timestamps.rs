@@ -1,7 +1,8 @@
 //! GPU time pass by pass: each pass of a band is its own compute pass, timed by a timestamp at its
 //! start and its end (resolved and read back after the band, converted with the queue's period)
 //! or, on a software adapter, by the host's clock around the pass submitted alone; the times are
-//! summed per pass label over the frame.
+//! summed per pass label over the frame, and the host's waits for them kept apart (so that the
+//! frame's encode time can leave them out).
 
 use crate::GpuContext;
 use crate::GpuError;
@@ -173,10 +174,12 @@ impl<'t> TimedEncoder<'t> {
             let start = std::time::Instant::now();
             let encoder = std::mem::replace(&mut self.encoder, Self::encoder_of(self.ctx));
             self.ctx.queue.submit([encoder.finish()]);
+            let wait = std::time::Instant::now();
             self.ctx
                 .device
                 .poll(wgpu::PollType::wait_indefinitely())
                 .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
+            self.times.waited += wait.elapsed();
             self.times.add(label, start.elapsed());
         }
         Ok(())
@@ -194,7 +197,10 @@ impl<'t> TimedEncoder<'t> {
             PassClock::Device(t) if timed > 0 => {
                 t.resolve(&mut self.encoder, timed);
                 self.ctx.queue.submit([self.encoder.finish()]);
-                for (label, d) in self.labels.iter().zip(t.read(&self.ctx.device, timed)?) {
+                let wait = std::time::Instant::now();
+                let read = t.read(&self.ctx.device, timed)?;
+                times.waited += wait.elapsed();
+                for (label, d) in self.labels.iter().zip(read) {
                     times.add(label, d);
                 }
             }
@@ -206,33 +212,48 @@ impl<'t> TimedEncoder<'t> {
                 self.ctx.queue.submit([self.encoder.finish()]);
             }
         }
-        for (label, d) in self.times.0 {
+        for (label, d) in self.times.passes {
             times.add(label, d);
         }
+        times.waited += self.times.waited;
         Ok(())
     }
 }
 
-/// GPU time per pass label over a frame, in the order the passes first ran.
+/// GPU time per pass label over a frame, in the order the passes first ran, and the host's time
+/// spent waiting for those times.
 #[derive(Debug, Default)]
-pub(crate) struct PassTimes(Vec<(&'static str, Duration)>);
+pub(crate) struct PassTimes {
+    passes: Vec<(&'static str, Duration)>,
+    /// The host blocked on the device: reading timestamps back, or (host clock) waiting for each
+    /// pass submitted alone.
+    waited: Duration,
+}
 
 impl PassTimes {
     fn add(&mut self, label: &'static str, d: Duration) {
-        match self.0.iter_mut().find(|(l, _)| *l == label) {
+        match self.passes.iter_mut().find(|(l, _)| *l == label) {
             Some((_, total)) => *total += d,
-            None => self.0.push((label, d)),
+            None => self.passes.push((label, d)),
         }
     }
 
     /// The frame's GPU time over all passes.
     pub(crate) fn total(&self) -> Duration {
-        self.0.iter().map(|(_, d)| *d).sum()
+        self.passes.iter().map(|(_, d)| *d).sum()
+    }
+
+    /// How long the host waited for the device while timing the passes.
+    pub(crate) fn waited(&self) -> Duration {
+        self.waited
     }
 
     /// The table, for `RenderStats::pass_times`.
     pub(crate) fn into_stats(self) -> Vec<(String, Duration)> {
-        self.0.into_iter().map(|(l, d)| (l.to_owned(), d)).collect()
+        self.passes
+            .into_iter()
+            .map(|(l, d)| (l.to_owned(), d))
+            .collect()
     }
 }
 

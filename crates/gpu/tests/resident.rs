@@ -118,6 +118,14 @@ fn a_second_frame_builds_no_pipeline_and_uploads_no_scene() {
         } else {
             assert!(again.stats.pass_times.is_empty(), "{name}");
         }
+        // The host's part (work list, writes, encoding, submissions) is measured and leaves out
+        // at least the readback that follows the last submission.
+        let encode = again.stats.encode_time;
+        assert!(
+            encode > std::time::Duration::ZERO && encode < again.stats.elapsed,
+            "{name}: encode {encode:?} of {:?}",
+            again.stats.elapsed
+        );
         let mut view2 = view;
         view2.camera = moved(&scene, glam::DVec3::new(0.4, 0.2, -0.3));
         let second = resident.render(&view2).unwrap();
