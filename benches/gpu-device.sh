@@ -11,7 +11,7 @@
 #   bash benches/gpu-device.sh [--allow-software] [XTASK BENCH OPTIONS…]
 #
 # --allow-software  time a software adapter anyway (lavapipe at these settings: over an hour on
-#                   2 cores; add --quick for ~9 minutes: 1280x720, 1 warm-up + 3 timed frames)
+#                   2 cores; add --quick for 6–11 minutes: 1280x720, 1 warm-up + 3 timed frames)
 # Other options go to `cargo xtask bench gpu` (defaults here: --warmup 3 --repeats 9, each left
 # out where given), e.g. --sizes 1280x720,3840x2160, --scene csg --scene turboprop, --quick.
 # Environment: WGPU_BACKEND (default vulkan), OUT (the output folder, default target/bench).
