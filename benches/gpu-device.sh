@@ -6,7 +6,8 @@
 # the GPU's driver; where the loader finds no driver, point it at the driver's ICD file, e.g.
 #   VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/nvidia_icd.json bash benches/gpu-device.sh
 # Refuses (exit 3) when the only adapter is a software one (lavapipe, SwiftShader): its times are
-# the host CPU's, not a GPU's. Sized for a few minutes on a hardware GPU, the build included.
+# the host CPU's, not a GPU's. Meant to take a few minutes on a hardware GPU, the build included
+# (tried on lavapipe only: no hardware GPU was at hand).
 #
 #   bash benches/gpu-device.sh [--allow-software] [XTASK BENCH OPTIONS…]
 #
