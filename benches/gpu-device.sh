@@ -26,7 +26,7 @@ for arg in "$@"; do
   case $arg in
     --allow-software) allow_software=1 ;;
     -h | --help)
-      sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'
+      sed -n '2,/^# Exit codes/p' "$0" | sed 's/^# \{0,1\}//'
       exit 0
       ;;
     *) extra+=("$arg") ;;
