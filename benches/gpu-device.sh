@@ -6,12 +6,13 @@
 # the GPU's driver; where the loader finds no driver, point it at the driver's ICD file, e.g.
 #   VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/nvidia_icd.json bash benches/gpu-device.sh
 # Refuses (exit 3) when the only adapter is a software one (lavapipe, SwiftShader): its times are
-# the host CPU's, not a GPU's. Sized for a few minutes on a hardware GPU, the build included.
+# the host CPU's, not a GPU's. Meant to take a few minutes on a hardware GPU, the build included
+# (tried on lavapipe only: no hardware GPU was at hand).
 #
 #   bash benches/gpu-device.sh [--allow-software] [XTASK BENCH OPTIONS…]
 #
 # --allow-software  time a software adapter anyway (lavapipe at these settings: over an hour on
-#                   2 cores; add --quick for ~9 minutes: 1280x720, 1 warm-up + 3 timed frames)
+#                   2 cores; add --quick for 6–11 minutes: 1280x720, 1 warm-up + 3 timed frames)
 # Other options go to `cargo xtask bench gpu` (defaults here: --warmup 3 --repeats 9, each left
 # out where given), e.g. --sizes 1280x720,3840x2160, --scene csg --scene turboprop, --quick.
 # Environment: WGPU_BACKEND (default vulkan), OUT (the output folder, default target/bench).
@@ -25,7 +26,7 @@ for arg in "$@"; do
   case $arg in
     --allow-software) allow_software=1 ;;
     -h | --help)
-      sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'
+      sed -n '2,/^# Exit codes/p' "$0" | sed 's/^# \{0,1\}//'
       exit 0
       ;;
     *) extra+=("$arg") ;;

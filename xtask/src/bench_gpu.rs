@@ -19,6 +19,9 @@ use std::time::Instant;
 /// The largest image side `--sizes` accepts (the CLI's).
 const MAX_SIDE: u32 = 16384;
 
+/// The sizes timed unless `--sizes` says otherwise.
+pub const DEFAULT_SIZES: [(u32, u32); 2] = [(1280, 720), (1920, 1080)];
+
 /// `--quick`'s one size.
 pub const QUICK_SIZE: (u32, u32) = (1280, 720);
 

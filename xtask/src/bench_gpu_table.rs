@@ -235,13 +235,14 @@ fn md_cell(s: &str) -> String {
     s.replace('|', "\\|").replace(['\n', '\r'], " ")
 }
 
-/// Milliseconds to three significant figures or so (at least 0.001 ms).
+/// Milliseconds to three significant figures or so (at least 0.001 ms); the decimals chosen by
+/// the rounded value (99.96 is "100", not "100.0").
 fn fmt_ms(v: f64) -> String {
-    if v >= 100.0 {
+    if v >= 99.95 {
         format!("{v:.0}")
-    } else if v >= 10.0 {
+    } else if v >= 9.995 {
         format!("{v:.1}")
-    } else if v >= 1.0 {
+    } else if v >= 0.9995 {
         format!("{v:.2}")
     } else {
         format!("{v:.3}")
@@ -471,6 +472,23 @@ mod tests {
         let mut untimed = frames.clone();
         untimed[1].kernel = None;
         assert_eq!(summarise(&untimed).unwrap().kernel_ms, None);
+    }
+
+    #[test]
+    fn milliseconds_keep_about_three_figures() {
+        let cases = [
+            (13220.2, "13220"),
+            (99.96, "100"),
+            (99.94, "99.9"),
+            (9.996, "10.0"),
+            (4.0, "4.00"),
+            (0.9996, "1.00"),
+            (0.5249, "0.525"),
+            (0.0, "0.000"),
+        ];
+        for (v, text) in cases {
+            assert_eq!(fmt_ms(v), text, "{v}");
+        }
     }
 
     #[test]

@@ -77,14 +77,13 @@ struct BenchArgs {
     #[arg(long, value_name = "N", default_value_t = 5,
           value_parser = clap::value_parser!(u32).range(1..=100))]
     repeats: u32,
-    /// `gpu`: image sizes, exactly (the camera's aspect follows the size)
-    #[arg(long, value_name = "WxH,…", value_delimiter = ',',
-          default_value = "1280x720,1920x1080", value_parser = bench_gpu::parse_size)]
+    /// `gpu`: image sizes, exactly (the camera's aspect follows the size) [default:
+    /// 1280x720,1920x1080]
+    #[arg(long, value_name = "WxH,…", value_delimiter = ',', value_parser = bench_gpu::parse_size)]
     sizes: Vec<(u32, u32)>,
-    /// `gpu`: frames rendered and discarded per scene and size before timing
-    #[arg(long, value_name = "N", default_value_t = 2,
-          value_parser = clap::value_parser!(u32).range(0..=100))]
-    warmup: u32,
+    /// `gpu`: frames rendered and discarded per scene and size before timing [default: 2]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=100))]
+    warmup: Option<u32>,
     /// `gpu`: only these scenes (file stems; repeatable) [default: all]
     #[arg(long = "scene", value_name = "STEM")]
     stems: Vec<String>,
@@ -94,10 +93,27 @@ struct BenchArgs {
     /// `gpu`: refuse a software adapter (e.g. lavapipe), exit code 3
     #[arg(long)]
     hardware_only: bool,
-    /// `gpu`: a run that fits ~10 minutes on lavapipe (2 cores): 1280x720 alone, 1 warm-up
+    /// `gpu`: a run of 6–11 minutes on lavapipe on 2 shared cores: 1280x720 alone, 1 warm-up
     /// frame, 3 timed frames
     #[arg(long, conflicts_with_all = ["sizes", "warmup", "repeats"])]
     quick: bool,
+}
+
+impl BenchArgs {
+    /// The `gpu`-only options given, by flag.
+    fn gpu_options_given(&self) -> Vec<&'static str> {
+        [
+            ("--sizes", !self.sizes.is_empty()),
+            ("--warmup", self.warmup.is_some()),
+            ("--scene", !self.stems.is_empty()),
+            ("--scenes", self.scenes.is_some()),
+            ("--hardware-only", self.hardware_only),
+            ("--quick", self.quick),
+        ]
+        .into_iter()
+        .filter_map(|(flag, given)| given.then_some(flag))
+        .collect()
+    }
 }
 
 /// The sweep sets of `cargo xtask bench`.
@@ -187,7 +203,16 @@ fn main() -> ExitCode {
             let (sizes, warmup, frames) = if args.quick {
                 (vec![bench_gpu::QUICK_SIZE], 1, 3)
             } else {
-                (args.sizes, args.warmup as usize, args.repeats as usize)
+                let sizes = if args.sizes.is_empty() {
+                    bench_gpu::DEFAULT_SIZES.to_vec()
+                } else {
+                    args.sizes
+                };
+                (
+                    sizes,
+                    args.warmup.unwrap_or(2) as usize,
+                    args.repeats as usize,
+                )
             };
             let options = bench_gpu::GpuBenchOptions {
                 scenes: args.scenes.unwrap_or_else(workspace::default_scenes),
@@ -210,6 +235,10 @@ fn main() -> ExitCode {
                 Err(e) => Err(e.to_string()),
             }
         }
+        Command::Bench(args) if !args.gpu_options_given().is_empty() => Err(format!(
+            "{}: only for `cargo xtask bench gpu`",
+            args.gpu_options_given().join(", ")
+        )),
         Command::Bench(args) => {
             let out = args.out.unwrap_or_else(workspace::default_bench_out);
             let repeats = args.repeats as usize;

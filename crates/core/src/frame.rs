@@ -85,8 +85,8 @@ pub struct RenderStats {
     /// on the CPU): from the start of the frame to its last submission — the work list, buffer
     /// writes, encoding and submitting — less the time spent waiting for the device in between
     /// (timestamp readbacks; on a software adapter, whose passes are each submitted and waited
-    /// for alone, those waits). The readback after the last submission is not in it. Of the
-    /// frame's last try, like `pass_times`.
+    /// for alone, each pass's submission and wait, which `pass_times` hold). The readback after
+    /// the last submission is not in it. Of the frame's last try, like `pass_times`.
     pub encode_time: Duration,
     /// Bytes the frame sent from the host to the device (GPU backends; 0 on the CPU): the
     /// camera, the work list and, when the scene was uploaded for this frame, the scene.

@@ -174,13 +174,15 @@ impl<'t> TimedEncoder<'t> {
             let start = std::time::Instant::now();
             let encoder = std::mem::replace(&mut self.encoder, Self::encoder_of(self.ctx));
             self.ctx.queue.submit([encoder.finish()]);
-            let wait = std::time::Instant::now();
             self.ctx
                 .device
                 .poll(wgpu::PollType::wait_indefinitely())
                 .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
-            self.times.waited += wait.elapsed();
-            self.times.add(label, start.elapsed());
+            // The pass's time, its submission included, counts as waiting: the host's own
+            // part of the frame leaves out what the pass times hold.
+            let elapsed = start.elapsed();
+            self.times.waited += elapsed;
+            self.times.add(label, elapsed);
         }
         Ok(())
     }
@@ -225,8 +227,8 @@ impl<'t> TimedEncoder<'t> {
 #[derive(Debug, Default)]
 pub(crate) struct PassTimes {
     passes: Vec<(&'static str, Duration)>,
-    /// The host blocked on the device: reading timestamps back, or (host clock) waiting for each
-    /// pass submitted alone.
+    /// The host blocked on the device: reading timestamps back, or (host clock) each pass
+    /// submitted alone and waited for — its submission too, which its time holds.
     waited: Duration,
 }
 

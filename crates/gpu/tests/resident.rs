@@ -126,6 +126,14 @@ fn a_second_frame_builds_no_pipeline_and_uploads_no_scene() {
             "{name}: encode {encode:?} of {:?}",
             again.stats.elapsed
         );
+        if let (true, Some(k)) = (ctx.software, again.stats.kernel_time) {
+            // The host clock's passes (submission and wait) are counted once, in the passes.
+            assert!(
+                encode + k <= again.stats.elapsed,
+                "{name}: encode {encode:?} + kernels {k:?} > frame {:?}",
+                again.stats.elapsed
+            );
+        }
         let mut view2 = view;
         view2.camera = moved(&scene, glam::DVec3::new(0.4, 0.2, -0.3));
         let second = resident.render(&view2).unwrap();
