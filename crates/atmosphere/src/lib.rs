@@ -1,3 +1,5 @@
+//! `fray-atmosphere`: Klassen's fog layer, phase functions and the physically based sky, in f64.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

@@ -1,3 +1,5 @@
+//! `fray-clouds`: volumetric clouds — Perlin's improved noise, density grids, the cloud march.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

@@ -1,3 +1,5 @@
+//! `fray-core`: the bottom layer — rays, intervals, boxes, cameras, images, colour, the memory budget.
+//!
 #![doc = include_str!("../README.md")]
 
 mod aabb;

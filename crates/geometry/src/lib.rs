@@ -1,3 +1,5 @@
+//! `fray-geometry`: free forms (perturbed quadrics, CSG) and their ray casting, in f64.
+//!
 #![doc = include_str!("../README.md")]
 
 mod active;

@@ -1,3 +1,5 @@
+//! `fray-gpu`: the wgpu backend — a resident scene rendered in WGSL passes.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

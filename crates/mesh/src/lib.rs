@@ -1,3 +1,5 @@
+//! `fray-mesh`: triangle meshes (OBJ, BVH, watertight hits) and textures.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

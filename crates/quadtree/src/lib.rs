@@ -1,3 +1,5 @@
+//! `fray-quadtree`: the image quadtree — conservative ray bundles, culling, work lists.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

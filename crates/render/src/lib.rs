@@ -1,3 +1,5 @@
+//! `fray-render`: the facade — pick a backend, render a scene, write PNG/EXR.
+//!
 #![doc = include_str!("../README.md")]
 
 pub mod output;

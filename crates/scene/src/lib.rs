@@ -1,3 +1,5 @@
+//! `fray-scene`: RON scene files, their validation with located errors, the feature set.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

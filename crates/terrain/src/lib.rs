@@ -1,3 +1,5 @@
+//! `fray-terrain`: height-map terrain — the max pyramid and ray casting by halving, in f64.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail

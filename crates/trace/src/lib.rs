@@ -1,3 +1,5 @@
+//! `fray-trace`: the CPU backend, fray's f64 reference renderer.
+//!
 #![doc = include_str!("../README.md")]
 //!
 //! ## In detail
