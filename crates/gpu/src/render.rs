@@ -188,10 +188,6 @@ pub fn render(scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> 
 struct Passes {
     rebase: RebasePass,
     frame: Vec<Box<dyn Pass>>,
-    /// Whether the frame has a media pass (resolve then takes every ray's radiance).
-    media: bool,
-    /// Whether it has Whitted's queue passes (reflecting or transmitting materials).
-    whitted: bool,
 }
 
 /// The frame's buffers that grow with the work list or the image: reallocated (never per
@@ -308,12 +304,9 @@ impl<'a> GpuScene<'a> {
             options: &options,
             specialisation: &specialisation,
         };
-        let media = specialisation.media();
         let passes = Passes {
             rebase: RebasePass::new(cache, ctx)?,
-            frame: crate::passes::frame_passes(&setup, !scene.objects.is_empty(), media)?,
-            media,
-            whitted: options.whitted,
+            frame: crate::passes::frame_passes(&setup)?,
         };
         let pending_pipelines = cache.take_built();
         let buffers = FrameBuffers {
@@ -514,7 +507,7 @@ impl<'a> GpuScene<'a> {
             ctx.queue
                 .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
             uploaded += std::mem::size_of::<FrameParams>() as u64;
-            if self.passes.whitted {
+            if self.specialisation.whitted {
                 // An empty queue at level 0 for this band.
                 let at = (counters::QUEUE_TOP * 4) as u64;
                 ctx.queue.write_buffer(
@@ -549,7 +542,8 @@ impl<'a> GpuScene<'a> {
             (counters::WORDS * 4) as u64,
             "counters",
         )?;
-        let (colour, depth, normals) = self.read_frame(scene.background, self.passes.media)?;
+        let (colour, depth, normals) =
+            self.read_frame(scene.background, self.specialisation.media())?;
         // An error no scope caught (or a lost device) would otherwise go unnoticed: fail with it.
         if let Some(reason) = ctx.take_uncaptured_error() {
             return Err(if reason.starts_with("device lost") {
@@ -590,7 +584,7 @@ impl<'a> GpuScene<'a> {
         if !self.specialisation.shadows {
             passes.retain(|p| p != "shadows");
         }
-        if self.passes.whitted {
+        if self.specialisation.whitted {
             passes.push(format!(
                 "whitted queue: {} slots per camera ray",
                 self.queue_slots
@@ -739,13 +733,13 @@ impl<'a> GpuScene<'a> {
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size)
             .min(BAND_BYTES);
-        let per_row = Self::bytes_per_ray(self.passes.whitted, self.queue_slots)
+        let per_row = Self::bytes_per_ray(self.specialisation.whitted, self.queue_slots)
             * u64::from(view.width)
             * u64::from(view.rays_per_pixel());
         let tile = u64::from(TILE);
         if per_row * tile > limit {
             return Err(GpuError::TooLarge {
-                what: if self.passes.whitted {
+                what: if self.specialisation.whitted {
                     "the rays in flight for one row of 8-pixel tiles, in bytes: each camera ray \
                      with its queue of secondary rays (at most settings.max_secondary_rays; a \
                      smaller budget, depth, width or sample count needs less)"
@@ -763,7 +757,7 @@ impl<'a> GpuScene<'a> {
 
     /// Room for `rays` camera rays in flight, and with Whitted their records and queue.
     fn ensure_paths(&mut self, rays: u64) -> Result<(), GpuError> {
-        let slots = if self.passes.whitted {
+        let slots = if self.specialisation.whitted {
             rays * (1 + u64::from(self.queue_slots))
         } else {
             rays
@@ -772,7 +766,7 @@ impl<'a> GpuScene<'a> {
         if self.buffers.paths.size() < bytes {
             self.buffers.paths = bindings::empty(&self.renderer.ctx, "paths", bytes, U::STORAGE)?;
         }
-        if self.passes.whitted {
+        if self.specialisation.whitted {
             let bytes = slots * std::mem::size_of::<GpuSecondary>() as u64;
             if self.buffers.secondaries.size() < bytes {
                 self.buffers.secondaries =
@@ -911,7 +905,7 @@ impl<'a> GpuScene<'a> {
             ],
         );
         // The lights and materials with the scene's media (`bindings::shading`), in its order.
-        let whitted = self.passes.whitted;
+        let whitted = self.specialisation.whitted;
         let shading_group = bindings::shading(
             r.fog.is_some(),
             r.sky.is_some(),

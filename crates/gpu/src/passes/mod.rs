@@ -271,13 +271,10 @@ pub fn frame_specs(
 }
 
 /// A scene's frame: its passes in order ([`frame_specs`], Whitted's between shade and the media),
-/// built once when the scene is uploaded.
-pub fn frame_passes(
-    setup: &PassSetup<'_>,
-    free_forms: bool,
-    media: bool,
-) -> Result<Vec<Box<dyn band::Pass>>, GpuError> {
-    let (before, after) = frame_specs(setup.options, free_forms, media);
+/// as its specialisation calls for them, built once when the scene is uploaded.
+pub fn frame_passes(setup: &PassSetup<'_>) -> Result<Vec<Box<dyn band::Pass>>, GpuError> {
+    let media = setup.specialisation.media();
+    let (before, after) = frame_specs(setup.options, setup.specialisation.free_forms, media);
     let mut passes: Vec<Box<dyn band::Pass>> = Vec::new();
     for spec in before {
         passes.push(Box::new(band::BandPass::new(setup, spec)?));
