@@ -590,3 +590,184 @@ fn hit_fraction_is_of_pixels_whatever_the_samples() {
     );
     assert_eq!(one, four, "the same pixels hit");
 }
+
+/// The robustness issue's reproducers, run as a user runs them — the `fray` binary on the CPU —
+/// under a 6 GiB address-space limit (`ulimit -v`): each ends by itself within a minute (most in
+/// well under a second) with a clear error, or with its image where the work is bounded, and
+/// none panics or aborts in the allocator.
+#[test]
+fn the_robustness_reproducers_end_in_seconds_under_a_6_gib_address_space_limit() {
+    use std::io::Write;
+    let dir = temp_dir("reproducers");
+    let write = |name: &str, body: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, body).unwrap();
+        path.to_string_lossy().into_owned()
+    };
+    // An include bomb: each file includes the next ten times, nine levels (10⁹ objects).
+    for level in 0..9 {
+        let next = format!("\"bomb{}.ron\"", level + 1);
+        write(
+            &format!("bomb{level}.ron"),
+            &format!("(include: [{}])", vec![next; 10].join(", ")),
+        );
+    }
+    write(
+        "bomb9.ron",
+        "(objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
+    );
+    // A duplicate-triangle mesh (5·10⁴ copies of one triangle: over 300 s before the BVH build
+    // was made O(n log n)), and one face of 3·10⁶ corners under a 64 MiB budget.
+    let mut copies = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    for _ in 0..50_000 {
+        copies.push_str("f 1 2 3\n");
+    }
+    std::fs::write(dir.join("copies.obj"), copies).unwrap();
+    let mut face = std::io::BufWriter::new(std::fs::File::create(dir.join("face.obj")).unwrap());
+    face.write_all(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf")
+        .unwrap();
+    for k in 0..3_000_000 {
+        write!(face, " {}", 1 + k % 4).unwrap();
+    }
+    face.write_all(b"\n").unwrap();
+    drop(face);
+    let mesh_scene = |obj: &str| {
+        format!(
+            "(image: (width: 48, height: 32), camera: Pinhole(eye: (0.3, 0.3, 3), look_at: (0.3, 0.3, 0)),
+              lights: [Sun(direction: (0, 0, 1), irradiance: (1, 1, 1))],
+              objects: [(shape: Mesh(path: \"{obj}\"))])"
+        )
+    };
+    let endless = |shape: &str| format!("(objects: [(shape: {shape})])");
+    let cases: Vec<(&str, Vec<String>, Option<&str>)> = vec![
+        (
+            "an include bomb",
+            vec![
+                "check".into(),
+                write("bomb.ron", "(include: [\"bomb0.ron\"])"),
+            ],
+            Some("include["),
+        ),
+        (
+            "/dev/zero as a height map",
+            vec![
+                "check".into(),
+                write(
+                    "zero_map.ron",
+                    &endless("Terrain(path: \"/dev/zero\", spacing: (1, 1))"),
+                ),
+            ],
+            Some("/dev/zero"),
+        ),
+        (
+            "/dev/zero as a mesh",
+            vec![
+                "check".into(),
+                write("zero_mesh.ron", &endless("Mesh(path: \"/dev/zero\")")),
+            ],
+            Some("/dev/zero"),
+        ),
+        (
+            "/dev/zero as a cloud volume",
+            vec![
+                "check".into(),
+                write(
+                    "zero_volume.ron",
+                    "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)),
+                       density: Volume(path: \"/dev/zero\", threshold: 1)))",
+                ),
+            ],
+            Some("/dev/zero"),
+        ),
+        (
+            "a cloud step of 1e-7",
+            vec![
+                "check".into(),
+                write(
+                    "cloud_step.ron",
+                    "(clouds: (region: (min: (0, 0, 0), max: (1, 1, 1)), step: 1e-7,
+                       density: Layer((resolution: (8, 8, 8)))))",
+                ),
+            ],
+            Some("over the cap"),
+        ),
+        (
+            "a face of 3·10⁶ corners under a 64 MiB budget",
+            vec![
+                "check".into(),
+                "--memory-budget".into(),
+                "64M".into(),
+                write("face.ron", &mesh_scene("face.obj")),
+            ],
+            Some("memory budget"),
+        ),
+        (
+            "5·10⁴ copies of one triangle",
+            vec![
+                "render".into(),
+                "--backend".into(),
+                "cpu".into(),
+                write("copies.ron", &mesh_scene("copies.obj")),
+                "-o".into(),
+                dir.join("copies.png").to_string_lossy().into_owned(),
+            ],
+            None,
+        ),
+        (
+            "two plates that reflect and transmit, depth 64",
+            vec![
+                "render".into(),
+                "--backend".into(),
+                "cpu".into(),
+                write(
+                    "plates.ron",
+                    &fray_test_support::scenes::two_plates(64, 48, 64, 256),
+                ),
+                "-o".into(),
+                dir.join("plates.png").to_string_lossy().into_owned(),
+            ],
+            None,
+        ),
+    ];
+    for (what, args, refusal) in cases {
+        let started = std::time::Instant::now();
+        let mut child = Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 6291456 && exec \"$0\" \"$@\"")
+            .arg(env!("CARGO_BIN_EXE_fray"))
+            .args(&args)
+            .env_remove("FRAY_MEMORY_BUDGET")
+            .env("WGPU_BACKEND", "none")
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // A hang is a failure, not a stuck test run.
+        while child.try_wait().unwrap().is_none() {
+            if started.elapsed().as_secs() > 60 {
+                child.kill().unwrap();
+                panic!("{what}: still running after 60 s");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let o = child.wait_with_output().unwrap();
+        let err = stderr(&o);
+        eprintln!("{what}: {:.2?}", started.elapsed());
+        assert!(
+            o.status.code().is_some(),
+            "{what}: killed by a signal ({:?}): {err}",
+            o.status
+        );
+        assert!(
+            !err.contains("panicked") && !err.contains("memory allocation of"),
+            "{what}: {err}"
+        );
+        match refusal {
+            Some(words) => assert!(
+                !o.status.success() && err.contains(words),
+                "{what}: expected a refusal naming {words:?}: {err}"
+            ),
+            None => assert!(o.status.success(), "{what}: {err}"),
+        }
+    }
+}

@@ -525,9 +525,17 @@ pub fn data_texture_rows(
 }
 
 /// An empty data texture of `width × rows` texels (its rows from [`data_texture_rows`]), for
-/// `textureLoad` and written by copies.
-pub fn data_texture(ctx: &GpuContext, label: &'static str, width: u32, rows: u32) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
+/// `textureLoad` and written by copies; charged to `charges` first.
+pub fn data_texture(
+    ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
+    label: &'static str,
+    width: u32,
+    rows: u32,
+) -> Result<wgpu::Texture, crate::GpuError> {
+    // Rgba32Uint: 16 bytes a texel.
+    charges.charge_uploaded(label, u64::from(width) * u64::from(rows) * 16)?;
+    Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
             width,
@@ -540,7 +548,7 @@ pub fn data_texture(ctx: &GpuContext, label: &'static str, width: u32, rows: u32
         format: wgpu::TextureFormat::Rgba32Uint,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
-    })
+    }))
 }
 
 impl Group {
@@ -711,10 +719,15 @@ pub(crate) fn empty(
     check_buffer(ctx, label, bytes, usage)?;
     Ok(ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        size: bytes.max(16),
+        size: empty_buffer_size(bytes),
         usage,
         mapped_at_creation: false,
     }))
+}
+
+/// The size [`empty`] allocates for `bytes`: at least 16, so that an empty array still binds.
+pub(crate) fn empty_buffer_size(bytes: u64) -> u64 {
+    bytes.max(16)
 }
 
 /// Refuses a buffer the device cannot hold or bind: larger than `max_buffer_size`, a storage

@@ -23,20 +23,34 @@ pub struct CloudTextures {
 
 impl CloudTextures {
     /// Uploads `volume`'s grids; returns them and the bytes uploaded.
-    pub fn upload(ctx: &GpuContext, volume: &GridVolume) -> Result<(Self, u64), GpuError> {
+    pub fn upload(
+        ctx: &GpuContext,
+        charges: &mut crate::DeviceCharges,
+        volume: &GridVolume,
+    ) -> Result<(Self, u64), GpuError> {
         let size = volume.grid.size().map(|n| n as u64);
-        let density = texture(ctx, "the cloud density grid (samples per side)", size)?;
+        let density = texture(
+            ctx,
+            charges,
+            "the cloud density grid (samples per side)",
+            size,
+        )?;
         let mut bytes = write(ctx, &density, size, volume.grid.data());
         let max = match &volume.skip {
             Some(m) => {
                 let blocks = m.blocks().map(|n| n as u64);
                 let texels = fray_clouds::gpu_layout::max_grid_texels(m, &volume.grid);
-                let t = texture(ctx, "the cloud max grid (blocks per side)", blocks)?;
+                let t = texture(ctx, charges, "the cloud max grid (blocks per side)", blocks)?;
                 bytes += write(ctx, &t, blocks, &texels);
                 t
             }
             None => {
-                let t = texture(ctx, "the cloud max grid (blocks per side)", [1, 1, 1])?;
+                let t = texture(
+                    ctx,
+                    charges,
+                    "the cloud max grid (blocks per side)",
+                    [1, 1, 1],
+                )?;
                 bytes += write(ctx, &t, [1, 1, 1], &[0.0]);
                 t
             }
@@ -51,9 +65,11 @@ impl CloudTextures {
     }
 }
 
-/// An empty `size` R32Float 3D texture, every side checked against the device's limit.
+/// An empty `size` R32Float 3D texture, every side checked against the device's limit, charged
+/// to `charges` first.
 fn texture(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     what: &'static str,
     size: [u64; 3],
 ) -> Result<wgpu::Texture, GpuError> {
@@ -66,6 +82,8 @@ fn texture(
             limit,
         });
     }
+    // R32Float: 4 bytes a texel.
+    charges.charge_uploaded(what, size.iter().map(|&n| n.max(1)).product::<u64>() * 4)?;
     Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(what),
         size: wgpu::Extent3d {

@@ -72,7 +72,8 @@ impl CloudsPass {
                 contents: bytemuck::bytes_of(block),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-        let (textures, _) = CloudTextures::upload(ctx, volume)?;
+        let (textures, _) =
+            CloudTextures::upload(ctx, &mut crate::DeviceCharges::unlimited(), volume)?;
         Ok(Self {
             cache,
             pipeline,

@@ -26,6 +26,7 @@ pub mod cloud_textures;
 pub mod clouds_pass;
 mod context;
 pub mod counters;
+mod device_charges;
 mod error;
 pub mod fog_pass;
 pub mod mesh_pass;
@@ -45,6 +46,7 @@ pub mod work;
 
 pub use clouds_pass::CloudsPass;
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
+pub use device_charges::DeviceCharges;
 pub use error::GpuError;
 pub use fog_pass::FogPass;
 pub use mesh_pass::MeshPass;

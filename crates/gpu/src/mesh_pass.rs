@@ -203,7 +203,11 @@ pub(crate) fn write_texels(
 
 /// Uploads `layout`'s arrays into one texture ([`MeshBuffers`]), its rows checked against the
 /// device's 2D texture limit first, and the layout uniform.
-pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers, GpuError> {
+pub fn mesh_buffers(
+    ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
+    layout: &GpuMeshes,
+) -> Result<MeshBuffers, GpuError> {
     use wgpu::BufferUsages as U;
     let count = |n: usize| n as u64;
     let nodes_at = count(layout.instances.len()) * texels::<GpuMeshInstance>();
@@ -233,8 +237,8 @@ pub fn mesh_buffers(ctx: &GpuContext, layout: &GpuMeshes) -> Result<MeshBuffers,
         index(vertices_at)?,
     ];
     index(total)?;
-    let info_buffer = bindings::upload(ctx, "mesh layout", &[info], [0; 4], U::UNIFORM)?;
-    let texture = bindings::data_texture(ctx, "meshes", MESH_TEXTURE_WIDTH, rows);
+    let info_buffer = charges.upload(ctx, "mesh layout", &[info], [0; 4], U::UNIFORM)?;
+    let texture = bindings::data_texture(ctx, charges, "meshes", MESH_TEXTURE_WIDTH, rows)?;
     let mut bytes = 16;
     bytes += write_texels(ctx, &texture, 0, bytemuck::cast_slice(&layout.instances));
     bytes += write_texels(ctx, &texture, nodes_at, bytemuck::cast_slice(&layout.nodes));
@@ -283,7 +287,7 @@ impl MeshPass {
 
     /// Builds the pipeline and uploads `layout`.
     pub fn from_layout(ctx: &GpuContext, layout: GpuMeshes) -> Result<Self, GpuError> {
-        let buffers = mesh_buffers(ctx, &layout)?;
+        let buffers = mesh_buffers(ctx, &mut crate::DeviceCharges::unlimited(), &layout)?;
         let cache = PipelineCache::default();
         let pipeline = cache.pipeline(
             ctx,

@@ -352,6 +352,12 @@ impl<'a> GpuScene<'a> {
         })
     }
 
+    /// The device memory the resident scene's buffers and textures hold, each charged to the
+    /// scene's budget before it was allocated.
+    pub fn resident_device_bytes(&self) -> u64 {
+        self.resident.device_bytes()
+    }
+
     /// What the pipelines are specialised for.
     pub fn specialisation(&self) -> Specialisation {
         self.specialisation

@@ -11,7 +11,6 @@
 //! rewrites — relative to the camera, from f64 —: `mesh_pass::MeshBuffers`); every buffer and
 //! texture checked against the device's limits before it is made.
 
-use crate::bindings::{self};
 use crate::mesh_pass::{MeshBuffers, layout_error, mesh_buffers};
 use crate::params::{self, GpuLight, GpuMaterial};
 use crate::passes::PipelineCache;
@@ -155,14 +154,16 @@ pub struct ResidentScene {
     pub textures: Option<crate::textures::ResidentTextures>,
     /// Bytes uploaded.
     pub bytes: u64,
-    /// The resident buffers' bytes on the render's memory account, for as long as they live.
-    _charged: fray_core::Reservation,
+    /// The resident buffers' and textures' bytes on the render's memory account, each charged
+    /// before it was allocated, for as long as they live.
+    charges: crate::DeviceCharges,
 }
 
 impl ResidentScene {
-    /// Uploads `scene` relative to `anchor`; what it lays out on the host for the device (the
-    /// meshes' arrays) is checked against `budget` first, and the resident buffers stay on its
-    /// account while they live.
+    /// Uploads `scene` relative to `anchor`. Every buffer and texture is charged to `budget`
+    /// before it is allocated (a scene past the budget is refused with nothing allocated beyond
+    /// it), as is what it lays out on the host for the device (the meshes' arrays); the charges
+    /// stay on the account while the scene lives.
     pub fn upload(
         ctx: &GpuContext,
         cache: &PipelineCache,
@@ -195,13 +196,29 @@ impl ResidentScene {
                 flat.push_complement(index);
             }
         }
+        let mut charges = crate::DeviceCharges::new(budget);
         let mut bytes = 0;
-        let (solids, b) = Rebased::new(ctx, cache, "solids", &flat.solids, SOLID_LAYOUT)?;
+        let (solids, b) = Rebased::new(
+            ctx,
+            &mut charges,
+            cache,
+            "solids",
+            &flat.solids,
+            SOLID_LAYOUT,
+        )?;
         bytes += b;
-        let (leaves, b) = Rebased::new(ctx, cache, "leaves", &flat.leaves, LEAF_LAYOUT)?;
+        let (leaves, b) = Rebased::new(
+            ctx,
+            &mut charges,
+            cache,
+            "leaves",
+            &flat.leaves,
+            LEAF_LAYOUT,
+        )?;
         bytes += b;
         let (perturbations, b) = Rebased::new(
             ctx,
+            &mut charges,
             cache,
             "perturbations",
             &flat.perturbations,
@@ -209,17 +226,18 @@ impl ResidentScene {
         )?;
         bytes += b;
         let lights = params::lights(scene, anchor);
-        let (lights_rebased, b) = Rebased::new(ctx, cache, "lights", &lights, LIGHT_LAYOUT)?;
+        let (lights_rebased, b) =
+            Rebased::new(ctx, &mut charges, cache, "lights", &lights, LIGHT_LAYOUT)?;
         bytes += b;
-        let programs = bindings::upload(ctx, "programs", &flat.program, 0u32, U::COPY_SRC)?;
-        let lights_table = bindings::empty(
+        let programs = charges.upload(ctx, "programs", &flat.program, 0u32, U::COPY_SRC)?;
+        let lights_table = charges.empty(
             ctx,
             "lights table",
             (lights.len() * size_of::<GpuLight>()) as u64,
             U::UNIFORM | U::COPY_DST,
         )?;
         let materials = params::materials(scene);
-        let materials_buffer = bindings::upload(
+        let materials_buffer = charges.upload(
             ctx,
             "materials",
             &materials,
@@ -230,12 +248,12 @@ impl ResidentScene {
         let terrains = if scene.terrains.is_empty() {
             None
         } else {
-            let (t, b) = upload_terrains(ctx, cache, scene, anchor)?;
+            let (t, b) = upload_terrains(ctx, &mut charges, cache, scene, anchor)?;
             bytes += b;
             Some(t)
         };
         let fog = match scene.atmosphere.fog {
-            Some(_) => Some(bindings::empty(
+            Some(_) => Some(charges.empty(
                 ctx,
                 "fog",
                 size_of::<GpuFog>() as u64,
@@ -245,7 +263,7 @@ impl ResidentScene {
         };
         let sky = match &scene.atmosphere.sky {
             Some(s) => {
-                let (sky, b) = upload_sky(ctx, &s.sky)?;
+                let (sky, b) = upload_sky(ctx, &mut charges, &s.sky)?;
                 bytes += b;
                 Some(sky)
             }
@@ -253,9 +271,10 @@ impl ResidentScene {
         };
         let clouds = match &scene.clouds {
             Some(c) => {
-                let (textures, b) = crate::cloud_textures::CloudTextures::upload(ctx, &c.volume)?;
+                let (textures, b) =
+                    crate::cloud_textures::CloudTextures::upload(ctx, &mut charges, &c.volume)?;
                 bytes += b;
-                let params = bindings::empty(
+                let params = charges.empty(
                     ctx,
                     "clouds",
                     size_of::<fray_clouds::gpu_layout::GpuClouds>() as u64,
@@ -268,18 +287,19 @@ impl ResidentScene {
         let meshes = if scene.meshes.is_empty() {
             None
         } else {
-            let m = upload_meshes(ctx, scene, anchor, budget)?;
+            let m = upload_meshes(ctx, &mut charges, scene, anchor, budget)?;
             bytes += m.buffers.bytes;
             Some(m)
         };
         let textures = if scene.features.textures {
             let layout = crate::textures::TextureLayout::build(scene, budget)?;
-            let t = crate::textures::ResidentTextures::upload(ctx, layout, anchor)?;
+            let t = crate::textures::ResidentTextures::upload(ctx, &mut charges, layout, anchor)?;
             bytes += t.bytes;
             Some(t)
         } else {
             None
         };
+        charges.finish_uploads(ctx)?;
         Ok(Self {
             anchor,
             flat,
@@ -297,10 +317,13 @@ impl ResidentScene {
             meshes,
             textures,
             bytes,
-            _charged: budget
-                .reserve("the GPU scene's resident buffers", bytes)
-                .map_err(GpuError::Budget)?,
+            charges,
         })
+    }
+
+    /// The device memory its buffers and textures were charged to the render's budget for.
+    pub fn device_bytes(&self) -> u64 {
+        self.charges.bytes()
     }
 
     /// Every array the rebase pass moves.
@@ -337,6 +360,7 @@ impl ResidentScene {
 /// GPU buffers (`terrain_pass::terrain_arrays`); returns them and the bytes uploaded.
 fn upload_terrains(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     cache: &PipelineCache,
     scene: &Scene,
     anchor: DVec3,
@@ -352,12 +376,18 @@ fn upload_terrains(
             footprint: fray_core::PixelFootprint::ZERO,
         })
         .collect();
-    let (params, pyramid, samples) = terrain_arrays(ctx, &uploads, anchor)?;
-    let (params_rebased, params_bytes) =
-        Rebased::new(ctx, cache, "terrain params", &params, TERRAIN_LAYOUT)?;
+    let (params, pyramid, samples) = terrain_arrays(ctx, charges, &uploads, anchor)?;
+    let (params_rebased, params_bytes) = Rebased::new(
+        ctx,
+        charges,
+        cache,
+        "terrain params",
+        &params,
+        TERRAIN_LAYOUT,
+    )?;
     let table_bytes = (params.len() * size_of::<GpuTerrainParams>()) as u64;
-    let table = bindings::empty(ctx, "terrain table", table_bytes, U::UNIFORM | U::COPY_DST)?;
-    let lods = bindings::empty(
+    let table = charges.empty(ctx, "terrain table", table_bytes, U::UNIFORM | U::COPY_DST)?;
+    let lods = charges.empty(
         ctx,
         "terrain lods",
         16 * params.len() as u64,
@@ -382,6 +412,7 @@ fn upload_terrains(
 /// uploaded (`mesh_pass::mesh_buffers`).
 fn upload_meshes(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     scene: &Scene,
     anchor: DVec3,
     budget: &MemoryBudget,
@@ -413,7 +444,7 @@ fn upload_meshes(
     let layout = crate::mesh_pass::mesh_layout(&bvhs, &placements, anchor, budget)?
         .with_materials(&materials)
         .with_smooth(&smooth);
-    let buffers = mesh_buffers(ctx, &layout)?;
+    let buffers = mesh_buffers(ctx, charges, &layout)?;
     Ok(ResidentMeshes {
         layout,
         buffers,
@@ -425,11 +456,13 @@ fn upload_meshes(
 /// its sky-view table (empty: written per eye height); returns them and the bytes uploaded.
 fn upload_sky(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     sky: &fray_atmosphere::sky::Sky,
 ) -> Result<(ResidentSky, u64), GpuError> {
     let table = sky.transmittance_table();
     let transmittance = crate::sky_tables::table_texture(
         ctx,
+        charges,
         "the sky's transmittance table (texels per side)",
         table.width(),
         table.height(),
@@ -438,11 +471,12 @@ fn upload_sky(
     let sizes = sky.tables();
     let view = crate::sky_tables::table_texture(
         ctx,
+        charges,
         "the sky-view table (texels per side)",
         sizes.sky_view_width,
         sizes.sky_view_height,
     )?;
-    let params = bindings::empty(
+    let params = charges.empty(
         ctx,
         "sky",
         size_of::<GpuSky>() as u64,

@@ -101,8 +101,9 @@ impl SkyPass {
             contents: bytemuck::bytes_of(sky.block),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let table = |label, width, height, texels: &[[f32; 4]]| {
-            let texture = table_texture(ctx, label, width, height)?;
+        let mut charges = crate::DeviceCharges::unlimited();
+        let mut table = |label, width, height, texels: &[[f32; 4]]| {
+            let texture = table_texture(ctx, &mut charges, label, width, height)?;
             write_table(ctx, &texture, width, texels);
             Ok::<_, GpuError>(texture)
         };

@@ -11,9 +11,11 @@ use crate::{GpuContext, GpuError};
 /// The texture format of a table: four f32 channels (RGB and 1).
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// An empty `width × height` table texture, checked against the device's texture limit first.
+/// An empty `width × height` table texture, checked against the device's texture limit and
+/// charged to `charges` first.
 pub(crate) fn table_texture(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     label: &'static str,
     width: u32,
     height: u32,
@@ -26,6 +28,11 @@ pub(crate) fn table_texture(
             limit: u64::from(limit),
         });
     }
+    // Rgba32Float: 16 bytes a texel.
+    charges.charge_uploaded(
+        label,
+        u64::from(width.max(1)) * u64::from(height.max(1)) * 16,
+    )?;
     Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {

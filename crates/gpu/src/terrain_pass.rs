@@ -79,14 +79,17 @@ pub struct TerrainUpload<'a> {
 }
 
 /// Writes `values` (`f32`s, possibly produced on the fly) into a new storage buffer mapped at
-/// creation, a chunk at a time: no host copy of the whole array is made.
+/// creation, a chunk at a time: no host copy of the whole array is made. Charged to `charges`
+/// first.
 fn mapped_f32_buffer(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     label: &str,
     len: u64,
     mut fill: impl FnMut(&mut dyn FnMut(&[f32])),
 ) -> Result<wgpu::Buffer, GpuError> {
     let size = (len.max(1) * 4).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+    charges.charge_uploaded(label, size)?;
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
@@ -162,6 +165,7 @@ fn terrain_layout(
 /// into buffers mapped at creation.
 pub(crate) fn terrain_arrays(
     ctx: &GpuContext,
+    charges: &mut crate::DeviceCharges,
     terrains: &[TerrainUpload<'_>],
     reference: DVec3,
 ) -> Result<(Vec<GpuTerrainParams>, wgpu::Buffer, wgpu::Buffer), GpuError> {
@@ -171,7 +175,7 @@ pub(crate) fn terrain_arrays(
         .min(ctx.limits.max_buffer_size);
     let (params, pyramid, samples) = terrain_layout(terrains, reference, limit)?;
     const CHUNK: usize = 1 << 16;
-    let pyramids = mapped_f32_buffer(ctx, "terrain pyramids", pyramid, |write| {
+    let pyramids = mapped_f32_buffer(ctx, charges, "terrain pyramids", pyramid, |write| {
         let mut chunk = vec![0.0f32; CHUNK];
         for t in terrains {
             for src in t.terrain.max_pyramid().values().chunks(CHUNK) {
@@ -182,7 +186,7 @@ pub(crate) fn terrain_arrays(
             }
         }
     })?;
-    let samples = mapped_f32_buffer(ctx, "terrain samples", samples, |write| {
+    let samples = mapped_f32_buffer(ctx, charges, "terrain samples", samples, |write| {
         for t in terrains {
             for src in t.terrain.map().samples().chunks(CHUNK) {
                 write(src);
@@ -240,7 +244,12 @@ impl TerrainPass {
             material: 0,
             footprint,
         };
-        let (params, pyramid, samples) = terrain_arrays(ctx, &[upload], reference)?;
+        let (params, pyramid, samples) = terrain_arrays(
+            ctx,
+            &mut crate::DeviceCharges::unlimited(),
+            &[upload],
+            reference,
+        )?;
         use wgpu::BufferUsages as U;
         let params_buffer = bindings::upload(
             ctx,

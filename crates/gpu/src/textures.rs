@@ -247,19 +247,20 @@ impl ResidentTextures {
     /// texture limit first.
     pub fn upload(
         ctx: &GpuContext,
+        charges: &mut crate::DeviceCharges,
         layout: TextureLayout,
         reference: DVec3,
     ) -> Result<Self, GpuError> {
         use wgpu::BufferUsages as U;
         let rows = data_rows(layout.texels(), &ctx.limits)?;
-        let info = bindings::upload(
+        let info = charges.upload(
             ctx,
             "texture layout",
             &[layout.info(reference)],
             GpuTextureInfo::default(),
             U::UNIFORM | U::COPY_DST,
         )?;
-        let texture = bindings::data_texture(ctx, "textures", TEXTURE_DATA_WIDTH, rows);
+        let texture = bindings::data_texture(ctx, charges, "textures", TEXTURE_DATA_WIDTH, rows)?;
         let mut bytes = std::mem::size_of::<GpuTextureInfo>() as u64;
         let mappings = layout.mappings_at(reference);
         bytes += write_texels(ctx, &texture, 0, bytemuck::cast_slice(&mappings));

@@ -372,6 +372,61 @@ fn oversized_frames_and_scenes_are_refused_with_clear_errors() {
     }
 }
 
+/// Every resident buffer and texture is charged to the render's budget before it is allocated:
+/// what the device's allocator reports for an upload is what was charged (within its alignment
+/// padding), and a scene one byte past its budget is refused — naming the array that did not fit —
+/// with its earlier charges released.
+fn resident_buffers_are_charged_before_they_are_allocated() {
+    let gpu = common::gpu("resident_buffers_are_charged_before_they_are_allocated");
+    let device = &gpu.context().device;
+    let allocated = || {
+        device
+            .generate_allocator_report()
+            .map(|r| r.total_allocated_bytes)
+    };
+    // Free forms, a terrain and fog; clouds; meshes with textures; the sky.
+    for name in [
+        "terrain_low.ron",
+        "clouds_aircraft_inside.ron",
+        "whitted_glass_mirror.ron",
+        "sunset.ron",
+    ] {
+        let mut scene = data_scene(name, 32);
+        let settings = GpuSettings::for_scene(&scene);
+        // The scene's host arrays stay charged as they were.
+        let host = scene.budget.charged();
+        let before = allocated();
+        let resident = gpu.upload(&scene, &settings).unwrap();
+        let charged = resident.resident_device_bytes();
+        assert_eq!(scene.budget.charged() - host, charged, "{name}");
+        if let (Some(before), Some(after)) = (before, allocated()) {
+            // The frame's own buffers (16-byte placeholders until a frame sizes them) and
+            // alignment padding come on top of the resident ones; nothing large may.
+            let grew = after.saturating_sub(before);
+            eprintln!("{name}: charged {charged} bytes, the allocator grew by {grew}");
+            assert!(
+                grew <= charged + charged / 8 + (1 << 20),
+                "{name}: {grew} bytes allocated for {charged} charged"
+            );
+        }
+        drop(resident);
+        assert_eq!(scene.budget.charged(), host, "{name}");
+        // A fresh account (the host arrays are not on it) one byte short, half, and nothing.
+        for limit in [charged - 1, charged / 2, 1] {
+            scene.budget = fray_core::MemoryBudget::new(limit);
+            let e = gpu.upload(&scene, &settings).map(|_| ()).unwrap_err();
+            assert!(
+                matches!(&e, fray_gpu::GpuError::Budget(_)),
+                "{name} at {limit} bytes: {e}"
+            );
+            assert_eq!(scene.budget.charged(), 0, "{name} at {limit} bytes");
+            if limit == charged - 1 {
+                eprintln!("{name}, {limit} bytes: {e}");
+            }
+        }
+    }
+}
+
 /// The fog's heights are camera-relative and sent every frame: a resident fog scene seen from a
 /// camera moved up out of the layer (and one moved back in) looks as a fresh upload at that
 /// camera does — within the rebase's f32 rounding; a stale layer 25 m off would change almost
@@ -627,6 +682,10 @@ fn main() {
             (
                 "oversized_frames_and_scenes_are_refused_with_clear_errors",
                 oversized_frames_and_scenes_are_refused_with_clear_errors,
+            ),
+            (
+                "resident_buffers_are_charged_before_they_are_allocated",
+                resident_buffers_are_charged_before_they_are_allocated,
             ),
             (
                 "a_second_frame_builds_no_pipeline_and_uploads_no_scene",

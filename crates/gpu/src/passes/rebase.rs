@@ -7,7 +7,7 @@
 //! are correctly rounded on every backend).
 
 use super::{Kernel, PassSetup, PipelineCache};
-use crate::bindings::{self, REBASE};
+use crate::bindings::REBASE;
 use crate::shader::{ModuleOptions, Specialisation};
 use crate::{GpuContext, GpuError};
 use bytemuck::Pod;
@@ -109,16 +109,17 @@ impl Rebased {
     /// returns it and the bytes uploaded.
     pub fn new<T: Pod + Default>(
         ctx: &GpuContext,
+        charges: &mut crate::DeviceCharges,
         cache: &PipelineCache,
         label: &'static str,
         data: &[T],
         layout: RebaseLayout,
     ) -> Result<(Self, u64), GpuError> {
         use wgpu::BufferUsages as U;
-        let source = bindings::upload(ctx, label, data, T::default(), U::STORAGE | U::COPY_SRC)?;
+        let source = charges.upload(ctx, label, data, T::default(), U::STORAGE | U::COPY_SRC)?;
         let bytes = source.size();
-        let target = bindings::empty(ctx, label, bytes, U::STORAGE | U::COPY_SRC)?;
-        let params = bindings::empty(
+        let target = charges.empty(ctx, label, bytes, U::STORAGE | U::COPY_SRC)?;
+        let params = charges.empty(
             ctx,
             "rebase params",
             std::mem::size_of::<RebaseParams>() as u64,
