@@ -7,7 +7,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use fray_core::Interval;
 use fray_gpu::GpuRenderer;
-use fray_gpu::terrain_pass::{GpuRay, TerrainPass};
+use fray_gpu::testing::{GpuRay, TerrainBatch};
 use fray_terrain::{Interpolation, Terrain, TerrainOptions};
 use std::path::Path;
 use std::time::Duration;
@@ -51,7 +51,7 @@ fn terrain_pass(c: &mut Criterion) {
                 ]
             })
             .collect();
-        let pass = TerrainPass::new(gpu.context(), &terrain, eye).expect("terrain pass");
+        let pass = TerrainBatch::new(gpu.context(), &terrain, eye).expect("terrain pass");
         group.bench_function(format!("{name}_{w}x{h}_gpu"), |b| {
             b.iter(|| pass.cast(gpu.context(), &rays).map(|v| v.len()))
         });

@@ -20,7 +20,7 @@
 //! the textures bind no storage buffer — the shade pass's eight are the frame's two, the free
 //! forms' four and the terrains' two —: their arrays are packed into `Rgba32Uint` textures read
 //! with `textureLoad`, with the sections' first texels in a uniform
-//! (`crate::mesh_pass::MeshBuffers`, `crate::textures::ResidentTextures`).
+//! (`crate::resident::meshes::MeshBuffers`, `crate::textures::ResidentTextures`).
 
 use crate::GpuContext;
 use bytemuck::Pod;
@@ -408,69 +408,46 @@ pub const REBASE: Group = Group {
     ],
 };
 
-/// The batch terrain pass (`TerrainPass`): its parameters — ray count, terrain, pixel LOD 0/1,
-/// the bits of the bicubic tolerance — and rays in, hits out.
-pub const TERRAIN_BATCH: Group = Group {
-    name: "terrain_batch",
+/// Every batch kernel's queries and answers (`crate::testing::BatchPass`): the query count and
+/// three parameters of the kernel's own, its queries' rows in, its answers' rows out (floats as
+/// their bits where a kernel answers floats).
+pub const BATCH: Group = Group {
+    name: "batch",
     bindings: &[
         binding(0, "batch", "vec4<u32>", Uniform),
-        binding(1, "rays", "array<vec4<f32>>", StorageRead),
-        binding(2, "hits", "array<vec4<f32>>", StorageReadWrite),
+        binding(1, "queries", "array<vec4<f32>>", StorageRead),
+        binding(2, "answers", "array<vec4<u32>>", StorageReadWrite),
     ],
 };
 
-/// The batch fog pass (`FogPass`): the layer, rays in, terms out.
-pub const FOG_BATCH: Group = Group {
-    name: "fog_batch",
+/// The fog layer alone (the fog's batch kernel).
+pub const FOG_LAYER: Group = Group {
+    name: "fog_layer",
+    bindings: &[renumbered(FOG, 0)],
+};
+
+/// The sky's parameters and tables alone (the sky's batch kernel).
+pub const SKY_TABLES: Group = Group {
+    name: "sky_tables",
     bindings: &[
-        binding(0, "fog", "GpuFog", Uniform),
-        binding(1, "fog_rays", "array<vec4<f32>>", StorageRead),
-        binding(2, "fog_results", "array<vec4<f32>>", StorageReadWrite),
+        renumbered(SKY, 0),
+        renumbered(SKY_TRANSMITTANCE, 1),
+        renumbered(SKY_VIEW, 2),
     ],
 };
 
-/// The batch sky pass (`SkyPass`): the sky's parameters and tables, queries in, answers out.
-pub const SKY_BATCH: Group = Group {
-    name: "sky_batch",
+/// The cloud volume's parameters and grids alone (the clouds' batch kernel).
+pub const CLOUD_VOLUME: Group = Group {
+    name: "cloud_volume",
     bindings: &[
-        binding(0, "sky", "GpuSky", Uniform),
-        binding(
-            1,
-            "sky_transmittance_table",
-            "texture_2d<f32>",
-            Access::Sampled,
-        ),
-        binding(2, "sky_view_table", "texture_2d<f32>", Access::Sampled),
-        binding(3, "sky_queries", "array<vec4<f32>>", StorageRead),
-        binding(4, "sky_results", "array<vec4<f32>>", StorageReadWrite),
-    ],
-};
-
-/// The batch clouds pass (`CloudsPass`): the volume's parameters and grids, rays in, answers
-/// out.
-pub const CLOUDS_BATCH: Group = Group {
-    name: "clouds_batch",
-    bindings: &[
-        binding(0, "clouds", "GpuClouds", Uniform),
-        binding(1, "cloud_density", "texture_3d<f32>", Access::Sampled3d),
-        binding(2, "cloud_max", "texture_3d<f32>", Access::Sampled3d),
-        binding(3, "cloud_queries", "array<vec4<f32>>", StorageRead),
-        binding(4, "cloud_results", "array<vec4<f32>>", StorageReadWrite),
-    ],
-};
-
-/// The batch mesh pass (`MeshPass`): ray count and instance count, rays in, hits out.
-pub const MESH_BATCH: Group = Group {
-    name: "mesh_batch",
-    bindings: &[
-        binding(0, "mesh_batch", "vec4<u32>", Uniform),
-        binding(1, "mesh_rays", "array<vec4<f32>>", StorageRead),
-        binding(2, "mesh_hits", "array<vec4<u32>>", StorageReadWrite),
+        renumbered(CLOUDS, 0),
+        renumbered(CLOUD_DENSITY, 1),
+        renumbered(CLOUD_MAX, 2),
     ],
 };
 
 /// Every group, for the include step.
-pub const GROUPS: [Group; 26] = [
+pub const GROUPS: [Group; 25] = [
     FRAME,
     QUEUE,
     FREE_FORMS,
@@ -483,16 +460,15 @@ pub const GROUPS: [Group; 26] = [
     SHADING_FOG_CLOUDS,
     SHADING_SKY_CLOUDS,
     SHADING_FOG_SKY_CLOUDS,
-    CLOUDS_BATCH,
+    CLOUD_VOLUME,
     TERRAINS,
     TERRAINS_MESHES,
     TARGETS,
     REBASE,
-    TERRAIN_BATCH,
-    FOG_BATCH,
-    SKY_BATCH,
+    BATCH,
+    FOG_LAYER,
+    SKY_TABLES,
     MESHES,
-    MESH_BATCH,
     TEXTURES,
     TERRAINS_TEXTURES,
     MESHES_TEXTURES,
@@ -783,11 +759,11 @@ mod tests {
             vec![FRAME, WORK, TERRAINS],
             vec![FRAME, TARGETS],
             vec![REBASE],
-            vec![TERRAIN_BATCH, TERRAINS],
-            vec![FOG_BATCH],
-            vec![SKY_BATCH],
-            vec![CLOUDS_BATCH],
-            vec![MESH_BATCH, MESHES],
+            vec![BATCH, TERRAINS],
+            vec![BATCH, FOG_LAYER],
+            vec![BATCH, SKY_TABLES],
+            vec![BATCH, CLOUD_VOLUME],
+            vec![BATCH, MESHES],
             vec![FRAME, WORK, MESHES],
         ];
         for k in 0..64 {

@@ -22,40 +22,30 @@
 //! `max(scene ε, 2⁻²⁰ · camera distance)` ([`gpu_epsilon`]).
 
 pub mod bindings;
-pub mod cloud_textures;
-pub mod clouds_pass;
 mod context;
 pub mod counters;
 mod device_charges;
 mod error;
-pub mod fog_pass;
-pub mod mesh_pass;
 pub mod params;
 pub mod passes;
 mod readback;
 mod render;
 pub mod resident;
 pub mod shader;
-pub mod sky_pass;
-mod sky_tables;
-pub mod terrain_pass;
+#[cfg(any(test, feature = "testing"))]
+pub mod testing;
 pub mod texture_layout;
 pub mod textures;
 mod timestamps;
 pub mod work;
 
-pub use clouds_pass::CloudsPass;
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use device_charges::DeviceCharges;
 pub use error::GpuError;
-pub use fog_pass::FogPass;
-pub use mesh_pass::MeshPass;
 pub use params::View;
 pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
     SHADOW_OFFSET_EPSILONS, camera_distance, cloud_light, gpu_epsilon, gpu_epsilon_for, render,
     unsupported_feature,
 };
-pub use sky_pass::{SkyBatch, SkyPass};
-pub use terrain_pass::TerrainPass;
 pub use work::GpuWork;

@@ -694,7 +694,7 @@ impl<'a> GpuScene<'a> {
                 // The CPU builds the table in f64 (as fray-trace's Media::of does per frame).
                 let sky_view = s.sky.view(eye);
                 let table = sky_view.table();
-                uploaded += crate::sky_tables::write_table(
+                uploaded += crate::resident::sky::write_table(
                     ctx,
                     &resident.view,
                     table.width(),
@@ -920,8 +920,8 @@ impl<'a> GpuScene<'a> {
         );
         let sky_views = r.sky.as_ref().map(|s| {
             (
-                crate::sky_tables::view(&s.transmittance),
-                crate::sky_tables::view(&s.view),
+                crate::resident::sky::view(&s.transmittance),
+                crate::resident::sky::view(&s.view),
             )
         });
         let mut resources = vec![

@@ -25,7 +25,8 @@ use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/` (the crate's
 /// `shaders` is a link to the repository's, so a packaged crate holds them too).
-pub const SHADER_FILES: [(&str, &str); 61] = [
+pub const SHADER_FILES: [(&str, &str); 62] = [
+    ("batch.wgsl", include_str!("../shaders/batch.wgsl")),
     ("camera.wgsl", include_str!("../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../shaders/clouds.wgsl")),
     (
@@ -182,8 +183,7 @@ pub const SHADER_FILES: [(&str, &str); 61] = [
     ),
 ];
 
-/// The entry modules, one per pass (`passes::*`, `TerrainPass`, `FogPass`, `SkyPass`,
-/// `CloudsPass` and `MeshPass`).
+/// The entry modules, one per pass (`passes::*`) and one per batch kernel (`testing::KERNELS`).
 pub const ENTRY_MODULES: [&str; 18] = [
     "queue_forward.wgsl",
     "queue_level.wgsl",

@@ -1,6 +1,6 @@
 //! The GPU clouds (`shaders/clouds.wgsl`) vs the f64 reference (`fray_clouds::march`):
 //!
-//! - ray by ray through the batch `CloudsPass`: two baked volumes (a thin one and a dense one
+//! - ray by ray through the batch `CloudsBatch`: two baked volumes (a thin one and a dense one
 //!   whose march exits early), with and without empty-space skipping, near the world origin and
 //!   10⁵ m from it (camera-relative on the GPU), rays from inside the box, from its faces and
 //!   corners, from outside, grazing a face, through empty stretches and dense ones, over
@@ -22,7 +22,7 @@ use fray_clouds::bake::Region;
 use fray_clouds::gpu_layout::GpuClouds;
 use fray_clouds::march::{self, CloudLight, DualLobe, GridVolume, MarchSettings};
 use fray_core::{Frame, MemoryBudget};
-use fray_gpu::clouds_pass::{CloudsPass, GpuCloudRay};
+use fray_gpu::testing::{CloudsBatch, GpuCloudRay};
 use fray_gpu::{GpuRenderer, GpuSettings};
 use fray_scene::Scene;
 use fray_trace::TraceSettings;
@@ -203,7 +203,7 @@ fn batch_march_matches_the_cpu_reference() {
                 // The reference point: the "camera", near the box.
                 let reference = offset + DVec3::new(-70.0, 25.0, -3.0);
                 let block = GpuClouds::new(&volume, &light, &settings, true, reference.to_array());
-                let pass = CloudsPass::new(ctx, &volume, &block).unwrap();
+                let pass = CloudsBatch::new(ctx, &volume, &block).unwrap();
                 let cases = cases(&region);
                 let rays: Vec<GpuCloudRay> = cases
                     .iter()
@@ -645,7 +645,7 @@ fn grids_past_the_device_limit_are_refused() {
     let block =
         |v: &GridVolume| GpuClouds::new(v, &light(), &MarchSettings::default(), false, [0.0; 3]);
     let wide = volume(limit + 1);
-    match CloudsPass::new(ctx, &wide, &block(&wide)) {
+    match CloudsBatch::new(ctx, &wide, &block(&wide)) {
         Err(fray_gpu::GpuError::TooLarge {
             what,
             needed,
@@ -657,7 +657,7 @@ fn grids_past_the_device_limit_are_refused() {
         other => panic!("expected TooLarge, got {other:?}"),
     }
     let fits = volume(limit);
-    assert!(CloudsPass::new(ctx, &fits, &block(&fits)).is_ok());
+    assert!(CloudsBatch::new(ctx, &fits, &block(&fits)).is_ok());
 }
 
 fn main() {

@@ -1,4 +1,4 @@
-//! The GPU fog functions (`shaders/fog.wgsl`, through the batch `FogPass`) vs the f64 reference
+//! The GPU fog functions (`shaders/fog.wgsl`, through the batch `FogBatch`) vs the f64 reference
 //! (`fray_atmosphere::FogLayer`) over a grid of rays: four layers (homogeneous and falling off,
 //! thick and thin, one thousands of metres below the camera as in the data scenes), both models
 //! (Exact, Method), every phase function, the camera below, at the bottom, inside, at the top,
@@ -20,7 +20,7 @@ mod common;
 use fray_atmosphere::gpu_layout::GpuFog;
 use fray_atmosphere::{FogLayer, FogLighting, FogModel, Phase, Sunlight};
 use fray_core::{Interval, Ray};
-use fray_gpu::fog_pass::{FogPass, GpuFogRay, GpuFogTerms};
+use fray_gpu::testing::{FogBatch, GpuFogRay, GpuFogTerms};
 use glam::DVec3;
 
 /// Absolute allowance (the quantities are transmittances in `[0, 1]`, factors of order 1).
@@ -203,7 +203,7 @@ fn cases() -> Vec<(String, Case)> {
 fn gpu_terms(ctx: &fray_gpu::GpuContext, cases: &[&Case]) -> Vec<GpuFogTerms> {
     let first = cases[0];
     let fog = GpuFog::new(&first.layer, first.model, first.camera_y);
-    let pass = FogPass::new(ctx, &fog).unwrap();
+    let pass = FogBatch::new(ctx, &fog).unwrap();
     let rays: Vec<GpuFogRay> = cases
         .iter()
         .map(|c| {

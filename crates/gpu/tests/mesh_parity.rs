@@ -1,4 +1,4 @@
-//! GPU mesh kernel (`mesh.wgsl` through the batch pass `MeshPass`) vs the f64 CPU reference
+//! GPU mesh kernel (`mesh.wgsl` through the batch pass `MeshBatch`) vs the f64 CPU reference
 //! (`fray_mesh::Instance::nearest_hit`/`any_hit` over `MeshBvh`), ray by ray.
 //!
 //! Rays (f32 on the GPU, relative to a reference point — the camera — as the frame will cast
@@ -36,7 +36,7 @@
 //!
 //! Stack depth: the bunny's BVH is 21 deep, the boeing's 19 (the GPU stack holds 64). The same
 //! bunny moved by 4·10⁵ in its vertices builds a BVH ~200 deep (`MeshBvh::build` takes its
-//! topology from f32 triangles, which collapse that far out): `MeshPass::new` refuses it as
+//! topology from f32 triangles, which collapse that far out): `MeshBatch::new` refuses it as
 //! `GpuError::TooLarge` (tested), as it would any BVH deeper than `MESH_STACK − 1`.
 //!
 //! Measured on lavapipe (llvmpipe, no FMA contraction). The edge functions' signs come from
@@ -51,8 +51,7 @@ mod common;
 use fray_core::{Aabb, Interval, MemoryBudget, Ray};
 use fray_core::{Pinhole, Projector};
 use fray_gpu::GpuContext;
-use fray_gpu::mesh_pass::{GpuMeshHit, MeshPass};
-use fray_gpu::terrain_pass::GpuRay;
+use fray_gpu::testing::{GpuMeshHit, GpuRay, MeshBatch};
 use fray_mesh::{Instance, MeshBvh, MeshHit, TriangleMesh};
 use glam::{DAffine3, DQuat, DVec3};
 use std::path::Path;
@@ -130,9 +129,10 @@ impl World {
         }
     }
 
-    fn pass(&self, reference: DVec3) -> MeshPass {
+    fn pass(&self, reference: DVec3) -> MeshBatch {
         let meshes: Vec<&MeshBvh> = self.meshes.iter().map(|m| m.as_ref()).collect();
-        MeshPass::new(gpu(), &meshes, &self.placements, reference).unwrap_or_else(|e| panic!("{e}"))
+        MeshBatch::new(gpu(), &meshes, &self.placements, reference)
+            .unwrap_or_else(|e| panic!("{e}"))
     }
 
     /// The world box of instance `k`.
@@ -282,7 +282,7 @@ fn dv(v: [f32; 3]) -> DVec3 {
 fn measure(
     what: &str,
     world: &World,
-    pass: &MeshPass,
+    pass: &MeshBatch,
     queries: &[Query],
     reference: DVec3,
 ) -> Figures {
@@ -812,7 +812,7 @@ fn a_mesh_far_from_the_origin() {
     let depth = deep.max_depth();
     if depth + 1 > fray_mesh::gpu_layout::MESH_STACK {
         let e =
-            MeshPass::new(gpu(), &[&deep], &[(0, DAffine3::IDENTITY)], DVec3::ZERO).unwrap_err();
+            MeshBatch::new(gpu(), &[&deep], &[(0, DAffine3::IDENTITY)], DVec3::ZERO).unwrap_err();
         assert!(
             matches!(e, fray_gpu::GpuError::TooLarge { needed, .. } if needed == u64::from(depth) + 1),
             "{e}"
@@ -844,7 +844,7 @@ fn a_mesh_far_from_the_origin() {
     run_case("bunny placed at 1e6 by its instance", &placed, &camera, eye);
 }
 
-/// A moved camera rewrites only the instance blocks (`MeshPass::rebase`): the same world rays,
+/// A moved camera rewrites only the instance blocks (`MeshBatch::rebase`): the same world rays,
 /// relative to the new reference, hit the same triangles.
 fn rebased_instances_hit_the_same() {
     let world = World::new(vec![boeing()], &[(0, DAffine3::from_rotation_y(0.4))]);

@@ -1,4 +1,4 @@
-//! The GPU sky functions (`shaders/sky.wgsl`, through the batch `SkyPass`) vs the f64 reference
+//! The GPU sky functions (`shaders/sky.wgsl`, through the batch `SkyBatch`) vs the f64 reference
 //! (`fray_atmosphere::sky`: `SkyView::{lookup, background}`, `Sky::{aerial_perspective,
 //! transmittance_to_sun}`, `TransmittanceTable::lookup`) over a grid: two models (Earth; hazy
 //! air — four times the aerosols, no ozone — over a ground at −1300 m), eyes on the ground
@@ -24,7 +24,7 @@ mod common;
 use fray_atmosphere::gpu_layout::{GpuSky, GpuSkyOptions};
 use fray_atmosphere::sky::{Sky, SkyModel, SkySun, SkyTables, SkyView};
 use fray_core::MemoryBudget;
-use fray_gpu::sky_pass::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkyPass};
+use fray_gpu::testing::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkySeen};
 use glam::DVec3;
 
 /// The allowed difference per quantity (in [`NAMES`]' order; radiances relative to their
@@ -212,7 +212,7 @@ fn difference(q: usize, cpu: DVec3, gpu: DVec3) -> f64 {
 fn sky_functions_match_the_cpu_reference() {
     let gpu = common::gpu("sky_functions_match_the_cpu_reference");
     let ctx = gpu.context();
-    let pass = SkyPass::new(ctx).unwrap();
+    let pass = SkyBatch::new(ctx).unwrap();
     let tables = SkyTables::default();
     let mut worst: [(f64, String); 6] = std::array::from_fn(|_| (0.0, String::new()));
     let mut sums = [0.0f64; 6];
@@ -239,7 +239,7 @@ fn sky_functions_match_the_cpu_reference() {
                 let label = format!("{model_name}, sun {elevation}°, eye {altitude} m");
                 let all = cases(&label, &sky, &view, eye);
                 let queries: Vec<GpuSkyQuery> = all.iter().map(|c| c.query).collect();
-                let batch = SkyBatch {
+                let batch = SkySeen {
                     block: &block,
                     transmittance: sky.transmittance_table(),
                     view: view.table(),

@@ -47,7 +47,7 @@
 mod common;
 
 use fray_core::{Interval, PixelFootprint, Ray};
-use fray_gpu::terrain_pass::{GpuRay, TerrainPass};
+use fray_gpu::testing::{GpuRay, TerrainBatch};
 use fray_terrain::{
     Heightmap, HitKind, Interpolation, MapRay, Placement, Terrain, TerrainHit, TerrainOptions,
     TerrainStats,
@@ -207,7 +207,7 @@ fn measure(
     footprint: PixelFootprint,
 ) -> Figures {
     let gpu = common::gpu(what);
-    let pass = TerrainPass::with_pixel_lod(gpu.context(), terrain, reference, footprint)
+    let pass = TerrainBatch::with_pixel_lod(gpu.context(), terrain, reference, footprint)
         .unwrap()
         .with_epsilon(EPS);
     let batch: Vec<GpuRay> = rays

@@ -15,7 +15,7 @@ use bytemuck::Pod;
 pub use crate::params::RebaseParams;
 
 /// Which 16-byte slots of a GPU struct hold positions and box corners (from the structs'
-/// `offset_of!`s; `resident.rs` lists the scene's).
+/// `offset_of!`s; `resident/mod.rs` lists the scene's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RebaseLayout {
     /// Slots per element.

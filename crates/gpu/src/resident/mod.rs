@@ -8,14 +8,17 @@
 //! per frame), the clouds (their density grid and max grid as 3D textures, uploaded here once;
 //! their parameters, camera-relative, written per frame), the meshes (every mesh's BVH, triangles
 //! and vertices once, in one texture with the instance blocks, which alone a moved camera
-//! rewrites — relative to the camera, from f64 —: `mesh_pass::MeshBuffers`); every buffer and
+//! rewrites — relative to the camera, from f64 —: `meshes::MeshBuffers`); every buffer and
 //! texture checked against the device's limits before it is made.
 
-use crate::mesh_pass::{MeshBuffers, layout_error, mesh_buffers};
+pub mod clouds;
+pub mod meshes;
+pub mod sky;
+pub mod terrains;
+
 use crate::params::{self, GpuLight, GpuMaterial};
 use crate::passes::PipelineCache;
 use crate::passes::rebase::{RebaseLayout, Rebased};
-use crate::terrain_pass::{TerrainUpload, terrain_arrays};
 use crate::{GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::{GpuFog, GpuSky};
 use fray_core::MemoryBudget;
@@ -24,7 +27,9 @@ use fray_mesh::gpu_layout::GpuMeshes;
 use fray_scene::Scene;
 use fray_terrain::gpu_layout::GpuTerrainParams;
 use glam::DVec3;
+use meshes::{MeshBuffers, layout_error, mesh_buffers};
 use std::mem::{offset_of, size_of};
+use terrains::{TerrainUpload, terrain_arrays};
 use wgpu::BufferUsages as U;
 
 /// Where the positions and box corners of the scene's GPU structs are.
@@ -93,7 +98,7 @@ pub struct ResidentClouds {
     /// the camera, the sun's light through the sky).
     pub params: wgpu::Buffer,
     /// The density grid and the max grid, uploaded once.
-    pub textures: crate::cloud_textures::CloudTextures,
+    pub textures: clouds::CloudTextures,
 }
 
 /// The meshes on the GPU.
@@ -271,8 +276,7 @@ impl ResidentScene {
         };
         let clouds = match &scene.clouds {
             Some(c) => {
-                let (textures, b) =
-                    crate::cloud_textures::CloudTextures::upload(ctx, &mut charges, &c.volume)?;
+                let (textures, b) = clouds::CloudTextures::upload(ctx, &mut charges, &c.volume)?;
                 bytes += b;
                 let params = charges.empty(
                     ctx,
@@ -357,7 +361,7 @@ impl ResidentScene {
 
 /// The terrains' parameters (their pyramids and samples at offsets in the concatenated arrays,
 /// their materials) anchor-relative, and the concatenated arrays, written straight into mapped
-/// GPU buffers (`terrain_pass::terrain_arrays`); returns them and the bytes uploaded.
+/// GPU buffers (`terrains::terrain_arrays`); returns them and the bytes uploaded.
 fn upload_terrains(
     ctx: &GpuContext,
     charges: &mut crate::DeviceCharges,
@@ -409,7 +413,7 @@ fn upload_terrains(
 /// The scene's meshes laid out relative to `anchor` (`fray_mesh::gpu_layout::GpuMeshes`: each
 /// distinct mesh — objects naming one file share its BVH — once, one instance per mesh object
 /// in scene order with its material, the default where it has none, and its smooth flag) and
-/// uploaded (`mesh_pass::mesh_buffers`).
+/// uploaded (`meshes::mesh_buffers`).
 fn upload_meshes(
     ctx: &GpuContext,
     charges: &mut crate::DeviceCharges,
@@ -441,7 +445,7 @@ fn upload_meshes(
         .map(|m| m.material.min(material_count))
         .collect();
     let smooth: Vec<bool> = scene.meshes.iter().map(|m| m.smooth).collect();
-    let layout = crate::mesh_pass::mesh_layout(&bvhs, &placements, anchor, budget)?
+    let layout = meshes::mesh_layout(&bvhs, &placements, anchor, budget)?
         .with_materials(&materials)
         .with_smooth(&smooth);
     let buffers = mesh_buffers(ctx, charges, &layout)?;
@@ -460,16 +464,16 @@ fn upload_sky(
     sky: &fray_atmosphere::sky::Sky,
 ) -> Result<(ResidentSky, u64), GpuError> {
     let table = sky.transmittance_table();
-    let transmittance = crate::sky_tables::table_texture(
+    let transmittance = sky::table_texture(
         ctx,
         charges,
         "the sky's transmittance table (texels per side)",
         table.width(),
         table.height(),
     )?;
-    let bytes = crate::sky_tables::write_table(ctx, &transmittance, table.width(), table.texels());
+    let bytes = sky::write_table(ctx, &transmittance, table.width(), table.texels());
     let sizes = sky.tables();
-    let view = crate::sky_tables::table_texture(
+    let view = sky::table_texture(
         ctx,
         charges,
         "the sky-view table (texels per side)",
