@@ -10,13 +10,14 @@
 //! which binds one more storage buffer, its secondary rays' records: a device that cannot bind
 //! nine is refused before upload (`crate::render`), and the CPU renders the scene.
 //!
-//! The lights and materials travel with the scene's media in one group — [`SHADING`],
-//! [`SHADING_FOG`], [`SHADING_SKY`] or [`SHADING_FOG_SKY`], picked by [`shading`] — since the
-//! shade pass of a scene with free forms and terrains already binds four groups. A module names
-//! that group `shading` in its `#bindings` line and `shader::compose` substitutes the scene's.
-//! Likewise the shade pass's fourth group holds the terrains, the meshes, the textures or any
-//! of them together ([`TERRAINS`], [`MESHES`], [`TERRAINS_MESHES`], [`TEXTURES`] and the
-//! `…_TEXTURES` groups, picked by [`surfaces`]; a module names it `surfaces`). The meshes and
+//! The lights and materials travel with the scene's media in one group since the shade pass of a
+//! scene with free forms and terrains already binds four groups: the group is made of the
+//! [`Part`]s the scene has ([`shading`]: lighting, then fog, sky, clouds and Whitted's records
+//! where present). A module names that group `shading` in its `#bindings` line and
+//! `shader::compose` substitutes the scene's. Likewise the shade pass's fourth group holds the
+//! terrains', the meshes' and the textures' parts, those the scene has ([`surfaces`]; a module
+//! names it `surfaces`). Nothing is enumerated per combination: a kind or a medium adds a part.
+//! The meshes and
 //! the textures bind no storage buffer — the shade pass's eight are the frame's two, the free
 //! forms' four and the terrains' two —: their arrays are packed into `Rgba32Uint` textures read
 //! with `textureLoad`, with the sections' first texels in a uniform
@@ -107,118 +108,146 @@ pub const WORK: Group = Group {
     ],
 };
 
-/// What lights a scene: its lights (camera-relative) and materials.
-const LIGHTS: Binding = binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform);
-const MATERIALS: Binding = binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform);
-/// The fog layer (camera-relative heights, written per frame).
-const FOG: Binding = binding(2, "fog", "GpuFog", Uniform);
-/// The sky: its parameters (written per frame), its transmittance table (resident) and its
-/// sky-view table (written when the eye's height changes).
-const SKY: Binding = binding(3, "sky", "GpuSky", Uniform);
-const SKY_TRANSMITTANCE: Binding = binding(
-    4,
-    "sky_transmittance_table",
-    "texture_2d<f32>",
-    Access::Sampled,
-);
-const SKY_VIEW: Binding = binding(5, "sky_view_table", "texture_2d<f32>", Access::Sampled);
-/// The clouds: their parameters (camera-relative, written per frame), the density grid and the
-/// max grid of its blocks (resident; a single zero texel when skipping is off).
-const CLOUDS: Binding = binding(6, "clouds", "GpuClouds", Uniform);
-const CLOUD_DENSITY: Binding = binding(7, "cloud_density", "texture_3d<f32>", Access::Sampled3d);
-const CLOUD_MAX: Binding = binding(8, "cloud_max", "texture_3d<f32>", Access::Sampled3d);
+/// What one kind or medium of a scene — or its lights and materials, or Whitted's records —
+/// puts in a group that passes share: its bindings, numbered from 0 within the part. The shade
+/// and media passes' groups are made of the parts the scene has ([`shading`], [`surfaces`],
+/// [`group_of`]), and the resident scene binds each part's resources in the same order
+/// (`crate::resident::ResidentScene::part_resources`): adding a kind or a medium adds a part, not
+/// a power of two of groups.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    /// The lights (camera-relative) and materials: every scene's.
+    Lighting,
+    /// The fog layer (camera-relative heights, written per frame).
+    Fog,
+    /// The sky: its parameters (written per frame), its transmittance table (resident) and its
+    /// sky-view table (written when the eye's height changes).
+    Sky,
+    /// The clouds: their parameters (camera-relative, written per frame), the density grid and
+    /// the max grid of its blocks (resident; a single zero texel when skipping is off).
+    Clouds,
+    /// Whitted's per-ray records (`crate::params::GpuSecondary`), slot for slot with `paths`.
+    Secondaries,
+    /// The terrains (camera-relative parameters, this view's level-of-detail parameters) and
+    /// their pyramids and samples, concatenated.
+    Terrains,
+    /// The meshes' layout — (instance count, first texel of the BVH nodes, of the triangles, of
+    /// the vertices) — and every mesh array (`fray_mesh::gpu_layout`) packed into one texture of
+    /// 16-byte texels, `MESH_TEXTURE_WIDTH` per row: the instance blocks first (4 texels each,
+    /// relative to the reference point — the only part a moved camera rewrites), then the BVH
+    /// nodes (2), the triangles (4, leaf order, anchor-relative) and the vertex attributes (2).
+    Meshes,
+    /// The textures' layout (`crate::textures::GpuTextureInfo`, written per frame) and every
+    /// image level, material record, mapping block and ramp stop packed into one texture of
+    /// 16-byte texels (`crate::textures`; the mapping blocks, camera-relative, are the only part
+    /// a moved camera rewrites).
+    Textures,
+}
 
-/// Lights and materials, for a scene without media.
-pub const SHADING: Group = Group {
-    name: "shading",
-    bindings: &[LIGHTS, MATERIALS],
-};
+// The parts' bindings (`Part::bindings`).
+const LIGHTING_BINDINGS: [Binding; 2] = [
+    binding(0, "lights", "array<GpuLight, MAX_LIGHTS>", Uniform),
+    binding(1, "materials", "array<GpuMaterial, MAX_MATERIALS>", Uniform),
+];
+const FOG_BINDINGS: [Binding; 1] = [binding(0, "fog", "GpuFog", Uniform)];
+const SKY_BINDINGS: [Binding; 3] = [
+    binding(0, "sky", "GpuSky", Uniform),
+    binding(
+        1,
+        "sky_transmittance_table",
+        "texture_2d<f32>",
+        Access::Sampled,
+    ),
+    binding(2, "sky_view_table", "texture_2d<f32>", Access::Sampled),
+];
+const CLOUDS_BINDINGS: [Binding; 3] = [
+    binding(0, "clouds", "GpuClouds", Uniform),
+    binding(1, "cloud_density", "texture_3d<f32>", Access::Sampled3d),
+    binding(2, "cloud_max", "texture_3d<f32>", Access::Sampled3d),
+];
+const SECONDARIES_BINDINGS: [Binding; 1] = [binding(
+    0,
+    "secondaries",
+    "array<GpuSecondary>",
+    StorageReadWrite,
+)];
+const TERRAINS_BINDINGS: [Binding; 4] = [
+    binding(
+        0,
+        "terrains",
+        "array<GpuTerrainParams, MAX_TERRAINS>",
+        Uniform,
+    ),
+    binding(1, "terrain_lods", "array<vec4<f32>, MAX_TERRAINS>", Uniform),
+    binding(2, "pyramid", "array<f32>", StorageRead),
+    binding(3, "samples", "array<f32>", StorageRead),
+];
+const MESHES_BINDINGS: [Binding; 2] = [
+    binding(0, "mesh_info", "vec4<u32>", Uniform),
+    binding(1, "mesh_data", "texture_2d<u32>", Access::SampledUint),
+];
+const TEXTURES_BINDINGS: [Binding; 2] = [
+    binding(0, "texture_info", "GpuTextureInfo", Uniform),
+    binding(1, "texture_data", "texture_2d<u32>", Access::SampledUint),
+];
 
-/// [`SHADING`] and the fog layer, for the shade and media passes of a scene with fog.
-pub const SHADING_FOG: Group = Group {
-    name: "shading_fog",
-    bindings: &[LIGHTS, MATERIALS, FOG],
-};
+impl Part {
+    /// Its name (in a composed group's name).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Part::Lighting => "lighting",
+            Part::Fog => "fog",
+            Part::Sky => "sky",
+            Part::Clouds => "clouds",
+            Part::Secondaries => "secondaries",
+            Part::Terrains => "terrains",
+            Part::Meshes => "meshes",
+            Part::Textures => "textures",
+        }
+    }
 
-/// [`SHADING`] and the sky, for the shade and media passes of a scene with a sky.
-pub const SHADING_SKY: Group = Group {
-    name: "shading_sky",
-    bindings: &[LIGHTS, MATERIALS, SKY, SKY_TRANSMITTANCE, SKY_VIEW],
-};
+    /// Its bindings, numbered from 0.
+    pub const fn bindings(self) -> &'static [Binding] {
+        match self {
+            Part::Lighting => &LIGHTING_BINDINGS,
+            Part::Fog => &FOG_BINDINGS,
+            Part::Sky => &SKY_BINDINGS,
+            Part::Clouds => &CLOUDS_BINDINGS,
+            Part::Secondaries => &SECONDARIES_BINDINGS,
+            Part::Terrains => &TERRAINS_BINDINGS,
+            Part::Meshes => &MESHES_BINDINGS,
+            Part::Textures => &TEXTURES_BINDINGS,
+        }
+    }
 
-/// [`SHADING`], the fog layer and the sky.
-pub const SHADING_FOG_SKY: Group = Group {
-    name: "shading_fog_sky",
-    bindings: &[LIGHTS, MATERIALS, FOG, SKY, SKY_TRANSMITTANCE, SKY_VIEW],
-};
-
-/// [`SHADING`] and the clouds, for a scene with a cloud volume.
-pub const SHADING_CLOUDS: Group = Group {
-    name: "shading_clouds",
-    bindings: &[LIGHTS, MATERIALS, CLOUDS, CLOUD_DENSITY, CLOUD_MAX],
-};
-
-/// [`SHADING_FOG`] and the clouds.
-pub const SHADING_FOG_CLOUDS: Group = Group {
-    name: "shading_fog_clouds",
-    bindings: &[LIGHTS, MATERIALS, FOG, CLOUDS, CLOUD_DENSITY, CLOUD_MAX],
-};
-
-/// [`SHADING_SKY`] and the clouds.
-pub const SHADING_SKY_CLOUDS: Group = Group {
-    name: "shading_sky_clouds",
-    bindings: &[
-        LIGHTS,
-        MATERIALS,
-        SKY,
-        SKY_TRANSMITTANCE,
-        SKY_VIEW,
-        CLOUDS,
-        CLOUD_DENSITY,
-        CLOUD_MAX,
-    ],
-};
-
-/// [`SHADING_FOG_SKY`] and the clouds.
-pub const SHADING_FOG_SKY_CLOUDS: Group = Group {
-    name: "shading_fog_sky_clouds",
-    bindings: &[
-        LIGHTS,
-        MATERIALS,
-        FOG,
-        SKY,
-        SKY_TRANSMITTANCE,
-        SKY_VIEW,
-        CLOUDS,
-        CLOUD_DENSITY,
-        CLOUD_MAX,
-    ],
-};
-
-/// The lights-and-materials group of a scene with (or without) fog, a sky and clouds: what a
-/// module's `shading` stands for. A scene without a medium binds none of its buffers or
-/// textures. A Whitted scene (`whitted`: its materials reflect or transmit) binds the same and
-/// its rays' records (`secondaries`, last), as a group named `<medium's>_whitted`.
-pub fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
-    let media = shading_of_media(fog, sky, clouds);
-    if whitted {
-        with_secondaries(media)
-    } else {
-        media
+    /// The group of this part alone, named `name`.
+    pub const fn alone(self, name: &'static str) -> Group {
+        Group {
+            name,
+            bindings: self.bindings(),
+        }
     }
 }
 
-/// `group` and Whitted's records: made once per group (the layouts are cached by name, so each
-/// is its own name) and kept for the process, as the constant groups are.
-fn with_secondaries(group: Group) -> Group {
+/// The group of `parts` in order, their bindings numbered on from one part to the next; named by
+/// its parts (`lighting+fog+sky`), made once per distinct list and kept for the process, as the
+/// constant groups are (pipeline layouts are cached by a group's name).
+pub fn group_of(parts: &[Part]) -> Group {
     static MADE: std::sync::Mutex<Vec<Group>> = std::sync::Mutex::new(Vec::new());
+    let name = parts.iter().map(|p| p.name()).collect::<Vec<_>>().join("+");
     let mut made = MADE.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-    let name = format!("{}_whitted", group.name);
     if let Some(g) = made.iter().find(|g| g.name == name) {
         return *g;
     }
-    let mut bindings = group.bindings.to_vec();
-    bindings.push(SECONDARIES);
+    let bindings: Vec<Binding> = parts
+        .iter()
+        .flat_map(|p| p.bindings())
+        .enumerate()
+        .map(|(index, b)| Binding {
+            binding: index as u32,
+            ..*b
+        })
+        .collect();
     let g = Group {
         name: Box::leak(name.into_boxed_str()),
         bindings: Box::leak(bindings.into_boxed_slice()),
@@ -227,22 +256,48 @@ fn with_secondaries(group: Group) -> Group {
     g
 }
 
-const fn shading_of_media(fog: bool, sky: bool, clouds: bool) -> Group {
-    match (fog, sky, clouds) {
-        (false, false, false) => SHADING,
-        (true, false, false) => SHADING_FOG,
-        (false, true, false) => SHADING_SKY,
-        (true, true, false) => SHADING_FOG_SKY,
-        (false, false, true) => SHADING_CLOUDS,
-        (true, false, true) => SHADING_FOG_CLOUDS,
-        (false, true, true) => SHADING_SKY_CLOUDS,
-        (true, true, true) => SHADING_FOG_SKY_CLOUDS,
+/// The parts of the lights-and-media group of a scene with (or without) fog, a sky and clouds,
+/// and with Whitted's records where its materials reflect or transmit (`whitted`; last).
+pub fn shading_parts(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Vec<Part> {
+    let mut parts = vec![Part::Lighting];
+    for (on, part) in [
+        (fog, Part::Fog),
+        (sky, Part::Sky),
+        (clouds, Part::Clouds),
+        (whitted, Part::Secondaries),
+    ] {
+        if on {
+            parts.push(part);
+        }
     }
+    parts
 }
 
-/// Whitted's per-ray records (`crate::params::GpuSecondary`), slot for slot with `paths` (after
-/// every medium's binding).
-const SECONDARIES: Binding = binding(9, "secondaries", "array<GpuSecondary>", StorageReadWrite);
+/// The lights-and-media group: what a module's `shading` stands for ([`shading_parts`]). A scene
+/// without a medium binds none of its buffers or textures.
+pub fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
+    group_of(&shading_parts(fog, sky, clouds, whitted))
+}
+
+/// The parts of the shade pass's group of what a scene has beyond free forms: its terrains', its
+/// meshes' and its textures', in that order (empty without any of them).
+pub fn surface_parts(terrain: bool, meshes: bool, textures: bool) -> Vec<Part> {
+    [
+        (terrain, Part::Terrains),
+        (meshes, Part::Meshes),
+        (textures, Part::Textures),
+    ]
+    .into_iter()
+    .filter_map(|(on, part)| on.then_some(part))
+    .collect()
+}
+
+/// The shade pass's group of what a scene has beyond free forms (what a module's `surfaces`
+/// stands for, [`surface_parts`]), or none without any of it.
+pub fn surfaces(terrain: bool, meshes: bool, textures: bool) -> Option<Group> {
+    let parts = surface_parts(terrain, meshes, textures);
+    (!parts.is_empty()).then(|| group_of(&parts))
+}
 
 /// Whitted's queue passes (`crate::passes::whitted`): the indirect dispatch arguments of the
 /// current level (x, y, z workgroups), written on the GPU from the queue's state.
@@ -251,127 +306,12 @@ pub const QUEUE: Group = Group {
     bindings: &[binding(0, "queue_args", "array<u32, 4>", StorageReadWrite)],
 };
 
-const TERRAIN_TABLE: Binding = binding(
-    0,
-    "terrains",
-    "array<GpuTerrainParams, MAX_TERRAINS>",
-    Uniform,
-);
-const TERRAIN_LODS: Binding = binding(1, "terrain_lods", "array<vec4<f32>, MAX_TERRAINS>", Uniform);
-const PYRAMID: Binding = binding(2, "pyramid", "array<f32>", StorageRead);
-const SAMPLES: Binding = binding(3, "samples", "array<f32>", StorageRead);
+/// The terrains alone: the terrain intersection pass's and the terrain batch kernel's.
+pub const TERRAINS: Group = Part::Terrains.alone("terrains");
 
-/// The terrains (camera-relative parameters, this view's level-of-detail parameters) and their
-/// pyramids and samples, concatenated.
-pub const TERRAINS: Group = Group {
-    name: "terrains",
-    bindings: &[TERRAIN_TABLE, TERRAIN_LODS, PYRAMID, SAMPLES],
-};
-
-/// `b` as binding `index` of another group.
-const fn renumbered(b: Binding, index: u32) -> Binding {
-    Binding {
-        binding: index,
-        ..b
-    }
-}
-
-/// The meshes' layout: (instance count, first texel of the BVH nodes, of the triangles, of the
-/// vertices) in `mesh_data`.
-const MESH_INFO: Binding = binding(0, "mesh_info", "vec4<u32>", Uniform);
-/// Every mesh array (`fray_mesh::gpu_layout`) packed into one texture of 16-byte texels,
-/// `MESH_TEXTURE_WIDTH` per row: the instance blocks first (4 texels each, relative to the
-/// reference point — the only part a moved camera rewrites), then the BVH nodes (2), the
-/// triangles (4, leaf order, anchor-relative) and the vertex attributes (2).
-const MESH_DATA: Binding = binding(1, "mesh_data", "texture_2d<u32>", Access::SampledUint);
-
-/// The meshes (read by `mesh.wgsl`), for the mesh intersection pass and the batch mesh pass.
-/// The vertices are read only for surfaces (`mesh_surface`).
-pub const MESHES: Group = Group {
-    name: "meshes",
-    bindings: &[MESH_INFO, MESH_DATA],
-};
-
-/// [`TERRAINS`] and [`MESHES`] in one group: the shade pass's fourth of a scene with both.
-pub const TERRAINS_MESHES: Group = Group {
-    name: "terrains_meshes",
-    bindings: &[
-        TERRAIN_TABLE,
-        TERRAIN_LODS,
-        PYRAMID,
-        SAMPLES,
-        renumbered(MESH_INFO, 4),
-        renumbered(MESH_DATA, 5),
-    ],
-};
-
-/// The textures' layout (`crate::textures::GpuTextureInfo`, written per frame) and every
-/// image level, material record, mapping block and ramp stop packed into one texture of 16-byte
-/// texels, `TEXTURE_DATA_WIDTH` per row (`crate::textures`; the mapping blocks, camera-relative,
-/// are the only part a moved camera rewrites).
-const TEXTURE_INFO: Binding = binding(0, "texture_info", "GpuTextureInfo", Uniform);
-const TEXTURE_DATA: Binding = binding(1, "texture_data", "texture_2d<u32>", Access::SampledUint);
-
-/// The textures alone (a scene whose only kind is free forms).
-pub const TEXTURES: Group = Group {
-    name: "textures",
-    bindings: &[TEXTURE_INFO, TEXTURE_DATA],
-};
-
-/// [`TERRAINS`] and the textures.
-pub const TERRAINS_TEXTURES: Group = Group {
-    name: "terrains_textures",
-    bindings: &[
-        TERRAIN_TABLE,
-        TERRAIN_LODS,
-        PYRAMID,
-        SAMPLES,
-        renumbered(TEXTURE_INFO, 4),
-        renumbered(TEXTURE_DATA, 5),
-    ],
-};
-
-/// [`MESHES`] and the textures.
-pub const MESHES_TEXTURES: Group = Group {
-    name: "meshes_textures",
-    bindings: &[
-        MESH_INFO,
-        MESH_DATA,
-        renumbered(TEXTURE_INFO, 2),
-        renumbered(TEXTURE_DATA, 3),
-    ],
-};
-
-/// [`TERRAINS_MESHES`] and the textures.
-pub const TERRAINS_MESHES_TEXTURES: Group = Group {
-    name: "terrains_meshes_textures",
-    bindings: &[
-        TERRAIN_TABLE,
-        TERRAIN_LODS,
-        PYRAMID,
-        SAMPLES,
-        renumbered(MESH_INFO, 4),
-        renumbered(MESH_DATA, 5),
-        renumbered(TEXTURE_INFO, 6),
-        renumbered(TEXTURE_DATA, 7),
-    ],
-};
-
-/// The shade pass's group of what a scene has beyond free forms (what a module's `surfaces`
-/// stands for): its terrains', its meshes' and its textures' bindings, in that order, in one
-/// group — or none without any of them.
-pub const fn surfaces(terrain: bool, meshes: bool, textures: bool) -> Option<Group> {
-    match (terrain, meshes, textures) {
-        (false, false, false) => None,
-        (true, false, false) => Some(TERRAINS),
-        (false, true, false) => Some(MESHES),
-        (true, true, false) => Some(TERRAINS_MESHES),
-        (false, false, true) => Some(TEXTURES),
-        (true, false, true) => Some(TERRAINS_TEXTURES),
-        (false, true, true) => Some(MESHES_TEXTURES),
-        (true, true, true) => Some(TERRAINS_MESHES_TEXTURES),
-    }
-}
+/// The meshes alone (read by `mesh.wgsl`): the mesh intersection pass's and the mesh batch
+/// kernel's. The vertices are read only for surfaces (`mesh_surface`).
+pub const MESHES: Group = Part::Meshes.alone("meshes");
 
 /// The frame's images (the resolve pass).
 pub const TARGETS: Group = Group {
@@ -421,58 +361,28 @@ pub const BATCH: Group = Group {
 };
 
 /// The fog layer alone (the fog's batch kernel).
-pub const FOG_LAYER: Group = Group {
-    name: "fog_layer",
-    bindings: &[renumbered(FOG, 0)],
-};
+pub const FOG_LAYER: Group = Part::Fog.alone("fog_layer");
 
 /// The sky's parameters and tables alone (the sky's batch kernel).
-pub const SKY_TABLES: Group = Group {
-    name: "sky_tables",
-    bindings: &[
-        renumbered(SKY, 0),
-        renumbered(SKY_TRANSMITTANCE, 1),
-        renumbered(SKY_VIEW, 2),
-    ],
-};
+pub const SKY_TABLES: Group = Part::Sky.alone("sky_tables");
 
 /// The cloud volume's parameters and grids alone (the clouds' batch kernel).
-pub const CLOUD_VOLUME: Group = Group {
-    name: "cloud_volume",
-    bindings: &[
-        renumbered(CLOUDS, 0),
-        renumbered(CLOUD_DENSITY, 1),
-        renumbered(CLOUD_MAX, 2),
-    ],
-};
+pub const CLOUD_VOLUME: Group = Part::Clouds.alone("cloud_volume");
 
 /// Every group, for the include step.
-pub const GROUPS: [Group; 25] = [
+pub const GROUPS: [Group; 12] = [
     FRAME,
     QUEUE,
     FREE_FORMS,
     WORK,
-    SHADING,
-    SHADING_FOG,
-    SHADING_SKY,
-    SHADING_FOG_SKY,
-    SHADING_CLOUDS,
-    SHADING_FOG_CLOUDS,
-    SHADING_SKY_CLOUDS,
-    SHADING_FOG_SKY_CLOUDS,
-    CLOUD_VOLUME,
     TERRAINS,
-    TERRAINS_MESHES,
+    MESHES,
     TARGETS,
     REBASE,
     BATCH,
     FOG_LAYER,
     SKY_TABLES,
-    MESHES,
-    TEXTURES,
-    TERRAINS_TEXTURES,
-    MESHES_TEXTURES,
-    TERRAINS_MESHES_TEXTURES,
+    CLOUD_VOLUME,
 ];
 
 /// The rows of a data texture (an `Rgba32Uint` texture read with `textureLoad`, how the meshes'
@@ -782,7 +692,7 @@ mod tests {
             let whitted = shading(fog, sky, clouds, true);
             assert_eq!(
                 whitted.name,
-                format!("{}_whitted", shading(fog, sky, clouds, false).name)
+                format!("{}+secondaries", shading(fog, sky, clouds, false).name)
             );
             assert_eq!(whitted.bindings.last().map(|b| b.name), Some("secondaries"));
             assert_eq!(shading(fog, sky, clouds, true), whitted, "made once");
@@ -812,28 +722,40 @@ mod tests {
         // The shade pass of a scene with every kind and every medium is at the limits: four
         // groups and eight storage buffers (the meshes' arrays are a texture).
         assert_eq!(MESHES.storage_buffers(), 0);
+        let every_surface = surfaces(true, true, true).unwrap();
         let full = [
             FRAME,
             FREE_FORMS,
             shading(true, true, true, false),
-            TERRAINS_MESHES_TEXTURES,
+            every_surface,
         ];
         assert_eq!(
             full.iter().map(Group::storage_buffers).sum::<u32>(),
             defaults.max_storage_buffers_per_shader_stage
         );
-        // The combined group declares the terrains' and the meshes' bindings under their names.
+        // A composed group declares its parts' bindings under their names, in order, numbered on
+        // from one part to the next.
         let names = |g: Group| g.bindings.iter().map(|b| b.name).collect::<Vec<_>>();
-        let mut both = names(TERRAINS);
-        both.extend(names(MESHES));
-        assert_eq!(names(TERRAINS_MESHES), both);
-        both.extend(names(TEXTURES));
-        assert_eq!(names(TERRAINS_MESHES_TEXTURES), both);
+        let mut all = names(TERRAINS);
+        all.extend(names(MESHES));
+        assert_eq!(names(surfaces(true, true, false).unwrap()), all);
+        all.extend(Part::Textures.bindings().iter().map(|b| b.name));
+        assert_eq!(names(every_surface), all);
+        assert!(
+            every_surface
+                .bindings
+                .iter()
+                .enumerate()
+                .all(|(k, b)| b.binding == k as u32)
+        );
         assert_eq!(surfaces(false, false, false), None);
-        assert_eq!(surfaces(true, false, false), Some(TERRAINS));
+        assert_eq!(
+            surfaces(true, false, false).unwrap().bindings,
+            TERRAINS.bindings
+        );
         // The textures bind no storage buffer, and a scene without them none of their
         // bindings.
-        assert_eq!(TERRAINS_MESHES_TEXTURES.storage_buffers(), 2);
+        assert_eq!(every_surface.storage_buffers(), 2);
         for k in 0..4 {
             let g = surfaces(k & 1 != 0, k & 2 != 0, false);
             assert!(g.is_none_or(|g| g.bindings.iter().all(|b| !b.name.starts_with("texture"))));
@@ -841,18 +763,27 @@ mod tests {
             let names = names(t);
             assert_eq!(&names[names.len() - 2..], ["texture_info", "texture_data"]);
         }
-        // A scene without a medium binds none of its parameters or tables.
-        assert_eq!(shading(false, false, false, false), SHADING);
-        // Every combination is its own group (layouts are cached by name).
+        // A scene without a medium binds none of its parameters or tables: lights and materials.
+        assert_eq!(
+            names(shading(false, false, false, false)),
+            ["lights", "materials"]
+        );
+        // Every combination is its own group (layouts are cached by name), made once.
         let names: std::collections::HashSet<&str> = (0..8)
             .map(|k| shading(k & 1 != 0, k & 2 != 0, k & 4 != 0, false).name)
             .collect();
         assert_eq!(names.len(), 8);
         for k in 0..8 {
             let g = shading(k & 1 != 0, k & 2 != 0, k & 4 != 0, false);
+            assert_eq!(shading(k & 1 != 0, k & 2 != 0, k & 4 != 0, false), g);
             let has = |name: &str| g.bindings.iter().any(|b| b.name == name);
             assert_eq!(has("fog"), k & 1 != 0, "{}", g.name);
-            assert_eq!(has("sky_view_table"), k & 2 != 0, "{}", g.name);
+            assert_eq!(
+                has("sky") && has("sky_transmittance_table") && has("sky_view_table"),
+                k & 2 != 0,
+                "{}",
+                g.name
+            );
             assert_eq!(
                 has("clouds") && has("cloud_density") && has("cloud_max"),
                 k & 4 != 0,
@@ -861,18 +792,5 @@ mod tests {
             );
             assert_eq!(has("cloud_density"), k & 4 != 0, "{}", g.name);
         }
-        assert!(
-            SHADING
-                .bindings
-                .iter()
-                .all(|b| b.name != "fog" && !b.name.starts_with("sky"))
-        );
-        assert!(
-            !SHADING_FOG
-                .bindings
-                .iter()
-                .any(|b| b.name.starts_with("sky"))
-        );
-        assert!(!SHADING_SKY.bindings.iter().any(|b| b.name == "fog"));
     }
 }

@@ -4,7 +4,7 @@
 //! meshes → shading → media (fog, sky, clouds) → resolve into storage textures), and the
 //! textures read back into a [`Frame`].
 
-use crate::bindings::{self, FRAME, FREE_FORMS, MESHES, QUEUE, TARGETS, TERRAINS, WORK};
+use crate::bindings::{self, FRAME, FREE_FORMS, Part, QUEUE, TARGETS, WORK};
 use crate::counters::{self, Counter};
 use crate::params::{self, FrameParams, GpuPath, GpuSecondary, View};
 use crate::passes::band::{Band, BindGroups, Pass, Role};
@@ -219,6 +219,9 @@ struct Targets {
     readback: wgpu::Buffer,
 }
 
+/// The camera's offset from the anchor as the rebase pass takes it: its f32 high and low parts.
+type CameraOffset = ([f32; 4], [f32; 4]);
+
 /// A scene resident on the GPU: render it from any view; a frame from a moved camera re-runs the
 /// quadtree and uploads only the camera, the media's parameters, the mesh instance blocks and the
 /// work list — and, with a sky, its sky-view table when the eye's height changed ([`RenderStats::uploaded_bytes`],
@@ -235,7 +238,7 @@ pub struct GpuScene<'a> {
     targets: Option<Targets>,
     timestamps: Option<Timestamps>,
     /// The camera offset the camera-relative copies hold (`None`: not yet rebased).
-    rebased_for: Option<([f32; 4], [f32; 4])>,
+    rebased_for: Option<CameraOffset>,
     /// The observer radius (f64 bits) the sky-view texture holds the table of (`None`: not yet
     /// written); the table depends on nothing else that moves.
     sky_view_for: Option<u64>,
@@ -407,50 +410,16 @@ impl<'a> GpuScene<'a> {
     /// full (0 without Whitted).
     fn render_frame(&mut self, view: &View) -> Result<(Frame, u64), GpuError> {
         let start = Instant::now();
-        let ctx = &self.renderer.ctx;
-        let (width, height) = (view.width, view.height);
-        if width == 0 || height == 0 {
-            return Err(GpuError::EmptyImage(width, height));
-        }
-        let pixels = u64::from(width) * u64::from(height);
-        let _host_images = self
-            .scene
-            .budget
-            .reserve_elements(
-                format!("the GPU frame's readback and images ({width} × {height} pixels, {HOST_BYTES_PER_PIXEL} bytes each)"),
-                pixels,
-                HOST_BYTES_PER_PIXEL,
-            )
-            .map_err(GpuError::Budget)?;
-        let max_side = ctx.limits.max_texture_dimension_2d;
-        if width.max(height) > max_side {
-            return Err(GpuError::TooLarge {
-                what: "the image's longer side, in pixels (the device's 2D texture limit)",
-                needed: u64::from(width.max(height)),
-                limit: u64::from(max_side),
-            });
-        }
+        let _host_images = self.check_frame(view)?;
         let scene = self.scene;
         let epsilon = gpu_epsilon_for(scene, &view.camera, self.settings.epsilon);
-        let mut uploaded = 0u64;
-        // The work list of this view (with culling, the quadtree over its camera).
-        let work = if self.settings.culling {
-            let config = quadtree_config(view.samples.count(), self.scene.budget.clone());
-            GpuWork::culled(
-                scene,
-                (&view.camera, width, height),
-                &self.resident.flat,
-                &config,
-            )
-            .map_err(|e| GpuError::WorkList(e.to_string()))?
-        } else {
-            GpuWork::everything(scene, &self.resident.flat, (width, height))
-        };
+        let work = self.work_list(view)?;
         self.upload_work(&work)?;
-        uploaded += work.bytes();
-        self.ensure_targets(width, height)?;
+        let mut uploaded = work.bytes();
+        self.ensure_targets(view.width, view.height)?;
         let band_rows = self.band_rows(view)?;
-        let band_rays = u64::from(width) * u64::from(band_rows) * u64::from(view.rays_per_pixel());
+        let band_rays =
+            u64::from(view.width) * u64::from(band_rows) * u64::from(view.rays_per_pixel());
         self.ensure_paths(band_rays)?;
         let mut params = params::frame_params(
             scene,
@@ -464,84 +433,19 @@ impl<'a> GpuScene<'a> {
         params.min_contribution = scene.settings.min_contribution as f32;
         params.queue_capacity = (band_rays * u64::from(self.queue_slots)) as u32;
         params.max_secondary_rays = scene.settings.max_secondary_rays;
-        // This view's media, mesh instances, texture mappings and terrain levels (queue writes,
-        // before the submission below), then the resident scene rebased to this camera if it moved.
+        uploaded += self.write_view(view)?;
+        let clock = PassClock::of(&self.renderer.ctx, self.timestamps.as_ref());
         let mut pass_times = PassTimes::default();
-        uploaded += self.write_media(view);
-        if let Some(m) = &mut self.resident.meshes {
-            // The instance blocks relative to this camera, from f64 (nothing else of the
-            // meshes moves).
-            uploaded += m.move_to(ctx, params::reference_point(&view.camera))?;
-        }
-        if let Some(t) = &mut self.resident.textures {
-            // The mapping blocks and the ramps' reference height for this camera, from f64.
-            uploaded += t.move_to(ctx, params::reference_point(&view.camera));
-        }
-        if let Some(t) = &self.resident.terrains {
-            let footprint = view.camera.pixel_footprint(width, height);
-            let lods = terrain_lods(scene, footprint);
-            ctx.queue
-                .write_buffer(&t.lods, 0, bytemuck::cast_slice(&lods));
-            uploaded += (lods.len() * 16) as u64;
-        }
-        let clock = PassClock::of(ctx, self.timestamps.as_ref());
-        let mut encoder = TimedEncoder::new(ctx, clock);
-        let offset = (params.camera_hi, params.camera_lo);
-        if self.rebased_for != Some(offset) {
-            uploaded += self.passes.rebase.encode(
-                ctx,
-                &mut encoder.pass("rebase")?,
-                &self.resident.rebased(),
-                params.camera_hi,
-                params.camera_lo,
-            );
-            self.resident.copy_tables(encoder.encoder());
-            self.rebased_for = Some(offset);
-        }
-        ctx.queue
-            .write_buffer(&self.buffers.counters, 0, &[0u8; counters::WORDS * 4]);
-        encoder.submit(&mut pass_times)?;
-        let groups = self.bind_groups()?;
-        let rays_per_pixel = view.rays_per_pixel();
-        for y0 in (0..height).step_by(band_rows as usize) {
-            let rows = band_rows.min(height - y0);
-            let items = work.band(y0, y0 + rows);
-            params.band_y0 = y0;
-            params.band_rows = rows;
-            params.items = items.len() as u32;
-            params.first_item = work.items.partition_point(|it| it.y0 < y0) as u32;
-            ctx.queue
-                .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
-            uploaded += std::mem::size_of::<FrameParams>() as u64;
-            if self.specialisation.whitted {
-                // An empty queue at level 0 for this band.
-                let at = (counters::QUEUE_TOP * 4) as u64;
-                ctx.queue.write_buffer(
-                    &self.buffers.counters,
-                    at,
-                    &[0u8; counters::QUEUE_WORDS * 4],
-                );
-            }
-            let mut band = TimedEncoder::new(ctx, clock);
-            let rays = width * rows * rays_per_pixel;
-            self.encode_band(&mut band, &groups, (width, rows, rays), items.len() as u32)?;
-            band.submit(&mut pass_times)?;
-        }
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("counters"),
-            });
-        encoder.copy_buffer_to_buffer(
-            &self.buffers.counters,
-            0,
-            &self.buffers.counters_readback,
-            0,
-            (counters::WORDS * 4) as u64,
-        );
-        ctx.queue.submit([encoder.finish()]);
+        let (rebase_bytes, rebased_for) = self.rebase_to(&params, clock, &mut pass_times)?;
+        uploaded += rebase_bytes;
+        uploaded +=
+            self.encode_bands(view, &work, &mut params, band_rows, clock, &mut pass_times)?;
+        self.copy_counters();
+        let timed = clock.times();
+        self.rebased_for = rebased_for;
         // The host's part of the frame: up to its last submission, less the waits for timings.
         let encode_time = start.elapsed().saturating_sub(pass_times.waited());
+        let ctx = &self.renderer.ctx;
         let words: Vec<u32> = read_back(
             &ctx.device,
             &self.buffers.counters_readback,
@@ -561,6 +465,194 @@ impl<'a> GpuScene<'a> {
                 }
             });
         }
+        let mut stats = self.frame_stats(view, &work, &words, epsilon);
+        stats.elapsed = start.elapsed();
+        stats.kernel_time = timed.then(|| pass_times.total());
+        stats.pass_times = pass_times.into_stats();
+        stats.encode_time = encode_time;
+        stats.uploaded_bytes += uploaded;
+        let overflows = Counter::QueueOverflows.read(&words);
+        Ok((
+            Frame {
+                colour,
+                depth,
+                normals,
+                stats,
+            },
+            overflows,
+        ))
+    }
+
+    /// Refuses a frame this backend cannot make — an empty image, host images past the memory
+    /// budget, a side past the device's 2D texture limit —; returns the host images' charge.
+    fn check_frame(&self, view: &View) -> Result<fray_core::Reservation, GpuError> {
+        let (width, height) = (view.width, view.height);
+        if width == 0 || height == 0 {
+            return Err(GpuError::EmptyImage(width, height));
+        }
+        let pixels = u64::from(width) * u64::from(height);
+        let host_images = self
+            .scene
+            .budget
+            .reserve_elements(
+                format!("the GPU frame's readback and images ({width} × {height} pixels, {HOST_BYTES_PER_PIXEL} bytes each)"),
+                pixels,
+                HOST_BYTES_PER_PIXEL,
+            )
+            .map_err(GpuError::Budget)?;
+        let max_side = self.renderer.ctx.limits.max_texture_dimension_2d;
+        if width.max(height) > max_side {
+            return Err(GpuError::TooLarge {
+                what: "the image's longer side, in pixels (the device's 2D texture limit)",
+                needed: u64::from(width.max(height)),
+                limit: u64::from(max_side),
+            });
+        }
+        Ok(host_images)
+    }
+
+    /// The work list of `view` (with culling, the quadtree over its camera).
+    fn work_list(&self, view: &View) -> Result<GpuWork, GpuError> {
+        let scene = self.scene;
+        let size = (view.width, view.height);
+        if self.settings.culling {
+            let config = quadtree_config(view.samples.count(), scene.budget.clone());
+            GpuWork::culled(
+                scene,
+                (&view.camera, size.0, size.1),
+                &self.resident.flat,
+                &config,
+            )
+            .map_err(|e| GpuError::WorkList(e.to_string()))
+        } else {
+            Ok(GpuWork::everything(scene, &self.resident.flat, size))
+        }
+    }
+
+    /// This view's media, mesh instances, texture mappings and terrain levels (queue writes,
+    /// before the frame's first submission); returns the bytes written.
+    fn write_view(&mut self, view: &View) -> Result<u64, GpuError> {
+        let ctx = &self.renderer.ctx;
+        let mut uploaded = self.write_media(view);
+        let reference = params::reference_point(&view.camera);
+        if let Some(m) = &mut self.resident.meshes {
+            // The instance blocks relative to this camera, from f64 (nothing else of the
+            // meshes moves).
+            uploaded += m.move_to(ctx, reference)?;
+        }
+        if let Some(t) = &mut self.resident.textures {
+            // The mapping blocks and the ramps' reference height for this camera, from f64.
+            uploaded += t.move_to(ctx, reference);
+        }
+        if let Some(t) = &self.resident.terrains {
+            let footprint = view.camera.pixel_footprint(view.width, view.height);
+            let lods = terrain_lods(self.scene, footprint);
+            ctx.queue
+                .write_buffer(&t.lods, 0, bytemuck::cast_slice(&lods));
+            uploaded += (lods.len() * 16) as u64;
+        }
+        Ok(uploaded)
+    }
+
+    /// The resident scene rebased to this camera if it moved, and the counters zeroed, in one
+    /// submission; returns the bytes the rebase wrote and the camera offset it is now at.
+    fn rebase_to(
+        &self,
+        params: &FrameParams,
+        clock: PassClock<'_>,
+        pass_times: &mut PassTimes,
+    ) -> Result<(u64, Option<CameraOffset>), GpuError> {
+        let ctx = &self.renderer.ctx;
+        let mut encoder = TimedEncoder::new(ctx, clock);
+        let offset = (params.camera_hi, params.camera_lo);
+        let mut uploaded = 0;
+        if self.rebased_for != Some(offset) {
+            uploaded += self.passes.rebase.encode(
+                ctx,
+                &mut encoder.pass("rebase")?,
+                &self.resident.rebased(),
+                params.camera_hi,
+                params.camera_lo,
+            );
+            self.resident.copy_tables(encoder.encoder());
+        }
+        ctx.queue
+            .write_buffer(&self.buffers.counters, 0, &[0u8; counters::WORDS * 4]);
+        encoder.submit(pass_times)?;
+        Ok((uploaded, Some(offset)))
+    }
+
+    /// Encodes and submits the frame's bands of `band_rows` rows, each with its parameters;
+    /// returns the bytes written.
+    fn encode_bands(
+        &self,
+        view: &View,
+        work: &GpuWork,
+        params: &mut FrameParams,
+        band_rows: u32,
+        clock: PassClock<'_>,
+        pass_times: &mut PassTimes,
+    ) -> Result<u64, GpuError> {
+        let ctx = &self.renderer.ctx;
+        let groups = self.bind_groups()?;
+        let (width, height) = (view.width, view.height);
+        let mut uploaded = 0;
+        for y0 in (0..height).step_by(band_rows as usize) {
+            let rows = band_rows.min(height - y0);
+            let items = work.band(y0, y0 + rows);
+            params.band_y0 = y0;
+            params.band_rows = rows;
+            params.items = items.len() as u32;
+            params.first_item = work.items.partition_point(|it| it.y0 < y0) as u32;
+            ctx.queue
+                .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
+            uploaded += std::mem::size_of::<FrameParams>() as u64;
+            if self.specialisation.whitted {
+                // An empty queue at level 0 for this band.
+                let at = (counters::QUEUE_TOP * 4) as u64;
+                ctx.queue.write_buffer(
+                    &self.buffers.counters,
+                    at,
+                    &[0u8; counters::QUEUE_WORDS * 4],
+                );
+            }
+            let mut band = TimedEncoder::new(ctx, clock);
+            let rays = width * rows * view.rays_per_pixel();
+            self.encode_band(&mut band, &groups, (width, rows, rays), items.len() as u32)?;
+            band.submit(pass_times)?;
+        }
+        Ok(uploaded)
+    }
+
+    /// Copies the counters to their readback buffer (a submission of its own, after the bands).
+    fn copy_counters(&self) {
+        let ctx = &self.renderer.ctx;
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("counters"),
+            });
+        encoder.copy_buffer_to_buffer(
+            &self.buffers.counters,
+            0,
+            &self.buffers.counters_readback,
+            0,
+            (counters::WORDS * 4) as u64,
+        );
+        ctx.queue.submit([encoder.finish()]);
+    }
+
+    /// The frame's statistics from its counters (`words`) and work list; what the passes timed
+    /// and the frame uploaded the caller adds.
+    fn frame_stats(
+        &mut self,
+        view: &View,
+        work: &GpuWork,
+        words: &[u32],
+        epsilon: f64,
+    ) -> RenderStats {
+        let ctx = &self.renderer.ctx;
+        let scene = self.scene;
         let (pipelines_built, pipeline_build_time) = {
             let (n, t) = std::mem::take(&mut self.pending_pipelines);
             let (m, u) = self.renderer.cache.take_built();
@@ -596,29 +688,26 @@ impl<'a> GpuScene<'a> {
                 self.queue_slots
             ));
         }
+        let pixels = u64::from(view.width) * u64::from(view.height);
         let mut stats = RenderStats {
             backend: format!("gpu ({}, {})", ctx.adapter_name, ctx.backend),
             threads: 1,
-            primary_rays: pixels * u64::from(rays_per_pixel),
-            shadow_rays: Counter::ShadowRays.read(&words),
-            hits: Counter::Hits.read(&words),
-            bound_evaluations: Counter::BoundEvaluations.read(&words),
-            point_evaluations: Counter::PointEvaluations.read(&words),
+            primary_rays: pixels * u64::from(view.rays_per_pixel()),
+            shadow_rays: Counter::ShadowRays.read(words),
+            hits: Counter::Hits.read(words),
+            bound_evaluations: Counter::BoundEvaluations.read(words),
+            point_evaluations: Counter::PointEvaluations.read(words),
             epsilon,
             passes,
-            elapsed: start.elapsed(),
-            kernel_time: clock.times().then(|| pass_times.total()),
-            pass_times: pass_times.into_stats(),
-            encode_time,
-            terrain_rays: Counter::TerrainRays.read(&words),
-            terrain_segments: Counter::TerrainSegments.read(&words),
-            terrain_cells: Counter::TerrainCells.read(&words),
-            terrain_stops: Counter::TerrainStops.read(&words),
-            terrain_stop_levels: Counter::TerrainStopLevels.read(&words),
-            cloud_samples: Counter::CloudSamples.read(&words),
-            mesh_rays: Counter::MeshRays.read(&words),
-            secondary_rays: Counter::SecondaryRays.read(&words),
-            uploaded_bytes: uploaded + scene_uploaded,
+            terrain_rays: Counter::TerrainRays.read(words),
+            terrain_segments: Counter::TerrainSegments.read(words),
+            terrain_cells: Counter::TerrainCells.read(words),
+            terrain_stops: Counter::TerrainStops.read(words),
+            terrain_stop_levels: Counter::TerrainStopLevels.read(words),
+            cloud_samples: Counter::CloudSamples.read(words),
+            mesh_rays: Counter::MeshRays.read(words),
+            secondary_rays: Counter::SecondaryRays.read(words),
+            uploaded_bytes: scene_uploaded,
             scene_uploaded_bytes: scene_uploaded,
             pipelines_built,
             pipeline_build_time,
@@ -629,16 +718,7 @@ impl<'a> GpuScene<'a> {
             stats.cells_culled = w.cells_culled;
             stats.work_items = w.items;
         }
-        let overflows = Counter::QueueOverflows.read(&words);
-        Ok((
-            Frame {
-                colour,
-                depth,
-                normals,
-                stats,
-            },
-            overflows,
-        ))
+        stats
     }
 
     /// Encodes one band's passes (`width × rows` pixels, `rays` camera rays, `items` work
@@ -910,95 +990,33 @@ impl<'a> GpuScene<'a> {
                 b.indices.as_entire_binding(),
             ],
         );
-        // The lights and materials with the scene's media (`bindings::shading`), in its order.
+        // The groups made of parts — lights and media, the kinds' — from what the resident scene
+        // has, in the order `bindings` composes them for the modules.
         let whitted = self.specialisation.whitted;
-        let shading_group = bindings::shading(
+        let views = r.part_views();
+        let bind_parts = |parts: &[Part]| {
+            let group = bindings::group_of(parts);
+            let resources: Vec<wgpu::BindingResource<'_>> = parts
+                .iter()
+                .flat_map(|&part| r.part_resources(part, &views, &b.secondaries))
+                .collect();
+            group.bind(device, &cache.layout(ctx, &group), &resources)
+        };
+        let shading = bind_parts(&bindings::shading_parts(
             r.fog.is_some(),
             r.sky.is_some(),
             r.clouds.is_some(),
             whitted,
-        );
-        let sky_views = r.sky.as_ref().map(|s| {
-            (
-                crate::resident::sky::view(&s.transmittance),
-                crate::resident::sky::view(&s.view),
-            )
-        });
-        let mut resources = vec![
-            r.lights_table.as_entire_binding(),
-            r.materials.as_entire_binding(),
-        ];
-        if let Some(fog) = &r.fog {
-            resources.push(fog.as_entire_binding());
-        }
-        if let (Some(sky), Some((transmittance, sky_view))) = (&r.sky, &sky_views) {
-            resources.extend([
-                sky.params.as_entire_binding(),
-                wgpu::BindingResource::TextureView(transmittance),
-                wgpu::BindingResource::TextureView(sky_view),
-            ]);
-        }
-        let cloud_views = r.clouds.as_ref().map(|c| c.textures.views());
-        if let (Some(clouds), Some((density, max))) = (&r.clouds, &cloud_views) {
-            resources.extend([
-                clouds.params.as_entire_binding(),
-                wgpu::BindingResource::TextureView(density),
-                wgpu::BindingResource::TextureView(max),
-            ]);
-        }
-        if whitted {
-            // Last: after every medium's bindings (`bindings::shading`).
-            resources.push(b.secondaries.as_entire_binding());
-        }
-        let shading = shading_group.bind(device, &cache.layout(ctx, &shading_group), &resources);
-        let terrain_resources = r.terrains.as_ref().map(|t| {
-            [
-                t.table.as_entire_binding(),
-                t.lods.as_entire_binding(),
-                t.pyramid.as_entire_binding(),
-                t.samples.as_entire_binding(),
-            ]
-        });
-        let terrains = terrain_resources
-            .as_ref()
-            .map(|res| TERRAINS.bind(device, &cache.layout(ctx, &TERRAINS), res));
-        let mesh_view = r.meshes.as_ref().map(|m| m.buffers.view());
-        let mesh_resources = r.meshes.as_ref().zip(mesh_view.as_ref()).map(|(m, view)| {
-            [
-                m.buffers.info.as_entire_binding(),
-                wgpu::BindingResource::TextureView(view),
-            ]
-        });
-        let meshes = mesh_resources
-            .as_ref()
-            .map(|res| MESHES.bind(device, &cache.layout(ctx, &MESHES), res));
-        let texture_view = r.textures.as_ref().map(|t| t.view());
-        let texture_resources = r
-            .textures
-            .as_ref()
-            .zip(texture_view.as_ref())
-            .map(|(t, v)| {
-                [
-                    t.info.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(v),
-                ]
-            });
+        ));
+        let terrains = r.terrains.is_some().then(|| bind_parts(&[Part::Terrains]));
+        let meshes = r.meshes.is_some().then(|| bind_parts(&[Part::Meshes]));
         // The shade pass's fourth group: the terrains', the meshes' and the textures' in one.
-        let kinds = (
+        let surface_parts = bindings::surface_parts(
             r.terrains.is_some(),
             r.meshes.is_some(),
             r.textures.is_some(),
         );
-        let surfaces = bindings::surfaces(kinds.0, kinds.1, kinds.2).map(|g| {
-            let resources: Vec<wgpu::BindingResource<'_>> = terrain_resources
-                .iter()
-                .flatten()
-                .chain(mesh_resources.iter().flatten())
-                .chain(texture_resources.iter().flatten())
-                .cloned()
-                .collect();
-            g.bind(device, &cache.layout(ctx, &g), &resources)
-        });
+        let surfaces = (!surface_parts.is_empty()).then(|| bind_parts(&surface_parts));
         let work = WORK.bind(
             device,
             &cache.layout(ctx, &WORK),

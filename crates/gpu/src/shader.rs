@@ -894,7 +894,7 @@ mod tests {
         );
         assert_eq!(
             module_groups("shade.wgsl", &options).unwrap()[3],
-            bindings::TERRAINS_MESHES
+            bindings::group_of(&[bindings::Part::Terrains, bindings::Part::Meshes])
         );
         for (terrain, group) in [(true, Some(bindings::TERRAINS)), (false, None)] {
             let plain = ModuleOptions {
@@ -1030,11 +1030,16 @@ mod tests {
         };
         assert_eq!(
             module_groups("shade.wgsl", &plain).unwrap()[2],
-            bindings::SHADING
+            bindings::group_of(&[bindings::Part::Lighting])
         );
         assert_eq!(
             module_groups("media.wgsl", &options).unwrap()[1],
-            bindings::SHADING_FOG_SKY_CLOUDS
+            bindings::group_of(&[
+                bindings::Part::Lighting,
+                bindings::Part::Fog,
+                bindings::Part::Sky,
+                bindings::Part::Clouds
+            ])
         );
         assert_eq!(
             module_groups(
@@ -1045,7 +1050,11 @@ mod tests {
                 }
             )
             .unwrap()[1],
-            bindings::SHADING_FOG_SKY
+            bindings::group_of(&[
+                bindings::Part::Lighting,
+                bindings::Part::Fog,
+                bindings::Part::Sky
+            ])
         );
         // And the textures': with them shade reads the texture data through the surfaces
         // group (alone for free forms only, after the terrains' and the meshes' bindings), with
@@ -1066,7 +1075,11 @@ mod tests {
         );
         assert_eq!(
             module_groups("shade.wgsl", &textured).unwrap()[3],
-            bindings::TERRAINS_MESHES_TEXTURES
+            bindings::group_of(&[
+                bindings::Part::Terrains,
+                bindings::Part::Meshes,
+                bindings::Part::Textures
+            ])
         );
         let free_forms_textured = ModuleOptions {
             terrain: false,
@@ -1081,7 +1094,7 @@ mod tests {
         );
         assert_eq!(
             module_groups("shade.wgsl", &free_forms_textured).unwrap()[3],
-            bindings::TEXTURES
+            bindings::group_of(&[bindings::Part::Textures])
         );
         for entry in ENTRY_MODULES {
             let source = compose(entry, &options).unwrap();

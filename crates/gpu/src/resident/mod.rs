@@ -16,6 +16,7 @@ pub mod meshes;
 pub mod sky;
 pub mod terrains;
 
+use crate::bindings::Part;
 use crate::params::{self, GpuLight, GpuMaterial};
 use crate::passes::PipelineCache;
 use crate::passes::rebase::{RebaseLayout, Rebased};
@@ -89,6 +90,15 @@ pub struct ResidentSky {
     /// The sky-view table of the eye's height (`Sky::view`), written when that height changes:
     /// it depends neither on the eye's horizontal position nor on where the camera looks.
     pub view: wgpu::Texture,
+}
+
+/// The texture views of the resident scene's parts, where it has them.
+#[derive(Debug)]
+pub struct PartViews {
+    sky: Option<(wgpu::TextureView, wgpu::TextureView)>,
+    clouds: Option<(wgpu::TextureView, wgpu::TextureView)>,
+    meshes: Option<wgpu::TextureView>,
+    textures: Option<wgpu::TextureView>,
 }
 
 /// The clouds on the GPU.
@@ -328,6 +338,74 @@ impl ResidentScene {
     /// The device memory its buffers and textures were charged to the render's budget for.
     pub fn device_bytes(&self) -> u64 {
         self.charges.bytes()
+    }
+
+    /// The texture views its parts bind (made for each set of bind groups).
+    pub fn part_views(&self) -> PartViews {
+        PartViews {
+            sky: self
+                .sky
+                .as_ref()
+                .map(|s| (sky::view(&s.transmittance), sky::view(&s.view))),
+            clouds: self.clouds.as_ref().map(|c| c.textures.views()),
+            meshes: self.meshes.as_ref().map(|m| m.buffers.view()),
+            textures: self.textures.as_ref().map(|t| t.view()),
+        }
+    }
+
+    /// The resources of `part`, in the order of its bindings (`bindings::Part::bindings`);
+    /// `secondaries` is Whitted's records (a frame buffer). A part the scene lacks has none —
+    /// the groups are made of the parts it has.
+    pub fn part_resources<'a>(
+        &'a self,
+        part: Part,
+        views: &'a PartViews,
+        secondaries: &'a wgpu::Buffer,
+    ) -> Vec<wgpu::BindingResource<'a>> {
+        use wgpu::BindingResource::TextureView;
+        match part {
+            Part::Lighting => vec![
+                self.lights_table.as_entire_binding(),
+                self.materials.as_entire_binding(),
+            ],
+            Part::Fog => self.fog.iter().map(|f| f.as_entire_binding()).collect(),
+            Part::Sky => match (&self.sky, &views.sky) {
+                (Some(s), Some((transmittance, view))) => vec![
+                    s.params.as_entire_binding(),
+                    TextureView(transmittance),
+                    TextureView(view),
+                ],
+                _ => Vec::new(),
+            },
+            Part::Clouds => match (&self.clouds, &views.clouds) {
+                (Some(c), Some((density, max))) => vec![
+                    c.params.as_entire_binding(),
+                    TextureView(density),
+                    TextureView(max),
+                ],
+                _ => Vec::new(),
+            },
+            Part::Secondaries => vec![secondaries.as_entire_binding()],
+            Part::Terrains => match &self.terrains {
+                Some(t) => vec![
+                    t.table.as_entire_binding(),
+                    t.lods.as_entire_binding(),
+                    t.pyramid.as_entire_binding(),
+                    t.samples.as_entire_binding(),
+                ],
+                None => Vec::new(),
+            },
+            Part::Meshes => match (&self.meshes, &views.meshes) {
+                (Some(m), Some(view)) => {
+                    vec![m.buffers.info.as_entire_binding(), TextureView(view)]
+                }
+                _ => Vec::new(),
+            },
+            Part::Textures => match (&self.textures, &views.textures) {
+                (Some(t), Some(view)) => vec![t.info.as_entire_binding(), TextureView(view)],
+                _ => Vec::new(),
+            },
+        }
     }
 
     /// Every array the rebase pass moves.
