@@ -461,13 +461,13 @@ fn all_parts(si: u32) -> Parts {
     return parts;
 }
 
-// Whether any solid lies on the ray within [0, distance] (shadow rays: whole solids, the search's
-// any-hit form).
-fn occluded_by_solids(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+// Whether any of the first `count` solids lies on the ray within [lo, hi] (shadow rays: whole
+// solids over [0, distance], the search's any-hit form).
+fn occluded_by_solids(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, eps: f32, count: u32) -> bool {
     search_any = true;
     var blocked = false;
-    for (var si = 0u; si < frame.solids; si++) {
-        if cast_solid(si, all_parts(si), o, d, 0.0, distance, eps) >= 0.0 {
+    for (var si = 0u; si < count; si++) {
+        if cast_solid(si, all_parts(si), o, d, lo, hi, eps) >= 0.0 {
             blocked = true;
             break;
         }

@@ -44,7 +44,7 @@ fn transmittance(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> vec3<f3
     if whitted_transmits() {
         return whitted_transmittance(o, d, distance, eps);
     }
-    if HAS_FREE_FORMS && occluded_by_solids(o, d, distance, eps) {
+    if HAS_FREE_FORMS && occluded_by_solids(o, d, 0.0, distance, eps, frame.solids) {
         return vec3<f32>(0.0);
     }
     if occluded_by_terrains(o, d, distance, eps) {

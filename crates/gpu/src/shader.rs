@@ -25,7 +25,7 @@ use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/` (the crate's
 /// `shaders` is a link to the repository's, so a packaged crate holds them too).
-pub const SHADER_FILES: [(&str, &str); 62] = [
+pub const SHADER_FILES: [(&str, &str); 63] = [
     ("batch.wgsl", include_str!("../shaders/batch.wgsl")),
     ("camera.wgsl", include_str!("../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../shaders/clouds.wgsl")),
@@ -46,6 +46,10 @@ pub const SHADER_FILES: [(&str, &str); 62] = [
     ("decay.wgsl", include_str!("../shaders/decay.wgsl")),
     ("fog.wgsl", include_str!("../shaders/fog.wgsl")),
     ("fog_batch.wgsl", include_str!("../shaders/fog_batch.wgsl")),
+    (
+        "freeform_batch.wgsl",
+        include_str!("../shaders/freeform_batch.wgsl"),
+    ),
     ("fog_media.wgsl", include_str!("../shaders/fog_media.wgsl")),
     (
         "fog_shading.wgsl",
@@ -184,7 +188,7 @@ pub const SHADER_FILES: [(&str, &str); 62] = [
 ];
 
 /// The entry modules, one per pass (`passes::*`) and one per batch kernel (`testing::KERNELS`).
-pub const ENTRY_MODULES: [&str; 18] = [
+pub const ENTRY_MODULES: [&str; 19] = [
     "queue_forward.wgsl",
     "queue_level.wgsl",
     "queue_gather.wgsl",
@@ -198,6 +202,7 @@ pub const ENTRY_MODULES: [&str; 18] = [
     "media.wgsl",
     "resolve.wgsl",
     "rebase.wgsl",
+    "freeform_batch.wgsl",
     "terrain_batch.wgsl",
     "fog_batch.wgsl",
     "sky_batch.wgsl",

@@ -1,0 +1,553 @@
+//! One ray-by-ray suite, written once and run by both backends (as fidget runs one suite against
+//! every evaluator): each backend answers the same rays — nearest hit, its normal, the any-hit
+//! answer over the same range — and each answer is checked against an **independent reference**,
+//! not against the other backend: the solids' own function `F` (`Solid::eval`, inside where
+//! `F ≥ 0`) sampled in f64 along the ray (2048 samples per box diagonal of each solid), every sign
+//! change refined by bisection to 1e-12 — no interval bound, closed form or search of either
+//! caster. (The CPU caster's full contract, every span at least `ε` thick found, is proven
+//! against a double-double reference in `fray-geometry`'s accuracy tests.)
+//!
+//! A backend states its bounds ([`Bounds`]): `depth(t)`, how far its hit may be from where the
+//! reference's first inside span begins, and `sliver(t)`, the thickness of a span it may step
+//! over (the CPU's contract: every span at least `ε` long is found; the GPU's leaves are not
+//! widened by their f32 rounding, so grazing rays may miss a span a few `ε_gpu` thick). The
+//! checks, per ray:
+//! - **hit**: no reference span at least `sliver` thick (and not grazed) begins more than
+//!   `depth / |cos θ|` before it, and
+//!   the point is within `depth / |cos θ|` of an inside point (a reference span, or `F ≥ 0` at one of 64
+//!   points around it: the reference's sampling may step over a sliver the backend found);
+//! - **miss**: every reference span is thinner than `sliver` or entered at a grazing angle
+//!   (`|cos θ| < 0.05` to the surface: a ray that runs just inside a surface for a long way);
+//! - **normal**: within `normal` of the reference's (`Solid::surface_at` at the reference hit),
+//!   where both points have the same deciding leaf and the surface is not grazed;
+//! - **any hit**: true wherever the nearest hit is outside a grazed span, and wherever a span the
+//!   backend must find lies on the range.
+//!
+//! Cases: camera rays of the free-form data scenes (`csg.ron`, `turboprop.ron`), grazing rays
+//! (along the tangent plane at each hit, just outside the surface), and far rays (the camera
+//! rays started 10⁴ back along themselves: long `t`, f32 positions far from the reference on the
+//! GPU). The case counts are printed. The GPU runs in f32 relative to the camera
+//! (`fray_gpu::testing::FreeFormBatch`), the CPU in f64 (`fray_geometry::RayCaster`).
+//!
+//! Uses the libtest-mimic harness: the GPU's run is ignored without an adapter and a failure
+//! under `FRAY_REQUIRE_GPU=1`; the CPU's always runs.
+
+mod common;
+
+use fray_core::{Interval, Ray};
+use fray_geometry::{CastStats, RayCaster, Solid};
+use fray_gpu::testing::{FreeFormBatch, GpuRay};
+use fray_scene::Scene;
+use glam::DVec3;
+use std::path::Path;
+
+/// One ray of a case: world space, unit direction, over `range`.
+#[derive(Clone, Copy, Debug)]
+struct CaseRay {
+    ray: Ray,
+    range: Interval,
+}
+
+/// What a backend found on a ray.
+#[derive(Clone, Copy, Debug)]
+struct Answer {
+    /// The nearest hit's distance, `None` for a miss.
+    t: Option<f64>,
+    /// The outward unit normal there (zero for a miss).
+    normal: DVec3,
+    /// The any-hit answer over the same range.
+    any: bool,
+}
+
+/// What a backend holds its answers to, against the reference.
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    /// How far (world units) a hit may be from where the reference's first span begins, at `t`.
+    depth: fn(f64, &Tolerance) -> f64,
+    /// The thickness of a span the backend may step over, at `t`.
+    sliver: fn(f64, &Tolerance) -> f64,
+    /// How far its unit normal may be from the reference's.
+    normal: f64,
+}
+
+/// The tolerances a case is cast with: the scene's ε and the GPU's (`fray_gpu::gpu_epsilon`).
+#[derive(Clone, Copy, Debug)]
+struct Tolerance {
+    eps: f64,
+    eps_gpu: f64,
+}
+
+/// A backend of the suite.
+trait Backend {
+    fn name(&self) -> &'static str;
+    fn bounds(&self) -> Bounds;
+    /// Nearest hit over `solids`, its normal and the any-hit answer, for each ray; `reference`
+    /// is the point a backend that works relative to one (the GPU) takes positions from.
+    fn free_forms(
+        &self,
+        solids: &[&Solid],
+        reference: DVec3,
+        rays: &[CaseRay],
+        tol: &Tolerance,
+    ) -> Vec<Answer>;
+}
+
+/// The f64 CPU backend: `fray_geometry::RayCaster` at the scene's ε.
+struct Cpu;
+
+impl Backend for Cpu {
+    fn name(&self) -> &'static str {
+        "cpu"
+    }
+
+    fn bounds(&self) -> Bounds {
+        Bounds {
+            // The caster's contract: never past a span at least ε long by more than ε, up to the
+            // f64 rounding of `F` it widens every leaf by (which the reference's own evaluation
+            // shares), conditioned by the gradient along the ray. The rounding grows with the
+            // terms, as the square of the distance from a quadric's origin and faster for a
+            // perturbation's cube: measured up to 2.6e-9·t near the camera and 1.4e-2 at t = 10⁴
+            // (turboprop's far rays: 1.4e-14·t³).
+            depth: |t, tol| tol.eps + 1e-8 * t + 2e-14 * t * t * t,
+            sliver: |t, tol| tol.eps + 1e-8 * t + 2e-14 * t * t * t,
+            normal: 1e-6,
+        }
+    }
+
+    fn free_forms(
+        &self,
+        solids: &[&Solid],
+        _reference: DVec3,
+        rays: &[CaseRay],
+        tol: &Tolerance,
+    ) -> Vec<Answer> {
+        let mut caster = RayCaster::new();
+        let mut stats = CastStats::default();
+        rays.iter()
+            .map(|r| {
+                let mut best: Option<(f64, usize)> = None;
+                for (k, solid) in solids.iter().enumerate() {
+                    let range = Interval::new(r.range.lo, best.map_or(r.range.hi, |b| b.0));
+                    let hit = caster.cast(solid, &r.ray, range, tol.eps, &mut stats);
+                    if let Some(t) = hit.filter(|&t| best.is_none_or(|b| t < b.0)) {
+                        best = Some((t, k));
+                    }
+                }
+                let normal = best.map_or(DVec3::ZERO, |(t, k)| {
+                    solids[k].surface_at(r.ray.at(t), -r.ray.dir).0
+                });
+                let any = solids
+                    .iter()
+                    .any(|s| caster.occludes(s, &r.ray, r.range, tol.eps, None, &mut stats));
+                Answer {
+                    t: best.map(|b| b.0),
+                    normal,
+                    any,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The GPU backend: `freeform.wgsl` in f32, positions relative to the case's reference point
+/// (the camera), at the GPU's ε (`fray_gpu::gpu_epsilon`).
+struct Gpu {
+    renderer: fray_gpu::GpuRenderer,
+}
+
+impl Backend for Gpu {
+    fn name(&self) -> &'static str {
+        "gpu"
+    }
+
+    fn bounds(&self) -> Bounds {
+        Bounds {
+            // The frames' depth bound (tests/parity.rs): DEPTH_REL·t + 4·ε_gpu.
+            depth: |t, tol| 2e-5 * t + 4.0 * tol.eps_gpu,
+            sliver: |t, tol| 2e-5 * t + 4.0 * tol.eps_gpu,
+            // f32 gradients: measured up to 6.7e-5 on csg's quadrics, 1.6e-2 on the turboprop's
+            // perturbations (cubic terms cancelling near their support's edge).
+            normal: 2e-2,
+        }
+    }
+
+    fn free_forms(
+        &self,
+        solids: &[&Solid],
+        reference: DVec3,
+        rays: &[CaseRay],
+        tol: &Tolerance,
+    ) -> Vec<Answer> {
+        let ctx = self.renderer.context();
+        let batch = FreeFormBatch::new(ctx, solids, reference).unwrap_or_else(|e| panic!("{e}"));
+        let f = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
+        let gpu_rays: Vec<GpuRay> = rays
+            .iter()
+            .map(|r| {
+                let o = f(r.ray.origin - reference);
+                let d = f(r.ray.dir);
+                let hi = r.range.hi.min(1e30) as f32;
+                [
+                    [o[0], o[1], o[2], r.range.lo as f32],
+                    [d[0], d[1], d[2], hi],
+                ]
+            })
+            .collect();
+        let hits = batch
+            .cast(ctx, &gpu_rays, tol.eps_gpu as f32)
+            .unwrap_or_else(|e| panic!("{e}"));
+        hits.iter()
+            .map(|h| Answer {
+                t: h.is_hit().then_some(f64::from(h.t)),
+                normal: DVec3::from(h.normal.map(f64::from)),
+                any: h.any_hit,
+            })
+            .collect()
+    }
+}
+
+/// The reference's inside spans of the union of `solids` on `r`: `F` sampled over each solid's
+/// box interval at `SAMPLES` per box diagonal (or `step`, if coarser), each sign change refined
+/// by bisection: every span thicker than the step is found.
+fn reference_spans(solids: &[&Solid], r: &CaseRay, step: f64) -> Vec<(f64, f64)> {
+    const SAMPLES: f64 = 2048.0;
+    let mut spans = Vec::new();
+    for solid in solids {
+        let bounds = solid.bounds();
+        let Some(range) = bounds.clip_ray(&r.ray, r.range) else {
+            continue;
+        };
+        let f = |t: f64| solid.eval(r.ray.at(t));
+        let step = step.max(bounds.diagonal() / SAMPLES);
+        let n = ((range.hi - range.lo) / step).ceil().max(1.0) as usize;
+        let h = (range.hi - range.lo) / n as f64;
+        let mut prev = (range.lo, f(range.lo));
+        let mut entry = (prev.1 >= 0.0).then_some(range.lo);
+        for k in 1..=n {
+            let t = if k == n {
+                range.hi
+            } else {
+                range.lo + h * k as f64
+            };
+            let v = f(t);
+            if (v >= 0.0) != (prev.1 >= 0.0) {
+                let edge = bisect(&f, prev.0, t);
+                match entry.take() {
+                    Some(a) => spans.push((a, edge)),
+                    None => entry = Some(edge),
+                }
+            }
+            prev = (t, v);
+        }
+        if let Some(a) = entry {
+            spans.push((a, range.hi));
+        }
+    }
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    spans
+}
+
+/// Where `f` changes sign in `[a, b]` (it does at the ends), to 1e-12 relative.
+fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let inside_a = f(a) >= 0.0;
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b || (b - a) <= 1e-12 * b.abs().max(1.0) {
+            break;
+        }
+        if (f(m) >= 0.0) == inside_a {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    // The first inside point of the pair.
+    if inside_a { a } else { b }
+}
+
+/// A case: solids, the point the rays are relative to on a backend that needs one, the rays.
+struct Case {
+    name: String,
+    /// Whether normals are checked: not on the far rays, whose f32 positions 10⁴ from the
+    /// camera leave the GPU's normals to the pixel footprint (the frames' colour bound covers
+    /// them).
+    normals: bool,
+    solids: Vec<Solid>,
+    reference: DVec3,
+    rays: Vec<CaseRay>,
+    tol: Tolerance,
+}
+
+fn data_scene(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/scenes")
+        .join(name);
+    fray_scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// The camera rays of `name` on a `width`-wide grid, the grazing rays at their CPU hits, and the
+/// same camera rays started 10⁴ back.
+fn cases(name: &str, width: u32) -> Vec<Case> {
+    let scene = data_scene(name);
+    let height = (u64::from(scene.height) * u64::from(width) / u64::from(scene.width)) as u32;
+    let solids: Vec<Solid> = scene.objects.iter().map(|o| o.solid.clone()).collect();
+    let refs: Vec<&Solid> = solids.iter().collect();
+    let tol = Tolerance {
+        eps: scene.epsilon(),
+        eps_gpu: fray_gpu::gpu_epsilon(&scene, scene.epsilon()),
+    };
+    let reference = fray_gpu::params::reference_point(&scene.camera);
+    let mut camera = Vec::new();
+    for py in 0..height {
+        for px in 0..width {
+            if let Some(c) = scene.camera.pixel_ray(px, py, width, height) {
+                camera.push(CaseRay {
+                    ray: c.ray,
+                    range: Interval::new(c.t_near, f64::INFINITY),
+                });
+            }
+        }
+    }
+    // Grazing rays: through each hit's neighbourhood along the tangent plane, just outside.
+    let hits = Cpu.free_forms(&refs, reference, &camera, &tol);
+    let mut grazing = Vec::new();
+    for (r, a) in camera.iter().zip(&hits) {
+        let Some(t) = a.t else { continue };
+        let p = r.ray.at(t);
+        let n = a.normal;
+        let tangent = (r.ray.dir - n * r.ray.dir.dot(n)).normalize_or_zero();
+        if tangent == DVec3::ZERO {
+            continue;
+        }
+        let lift = 4.0 * tol.eps_gpu.max(tol.eps);
+        let origin = p + n * lift - tangent * 2.0;
+        if let Some(ray) = Ray::new(origin, tangent) {
+            grazing.push(CaseRay {
+                ray,
+                range: Interval::new(0.0, 4.0),
+            });
+        }
+    }
+    // The camera 10⁴ back along its view: rays from there through the points 10 along the camera
+    // rays (a flight view of a model far ahead: positions relative to that camera, long `t`).
+    let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
+    let far_eye = reference - forward * 1e4;
+    let far: Vec<CaseRay> = camera
+        .iter()
+        .filter_map(|r| {
+            let ray = Ray::new(far_eye, r.ray.at(10.0) - far_eye)?;
+            Some(CaseRay {
+                ray,
+                range: Interval::new(0.0, f64::INFINITY),
+            })
+        })
+        .collect();
+    let far_tol = Tolerance {
+        eps_gpu: tol.eps_gpu.max(fray_gpu::EPSILON_FLOOR * 1e4),
+        ..tol
+    };
+    [
+        ("camera", camera, reference, tol),
+        ("grazing", grazing, reference, tol),
+        ("far", far, far_eye, far_tol),
+    ]
+    .into_iter()
+    .map(|(kind, rays, reference, tol)| Case {
+        name: format!("{name} {kind}"),
+        normals: kind != "far",
+        solids: solids.clone(),
+        reference,
+        rays,
+        tol,
+    })
+    .collect()
+}
+
+/// What a run of the suite found wrong, per check.
+#[derive(Debug, Default)]
+struct Failures {
+    rays: usize,
+    hits: usize,
+    early: Vec<String>,
+    far_from_inside: Vec<String>,
+    missed: Vec<String>,
+    normal: Vec<String>,
+    any: Vec<String>,
+    worst_depth: f64,
+    worst_normal: f64,
+}
+
+/// The suite: every case through `backend`, each answer against the reference.
+fn free_form_suite(backend: &dyn Backend) {
+    let bounds = backend.bounds();
+    let mut total = Failures::default();
+    for name in ["csg.ron", "turboprop.ron"] {
+        for case in cases(name, 48) {
+            let solids: Vec<&Solid> = case.solids.iter().collect();
+            let answers = backend.free_forms(&solids, case.reference, &case.rays, &case.tol);
+            let mut f = Failures::default();
+            for (r, a) in case.rays.iter().zip(&answers) {
+                check_ray(&solids, r, a, &case, &bounds, &mut f);
+            }
+            eprintln!(
+                "{} {}: {} rays, {} hits; worst |Δt| {:.3e} of its bound, worst normal {:.2e}",
+                backend.name(),
+                case.name,
+                f.rays,
+                f.hits,
+                f.worst_depth,
+                f.worst_normal
+            );
+            total.rays += f.rays;
+            total.hits += f.hits;
+            total.worst_depth = total.worst_depth.max(f.worst_depth);
+            total.worst_normal = total.worst_normal.max(f.worst_normal);
+            for (all, these) in [
+                (&mut total.early, f.early),
+                (&mut total.far_from_inside, f.far_from_inside),
+                (&mut total.missed, f.missed),
+                (&mut total.normal, f.normal),
+                (&mut total.any, f.any),
+            ] {
+                all.extend(these.into_iter().map(|s| format!("{}: {s}", case.name)));
+            }
+        }
+    }
+    eprintln!(
+        "{}: free forms, {} rays, {} hits",
+        backend.name(),
+        total.rays,
+        total.hits
+    );
+    for (what, list) in [
+        ("a span began before the hit", &total.early),
+        (
+            "the hit is not near an inside point",
+            &total.far_from_inside,
+        ),
+        ("a span at least the sliver thick was missed", &total.missed),
+        ("normal off", &total.normal),
+        ("any hit disagrees", &total.any),
+    ] {
+        assert!(
+            list.is_empty(),
+            "{}: {what} on {} rays, e.g. {:?}",
+            backend.name(),
+            list.len(),
+            &list[..list.len().min(5)]
+        );
+    }
+}
+
+/// The reference's outward normal at the start of span `s` (of the solid most inside there) and
+/// its deciding leaf, and `1 / max(|cos θ|, 0.02)` for the ray's angle θ to it: how much a
+/// distance error along the ray grows at a grazing angle.
+fn reference_surface(solids: &[&Solid], r: &CaseRay, t: f64) -> (DVec3, u32, usize, f64) {
+    let p = r.ray.at(t);
+    let k = (0..solids.len())
+        .max_by(|&x, &y| solids[x].eval(p).total_cmp(&solids[y].eval(p)))
+        .expect("a solid");
+    let (n, leaf) = solids[k].surface_at(p, -r.ray.dir);
+    (n, leaf, k, 1.0 / n.dot(r.ray.dir).abs().max(0.02))
+}
+
+fn check_ray(
+    solids: &[&Solid],
+    r: &CaseRay,
+    a: &Answer,
+    case: &Case,
+    bounds: &Bounds,
+    f: &mut Failures,
+) {
+    let tol = &case.tol;
+    f.rays += 1;
+    let spans = reference_spans(solids, r, 0.25 * tol.eps.min(tol.eps_gpu));
+    // A span a backend must find: at least the sliver long, entered at an angle (|cos θ| ≥ 0.05
+    // to the surface's normal): a grazing ray may run just inside a surface for a long way.
+    let thick = |s: &(f64, f64)| {
+        s.1 - s.0 >= (bounds.sliver)(s.0, tol) && reference_surface(solids, r, s.0).3 < 20.0
+    };
+    let describe = |what: &str| {
+        format!(
+            "{what}: origin {:?} dir {:?} answer {:?} spans {:?}",
+            r.ray.origin,
+            r.ray.dir,
+            a.t,
+            &spans[..spans.len().min(3)]
+        )
+    };
+    match a.t {
+        Some(t) => {
+            f.hits += 1;
+            // The depth bound across the surface, along the ray at its angle to it.
+            let along =
+                |s: &(f64, f64)| (bounds.depth)(t, tol) * reference_surface(solids, r, s.0).3;
+            if let Some(s) = spans.iter().find(|s| s.0 < t - along(s) && thick(s)) {
+                f.early.push(describe(&format!(
+                    "span at {:.9} ({:.3e} thick)",
+                    s.0,
+                    s.1 - s.0
+                )));
+            }
+            let nearest = spans
+                .iter()
+                .min_by(|x, y| (x.0 - t).abs().total_cmp(&(y.0 - t).abs()));
+            let depth = nearest.map_or((bounds.depth)(t, tol), along);
+            let near_span = spans.iter().any(|s| s.0 <= t + depth && s.1 >= t - depth);
+            let near_point = (0..=64).any(|k| {
+                let u = t - depth + 2.0 * depth * f64::from(k) / 64.0;
+                solids.iter().any(|s| s.eval(r.ray.at(u)) >= 0.0)
+            });
+            if !near_span && !near_point {
+                f.far_from_inside
+                    .push(describe("no inside point within the depth bound"));
+            }
+            if let Some(s) = nearest.filter(|s| (s.0 - t).abs() <= depth) {
+                f.worst_depth = f.worst_depth.max((s.0 - t).abs() / depth);
+                // The normal where both points have the same deciding leaf, off grazing rays.
+                let (n_ref, leaf_ref, k, grazing) = reference_surface(solids, r, s.0);
+                let (_, leaf_hit) = solids[k].surface_at(r.ray.at(t), -r.ray.dir);
+                if case.normals && leaf_ref == leaf_hit && grazing < 20.0 {
+                    let off = (a.normal - n_ref).length();
+                    f.worst_normal = f.worst_normal.max(off);
+                    if off > bounds.normal {
+                        f.normal.push(describe(&format!("normal off by {off:.3e}")));
+                    }
+                }
+            }
+            if !a.any && nearest.is_none_or(thick) {
+                f.any.push(describe("a nearest hit but no any hit"));
+            }
+        }
+        None => {
+            if let Some(s) = spans.iter().find(|s| thick(s)) {
+                f.missed.push(describe(&format!(
+                    "span at {:.9} ({:.3e} thick)",
+                    s.0,
+                    s.1 - s.0
+                )));
+            }
+            if spans.iter().any(thick) && !a.any {
+                f.any
+                    .push(describe("a span at least the sliver thick but no any hit"));
+            }
+        }
+    }
+}
+
+fn free_forms_on_the_cpu() {
+    free_form_suite(&Cpu);
+}
+
+fn free_forms_on_the_gpu() {
+    free_form_suite(&Gpu {
+        renderer: common::gpu("free_forms_on_the_gpu"),
+    });
+}
+
+fn main() {
+    common::run(
+        &[("free_forms_on_the_gpu", free_forms_on_the_gpu)],
+        &[("free_forms_on_the_cpu", free_forms_on_the_cpu)],
+    );
+}
