@@ -23,6 +23,11 @@
 //! - **any hit**: true wherever the nearest hit is outside a grazed span, and wherever a span the
 //!   backend must find lies on the range.
 //!
+//! Media: each backend's transmittance and optical depth of the fog data scenes' layers against
+//! a composite Simpson quadrature of the extinction (4096 intervals), from the scenes' cameras,
+//! from inside the layer and from its top, over a fan of elevations (the horizontal exactly) and
+//! ranges of 1 m to 20 km or unbounded: 810 rays.
+//!
 //! Cases: camera rays of the free-form data scenes (`csg.ron`, `turboprop.ron`), grazing rays
 //! (along the tangent plane at each hit, just outside the surface), and far rays (the camera
 //! rays started 10⁴ back along themselves: long `t`, f32 positions far from the reference on the
@@ -34,9 +39,11 @@
 
 mod common;
 
+use fray_atmosphere::gpu_layout::GpuFog;
 use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster, Solid};
-use fray_gpu::testing::{FreeFormBatch, GpuRay};
+use fray_gpu::testing::{FogBatch, FreeFormBatch, GpuFogRay, GpuRay};
+use fray_scene::Fog;
 use fray_scene::Scene;
 use glam::DVec3;
 use std::path::Path;
@@ -90,6 +97,19 @@ trait Backend {
         rays: &[CaseRay],
         tol: &Tolerance,
     ) -> Vec<Answer>;
+    /// The transmittance and optical depth of `fog` over each ray's range; every ray starts at
+    /// the camera, at height `camera_y` (a backend that works relative to it takes heights from
+    /// there).
+    fn fog(&self, fog: &Fog, camera_y: f64, rays: &[CaseRay]) -> Vec<Medium>;
+    /// How far its fog answers may be from the reference: `abs + rel · |reference|`.
+    fn medium_bounds(&self) -> (f64, f64);
+}
+
+/// What a medium did to a ray.
+#[derive(Clone, Copy, Debug)]
+struct Medium {
+    transmittance: f64,
+    optical_depth: f64,
 }
 
 /// The f64 CPU backend: `fray_geometry::RayCaster` at the scene's ε.
@@ -147,6 +167,20 @@ impl Backend for Cpu {
             })
             .collect()
     }
+
+    fn fog(&self, fog: &Fog, _camera_y: f64, rays: &[CaseRay]) -> Vec<Medium> {
+        rays.iter()
+            .map(|r| Medium {
+                transmittance: fog.layer.transmittance(&r.ray, r.range),
+                optical_depth: fog.layer.optical_depth(&r.ray, r.range),
+            })
+            .collect()
+    }
+
+    fn medium_bounds(&self) -> (f64, f64) {
+        // The closed form against the quadrature: measured ≤ 2e-13 relative.
+        (1e-13, 1e-11)
+    }
 }
 
 /// The GPU backend: `freeform.wgsl` in f32, positions relative to the case's reference point
@@ -203,6 +237,40 @@ impl Backend for Gpu {
                 any: h.any_hit,
             })
             .collect()
+    }
+
+    fn fog(&self, fog: &Fog, camera_y: f64, rays: &[CaseRay]) -> Vec<Medium> {
+        let ctx = self.renderer.context();
+        let block = GpuFog::new(&fog.layer, fog.model, camera_y);
+        let batch = FogBatch::new(ctx, &block).unwrap_or_else(|e| panic!("{e}"));
+        let gpu_rays: Vec<GpuFogRay> = rays
+            .iter()
+            .map(|r| {
+                let d = r.ray.dir.as_vec3();
+                let hi = r.range.hi.min(1e30) as f32;
+                // Camera-relative: every ray starts at the camera. No sun (its factor is not
+                // checked here).
+                [
+                    [0.0, 0.0, 0.0, r.range.lo as f32],
+                    [d.x, d.y, d.z, hi],
+                    [0.0, 1.0, 0.0, 0.0],
+                ]
+            })
+            .collect();
+        batch
+            .terms(ctx, &gpu_rays)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .iter()
+            .map(|t| Medium {
+                transmittance: f64::from(t.transmittance),
+                optical_depth: f64::from(t.depth),
+            })
+            .collect()
+    }
+
+    fn medium_bounds(&self) -> (f64, f64) {
+        // tests/fog_parity.rs's bound (f32, camera-relative heights; measured here 3e-3 of it).
+        (1e-6, 5e-5)
     }
 }
 
@@ -535,19 +603,124 @@ fn check_ray(
     }
 }
 
-fn free_forms_on_the_cpu() {
-    free_form_suite(&Cpu);
+/// The reference optical depth of `fog` on `r`: composite Simpson over the part of the range in
+/// the layer (4096 intervals) of the extinction at each height — not the closed form either
+/// backend evaluates; `∞` where the ray stays in the layer for ever.
+fn reference_depth(fog: &Fog, r: &CaseRay) -> f64 {
+    let layer = &fog.layer;
+    let (y, dy) = (r.ray.origin.y, r.ray.dir.y);
+    let (mut lo, mut hi) = (r.range.lo, r.range.hi);
+    if dy != 0.0 {
+        let a = (layer.base - y) / dy;
+        let b = (layer.top - y) / dy;
+        lo = lo.max(a.min(b));
+        hi = hi.min(a.max(b));
+    } else if !(layer.base..=layer.top).contains(&y) {
+        return 0.0;
+    }
+    if lo >= hi || layer.extinction == 0.0 {
+        return 0.0;
+    }
+    if hi.is_infinite() {
+        return f64::INFINITY;
+    }
+    const N: usize = 4096;
+    let h = (hi - lo) / N as f64;
+    let f = |t: f64| layer.density((y + dy * t).clamp(layer.base, layer.top));
+    let mut sum = f(lo) + f(hi);
+    for k in 1..N {
+        sum += f(lo + h * k as f64) * if k % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    sum * h / 3.0
 }
 
-fn free_forms_on_the_gpu() {
-    free_form_suite(&Gpu {
-        renderer: common::gpu("free_forms_on_the_gpu"),
+/// The fog cases: the fog data scenes' layers seen from their cameras, from inside the layer
+/// and from its top, along a fan of elevations (straight down to straight up, the horizontal
+/// exactly), ranges ending 1 m to 20 km away or never.
+fn fog_suite(backend: &dyn Backend) {
+    let (abs, rel) = backend.medium_bounds();
+    let mut rays_checked = 0;
+    let mut worst = 0.0f64;
+    for name in ["fog_aircraft_low_sun.ron", "fog_aircraft_high_sun.ron"] {
+        let scene = data_scene(name);
+        let fog = scene.atmosphere.fog.clone().expect("a fog scene");
+        let layer = &fog.layer;
+        let camera = fray_gpu::params::reference_point(&scene.camera);
+        for eye_y in [camera.y, 0.5 * (layer.base + layer.top), layer.top] {
+            let eye = DVec3::new(camera.x, eye_y, camera.z);
+            let mut rays = Vec::new();
+            for elevation in [-90.0, -30.0, -5.0, -0.5, 0.0, 0.5, 5.0, 30.0, 90.0f64] {
+                for azimuth in [0.0, 70.0, 200.0f64] {
+                    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
+                    let dir = DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
+                    for end in [1.0, 100.0, 2e3, 2e4, f64::INFINITY] {
+                        let ray = Ray::new(eye, dir).expect("a unit direction");
+                        rays.push(CaseRay {
+                            ray,
+                            range: Interval::new(0.0, end),
+                        });
+                    }
+                }
+            }
+            let answers = backend.fog(&fog, eye_y, &rays);
+            for (r, m) in rays.iter().zip(&answers) {
+                rays_checked += 1;
+                let depth = reference_depth(&fog, r);
+                let transmittance = (-depth).exp();
+                let off_t = (m.transmittance - transmittance).abs();
+                assert!(
+                    off_t <= abs + rel * transmittance,
+                    "{} {name}: transmittance {} against {transmittance} on {r:?}",
+                    backend.name(),
+                    m.transmittance
+                );
+                worst = worst.max(off_t / (abs + rel * transmittance));
+                if depth.is_finite() && m.optical_depth < 1e29 {
+                    let off = (m.optical_depth - depth).abs();
+                    assert!(
+                        off <= abs + rel * depth,
+                        "{} {name}: optical depth {} against {depth} on {r:?}",
+                        backend.name(),
+                        m.optical_depth
+                    );
+                    worst = worst.max(off / (abs + rel * depth));
+                } else {
+                    assert!(
+                        depth.is_infinite()
+                            == (m.optical_depth >= 1e29 || m.optical_depth.is_infinite()),
+                        "{} {name}: optical depth {} against {depth} on {r:?}",
+                        backend.name(),
+                        m.optical_depth
+                    );
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{}: fog, {rays_checked} rays; worst difference {worst:.3e} of the bound",
+        backend.name()
+    );
+}
+
+/// Every case of the suite, on one backend.
+fn suite(backend: &dyn Backend) {
+    free_form_suite(backend);
+    fog_suite(backend);
+}
+
+fn the_suite_on_the_cpu() {
+    suite(&Cpu);
+}
+
+fn the_suite_on_the_gpu() {
+    suite(&Gpu {
+        renderer: common::gpu("the_suite_on_the_gpu"),
     });
 }
 
 fn main() {
     common::run(
-        &[("free_forms_on_the_gpu", free_forms_on_the_gpu)],
-        &[("free_forms_on_the_cpu", free_forms_on_the_cpu)],
+        &[("the_suite_on_the_gpu", the_suite_on_the_gpu)],
+        &[("the_suite_on_the_cpu", the_suite_on_the_cpu)],
     );
 }
