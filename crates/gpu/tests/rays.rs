@@ -643,7 +643,7 @@ fn fog_suite(backend: &dyn Backend) {
     let mut worst = 0.0f64;
     for name in ["fog_aircraft_low_sun.ron", "fog_aircraft_high_sun.ron"] {
         let scene = data_scene(name);
-        let fog = scene.atmosphere.fog.clone().expect("a fog scene");
+        let fog = scene.atmosphere.fog.expect("a fog scene");
         let layer = &fog.layer;
         let camera = fray_gpu::params::reference_point(&scene.camera);
         for eye_y in [camera.y, 0.5 * (layer.base + layer.top), layer.top] {
