@@ -23,6 +23,15 @@
 //! - **any hit**: true wherever the nearest hit is outside a grazed span, and wherever a span the
 //!   backend must find lies on the range.
 //!
+//! Meshes: each backend's nearest hit and geometric normal against a brute force over every
+//! triangle of every instance in world space (f64 Möller–Trumbore: no BVH, and not the
+//! watertight test either backend uses), on camera rays of the mesh data scenes
+//! (`mesh_bunny_freeform.ron`, `mesh_aircraft_pair.ron`) and from a camera 10³ back: the depth
+//! across the triangle's plane within `depth · scale`, the normal within `normal`, a hit/miss or
+//! triangle difference only within `edge · scale` of an edge (`scale`: the lengths f32 positions
+//! are rounded relative to — `tests/mesh_parity.rs`'s bounds on the GPU, which also holds the
+//! harder mesh cases: rays from inside the closed bunny, mirrored and far instances).
+//!
 //! Media: each backend's transmittance and optical depth of the fog data scenes' layers against
 //! a composite Simpson quadrature of the extinction (4096 intervals), from the scenes' cameras,
 //! from inside the layer and from its top, over a fan of elevations (the horizontal exactly) and
@@ -42,7 +51,8 @@ mod common;
 use fray_atmosphere::gpu_layout::GpuFog;
 use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster, Solid};
-use fray_gpu::testing::{FogBatch, FreeFormBatch, GpuFogRay, GpuRay};
+use fray_gpu::testing::{FogBatch, FreeFormBatch, GpuFogRay, GpuRay, MeshBatch};
+use fray_mesh::{Instance, MeshBvh};
 use fray_scene::Fog;
 use fray_scene::Scene;
 use glam::DVec3;
@@ -97,12 +107,27 @@ trait Backend {
         rays: &[CaseRay],
         tol: &Tolerance,
     ) -> Vec<Answer>;
+    /// Nearest hit over the mesh `instances`, its world geometric normal and the any-hit answer,
+    /// for each ray.
+    fn meshes(&self, instances: &[Instance], reference: DVec3, rays: &[CaseRay]) -> Vec<Answer>;
+    /// How far its mesh hits may be from the reference: across the triangle's plane, and from
+    /// an edge where a ray may go either way (at a scale `scale`: the lengths its positions are
+    /// rounded relative to); and its normals.
+    fn mesh_bounds(&self) -> MeshBounds;
     /// The transmittance and optical depth of `fog` over each ray's range; every ray starts at
     /// the camera, at height `camera_y` (a backend that works relative to it takes heights from
     /// there).
     fn fog(&self, fog: &Fog, camera_y: f64, rays: &[CaseRay]) -> Vec<Medium>;
     /// How far its fog answers may be from the reference: `abs + rel · |reference|`.
     fn medium_bounds(&self) -> (f64, f64);
+}
+
+/// A backend's mesh bounds, each `k · scale` (world units).
+#[derive(Clone, Copy, Debug)]
+struct MeshBounds {
+    depth: f64,
+    edge: f64,
+    normal: f64,
 }
 
 /// What a medium did to a ray.
@@ -166,6 +191,39 @@ impl Backend for Cpu {
                 }
             })
             .collect()
+    }
+
+    fn meshes(&self, instances: &[Instance], _reference: DVec3, rays: &[CaseRay]) -> Vec<Answer> {
+        rays.iter()
+            .map(|r| {
+                let mut best: Option<(f64, usize, u32)> = None;
+                for (k, instance) in instances.iter().enumerate() {
+                    let range = Interval::new(r.range.lo, best.map_or(r.range.hi, |b| b.0));
+                    if let Some(h) = instance.nearest_hit(&r.ray, range) {
+                        if best.is_none_or(|b| h.t < b.0) {
+                            best = Some((h.t, k, h.triangle));
+                        }
+                    }
+                }
+                let normal = best.map_or(DVec3::ZERO, |(_, k, triangle)| {
+                    triangle_normal(&instances[k].world_corners(triangle as usize))
+                });
+                Answer {
+                    t: best.map(|b| b.0),
+                    normal,
+                    any: instances.iter().any(|i| i.any_hit(&r.ray, r.range)),
+                }
+            })
+            .collect()
+    }
+
+    fn mesh_bounds(&self) -> MeshBounds {
+        // f64 throughout: a few units of rounding of the scale.
+        MeshBounds {
+            depth: 1e-12,
+            edge: 1e-12,
+            normal: 1e-9,
+        }
     }
 
     fn fog(&self, fog: &Fog, _camera_y: f64, rays: &[CaseRay]) -> Vec<Medium> {
@@ -239,6 +297,47 @@ impl Backend for Gpu {
             .collect()
     }
 
+    fn meshes(&self, instances: &[Instance], reference: DVec3, rays: &[CaseRay]) -> Vec<Answer> {
+        let ctx = self.renderer.context();
+        // Each distinct mesh once, as the resident scene uploads them.
+        let mut distinct: Vec<&MeshBvh> = Vec::new();
+        let mut placements = Vec::new();
+        for instance in instances {
+            let index = distinct
+                .iter()
+                .position(|m| std::ptr::eq(*m, instance.mesh.as_ref()))
+                .unwrap_or_else(|| {
+                    distinct.push(instance.mesh.as_ref());
+                    distinct.len() - 1
+                });
+            placements.push((index as u32, instance.to_world()));
+        }
+        let batch = MeshBatch::new(ctx, &distinct, &placements, reference)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let gpu_rays = relative_rays(rays, reference);
+        batch
+            .cast(ctx, &gpu_rays)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .iter()
+            .map(|h| Answer {
+                t: h.is_hit().then_some(f64::from(h.t)),
+                normal: DVec3::from(h.normal.map(f64::from)),
+                any: h.any_hit,
+            })
+            .collect()
+    }
+
+    fn mesh_bounds(&self) -> MeshBounds {
+        // tests/mesh_parity.rs's: DEPTH_K = 4 and EDGE_K = 64 units of f32 rounding of the
+        // scale; geometric normals within 1e-4.
+        let e = f64::from(f32::EPSILON);
+        MeshBounds {
+            depth: 4.0 * e,
+            edge: 64.0 * e,
+            normal: 1e-4,
+        }
+    }
+
     fn fog(&self, fog: &Fog, camera_y: f64, rays: &[CaseRay]) -> Vec<Medium> {
         let ctx = self.renderer.context();
         let block = GpuFog::new(&fog.layer, fog.model, camera_y);
@@ -272,6 +371,224 @@ impl Backend for Gpu {
         // tests/fog_parity.rs's bound (f32, camera-relative heights; measured here 3e-3 of it).
         (1e-6, 5e-5)
     }
+}
+
+/// `rays` as the GPU's batches take them: f32, relative to `reference`, `t_hi` at most 1e30.
+fn relative_rays(rays: &[CaseRay], reference: DVec3) -> Vec<GpuRay> {
+    let f = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
+    rays.iter()
+        .map(|r| {
+            let o = f(r.ray.origin - reference);
+            let d = f(r.ray.dir);
+            let hi = r.range.hi.min(1e30) as f32;
+            [
+                [o[0], o[1], o[2], r.range.lo as f32],
+                [d[0], d[1], d[2], hi],
+            ]
+        })
+        .collect()
+}
+
+/// The unit normal of a triangle by its winding.
+fn triangle_normal(c: &[DVec3; 3]) -> DVec3 {
+    (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero()
+}
+
+/// The reference for meshes: every triangle of every instance, in world space, in f64 — no BVH,
+/// and not the watertight test either backend uses (Möller–Trumbore): `(t, instance, triangle,
+/// the hit's distance to the triangle's nearest edge)` of the nearest hit.
+fn reference_mesh_hit(instances: &[Instance], r: &CaseRay) -> Option<(f64, usize, usize, f64)> {
+    let mut best: Option<(f64, usize, usize, f64)> = None;
+    for (k, instance) in instances.iter().enumerate() {
+        if instance.bounds().clip_ray(&r.ray, r.range).is_none() {
+            continue;
+        }
+        for i in 0..instance.mesh.mesh().triangles.len() {
+            let c = instance.world_corners(i);
+            let (e1, e2) = (c[1] - c[0], c[2] - c[0]);
+            let p = r.ray.dir.cross(e2);
+            let det = e1.dot(p);
+            if det == 0.0 {
+                continue;
+            }
+            let s = r.ray.origin - c[0];
+            let u = s.dot(p) / det;
+            let q = s.cross(e1);
+            let v = r.ray.dir.dot(q) / det;
+            let t = e2.dot(q) / det;
+            if u < 0.0 || v < 0.0 || u + v > 1.0 || !r.range.contains(t) {
+                continue;
+            }
+            if best.is_some_and(|b| b.0 <= t) {
+                continue;
+            }
+            let hit = r.ray.at(t);
+            best = Some((t, k, i, edge_distance(&c, hit)));
+        }
+    }
+    best
+}
+
+/// The distance from `p` (on the triangle's plane) to the triangle's nearest edge line.
+fn edge_distance(c: &[DVec3; 3], p: DVec3) -> f64 {
+    (0..3)
+        .map(|k| {
+            let (a, b) = (c[k], c[(k + 1) % 3]);
+            let e = (b - a).normalize_or_zero();
+            let w = p - a;
+            (w - e * w.dot(e)).length()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The distance from `p` to the nearest triangle of `instances` (a backend's hit where the
+/// reference has none must lie on one, within the edge bound).
+fn distance_to_meshes(instances: &[Instance], p: DVec3) -> f64 {
+    let mut best = f64::INFINITY;
+    for instance in instances {
+        for i in 0..instance.mesh.mesh().triangles.len() {
+            best = best.min(point_triangle_distance(p, &instance.world_corners(i)));
+        }
+    }
+    best
+}
+
+/// The distance from `p` to triangle `c` (its plane inside it, else its nearest edge segment).
+fn point_triangle_distance(p: DVec3, c: &[DVec3; 3]) -> f64 {
+    let n = triangle_normal(c);
+    let q = p - n * (p - c[0]).dot(n);
+    let inside = (0..3).all(|k| {
+        let (a, b) = (c[k], c[(k + 1) % 3]);
+        (b - a).cross(q - a).dot(n) >= 0.0
+    });
+    if inside && n != DVec3::ZERO {
+        return (p - q).length();
+    }
+    (0..3)
+        .map(|k| {
+            let (a, b) = (c[k], c[(k + 1) % 3]);
+            let ab = b - a;
+            let s = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+            (p - (a + ab * s)).length()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The mesh cases: camera rays of the mesh data scenes and the same from a camera 10³ back, the
+/// nearest hits against [`reference_mesh_hit`].
+fn mesh_suite(backend: &dyn Backend) {
+    let b = backend.mesh_bounds();
+    let (mut rays_checked, mut hits, mut edges) = (0usize, 0usize, 0usize);
+    let (mut worst_depth, mut worst_normal) = (0.0f64, 0.0f64);
+    let mut failures = Vec::new();
+    for name in ["mesh_bunny_freeform.ron", "mesh_aircraft_pair.ron"] {
+        let scene = data_scene(name);
+        let instances: Vec<Instance> = scene.meshes.iter().map(|m| m.instance.clone()).collect();
+        let reference = fray_gpu::params::reference_point(&scene.camera);
+        let (w, h) = (40, 30);
+        let mut camera = Vec::new();
+        for py in 0..h {
+            for px in 0..w {
+                if let Some(c) = scene.camera.pixel_ray(px, py, w, h) {
+                    camera.push(CaseRay {
+                        ray: c.ray,
+                        range: Interval::new(c.t_near, f64::INFINITY),
+                    });
+                }
+            }
+        }
+        let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
+        let far_eye = reference - forward * 1e3;
+        let far: Vec<CaseRay> = camera
+            .iter()
+            .filter_map(|r| {
+                Some(CaseRay {
+                    ray: Ray::new(far_eye, r.ray.at(3.0) - far_eye)?,
+                    range: Interval::new(0.0, f64::INFINITY),
+                })
+            })
+            .collect();
+        let diagonal = instances
+            .iter()
+            .map(|i| i.bounds().diagonal())
+            .fold(0.0, f64::max);
+        for (kind, rays, reference) in [("camera", camera, reference), ("far", far, far_eye)] {
+            let answers = backend.meshes(&instances, reference, &rays);
+            for (r, a) in rays.iter().zip(&answers) {
+                rays_checked += 1;
+                let truth = reference_mesh_hit(&instances, r);
+                let t_any = a.t.or(truth.map(|t| t.0)).unwrap_or(0.0);
+                let scale = r.ray.origin.distance(reference) + t_any + diagonal;
+                let describe =
+                    |what: &str| format!("{name} {kind}: {what} on {r:?}: {a:?} vs {truth:?}");
+                match (a.t, truth) {
+                    (Some(t), Some((t_ref, k, i, edge))) => {
+                        hits += 1;
+                        let at_edge = edge < b.edge * scale;
+                        let n = triangle_normal(&instances[k].world_corners(i));
+                        let across = (t - t_ref).abs() * n.dot(r.ray.dir).abs();
+                        if across > b.depth * scale {
+                            // Another triangle past an edge (a silhouette's) is excused there.
+                            if at_edge {
+                                edges += 1;
+                            } else {
+                                failures
+                                    .push(describe(&format!("depth off by {across:.3e} across")));
+                            }
+                            continue;
+                        }
+                        worst_depth = worst_depth.max(across / (b.depth * scale));
+                        let off = (a.normal - n).length();
+                        if off > b.normal {
+                            // A neighbour's normal is excused at an edge.
+                            if at_edge {
+                                edges += 1;
+                            } else {
+                                failures.push(describe(&format!("normal off by {off:.3e}")));
+                            }
+                        } else {
+                            worst_normal = worst_normal.max(off);
+                        }
+                        if !a.any {
+                            failures.push(describe("no any hit"));
+                        }
+                    }
+                    (None, Some((_, _, _, edge))) => {
+                        if edge >= b.edge * scale {
+                            failures.push(describe("missed"));
+                        } else {
+                            edges += 1;
+                        }
+                    }
+                    (Some(t), None) => {
+                        let d = distance_to_meshes(&instances, r.ray.at(t));
+                        if d > b.edge * scale {
+                            failures.push(describe(&format!("a hit {d:.3e} from every triangle")));
+                        } else {
+                            edges += 1;
+                        }
+                    }
+                    (None, None) => {
+                        if a.any {
+                            failures.push(describe("an any hit on a miss"));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{}: meshes, {rays_checked} rays, {hits} hits; {edges} differences excused at edges; worst \
+         depth {worst_depth:.3e} of its bound, worst normal {worst_normal:.2e}",
+        backend.name()
+    );
+    assert!(
+        failures.is_empty(),
+        "{}: {} mesh rays off, e.g. {:?}",
+        backend.name(),
+        failures.len(),
+        &failures[..failures.len().min(4)]
+    );
 }
 
 /// The reference's inside spans of the union of `solids` on `r`: `F` sampled over each solid's
@@ -705,6 +1022,7 @@ fn fog_suite(backend: &dyn Backend) {
 /// Every case of the suite, on one backend.
 fn suite(backend: &dyn Backend) {
     free_form_suite(backend);
+    mesh_suite(backend);
     fog_suite(backend);
 }
 
