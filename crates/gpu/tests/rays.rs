@@ -199,10 +199,9 @@ impl Backend for Cpu {
                 let mut best: Option<(f64, usize, u32)> = None;
                 for (k, instance) in instances.iter().enumerate() {
                     let range = Interval::new(r.range.lo, best.map_or(r.range.hi, |b| b.0));
-                    if let Some(h) = instance.nearest_hit(&r.ray, range) {
-                        if best.is_none_or(|b| h.t < b.0) {
-                            best = Some((h.t, k, h.triangle));
-                        }
+                    let hit = instance.nearest_hit(&r.ray, range);
+                    if let Some(h) = hit.filter(|h| best.is_none_or(|b| h.t < b.0)) {
+                        best = Some((h.t, k, h.triangle));
                     }
                 }
                 let normal = best.map_or(DVec3::ZERO, |(_, k, triangle)| {
