@@ -1418,7 +1418,7 @@ fn sky_suite(backend: &dyn Backend) {
                     describe(&format!("in-scatter off by {ds:.3e}"))
                 );
                 assert!(
-                    dsun <= SKY_TRANSMITTANCE,
+                    dsun <= SKY_TO_SUN,
                     "{}",
                     describe(&format!("transmittance to the sun off by {dsun:.3e}"))
                 );
