@@ -5,8 +5,8 @@
 // miss's sky table holding the air along all of it) and `front` theirs over [lo, a], the terms
 // are front ∘ cloud ∘ front⁻¹ ∘ whole (whole alone where front lets nothing through, T ≤ 1e-12,
 // and for a ray that misses the box). Straight-line: every case computed, one selected.
-// no_clouds_media.wgsl is its twin for a scene without clouds.
 //
+// #if clouds
 // #include "clouds.wgsl"
 
 fn media_terms(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, hit: bool, ray: u32) -> MediaTerms {
@@ -32,3 +32,13 @@ fn media_terms(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, hit: bool, ray: u32
     let seen = clipped && all(front.transmittance > vec3<f32>(1.0e-12));
     return media_select(whole, terms, seen);
 }
+
+// #else
+// Without it: the clouds' hook in media.wgsl for a scene without clouds (but with fog
+// or a sky): the atmosphere's terms over the ray's range alone; no cloud code, parameter or
+// texture is compiled.
+
+fn media_terms(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32, hit: bool, ray: u32) -> MediaTerms {
+    return media_atmosphere_with(fog_media(o, d, lo, hi), media_air(o, d, hi, hit));
+}
+// #endif

@@ -3,8 +3,9 @@
 // (1 − e^{−τ}) + Σ suns E · factor) — point lights do not scatter in fog — with the sky's sun
 // reaching the layer's top through the air above it (fog.sky_sun_transmittance, from f64), and
 // whether the ray starts inside the layer (which decides whether the fog is in front of the
-// air). no_fog_media.wgsl is its twin for a scene without fog.
+// air).
 //
+// #if fog
 // #include "fog.wgsl"
 
 struct FogMedia {
@@ -29,3 +30,17 @@ fn fog_media(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32) -> FogMedia {
     out.starts_inside = s.span.x <= s.span.y && s.span.x <= lo;
     return out;
 }
+
+// #else
+// Without it: the fog's hook in media.wgsl for a scene without fog (but with a sky):
+// clear terms, and no layer for the ray to start in; no fog code or parameter is compiled.
+
+struct FogMedia {
+    terms: MediaTerms,
+    starts_inside: bool,
+}
+
+fn fog_media(o: vec3<f32>, d: vec3<f32>, lo: f32, hi: f32) -> FogMedia {
+    return FogMedia(MediaTerms(vec3<f32>(1.0), vec3<f32>(0.0)), false);
+}
+// #endif

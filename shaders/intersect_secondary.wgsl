@@ -8,11 +8,9 @@
 // #bindings frame, free_forms, surfaces
 // #include "freeform.wgsl"
 // #include "terrain.wgsl" if terrain
-// #include "terrain_shadows.wgsl" if terrain
-// #include "no_terrain.wgsl" unless terrain
+// #include "terrain_shadows.wgsl"
 // #include "mesh.wgsl" if meshes
-// #include "mesh_shading.wgsl" if meshes
-// #include "no_mesh.wgsl" unless meshes
+// #include "mesh_shading.wgsl"
 // #include "queue.wgsl"
 // #include "secondary_hit.wgsl"
 // #include "counters.wgsl"

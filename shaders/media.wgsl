@@ -17,14 +17,10 @@
 //
 // #bindings frame, shading
 // #include "ray.wgsl"
-// #include "fog_media.wgsl" if fog
-// #include "no_fog_media.wgsl" unless fog
-// #include "sky_media.wgsl" if sky
-// #include "no_sky_media.wgsl" unless sky
-// #include "clouds_media.wgsl" if clouds
-// #include "no_clouds_media.wgsl" unless clouds
-// #include "whitted_media.wgsl" if whitted
-// #include "no_whitted_media.wgsl" unless whitted
+// #include "fog_media.wgsl"
+// #include "sky_media.wgsl"
+// #include "clouds_media.wgsl"
+// #include "whitted_media.wgsl"
 // #include "counters.wgsl"
 
 // What a medium does to a ray segment: L_eye = transmittance · L_behind + in_scatter

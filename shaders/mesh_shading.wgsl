@@ -1,7 +1,8 @@
 // mesh_shading.wgsl — the mesh hooks of the shade pass (a scene with meshes; mesh.wgsl): a mesh
 // hit's surface as fray-trace's MeshPrimitive::surface makes it, and shadow rays any-hit
 // against every instance (opaque: transmittance 0 or 1).
-
+//
+// #if meshes
 struct MeshShading {
     // The outward normal to shade with (never turned to the viewer).
     normal: vec3<f32>,
@@ -59,3 +60,32 @@ fn meshes_nearest(o: vec3<f32>, d: vec3<f32>, limit: f32, best: ptr<function, Su
 fn mesh_material(k: u32) -> u32 {
     return load_mesh_instance(k).material;
 }
+
+// #else
+// Without it: the mesh hooks of a scene without meshes: nothing to hit, no mesh code or
+// binding compiled.
+
+struct MeshShading {
+    normal: vec3<f32>,
+    geometric: vec3<f32>,
+    material: u32,
+}
+
+fn mesh_shading(path: GpuPath) -> MeshShading {
+    var out: MeshShading;
+    out.normal = -path.dir.xyz;
+    out.geometric = out.normal;
+    out.material = 0u;
+    return out;
+}
+
+fn meshes_nearest(o: vec3<f32>, d: vec3<f32>, limit: f32, best: ptr<function, SurfaceHit>) {}
+
+fn mesh_material(k: u32) -> u32 {
+    return 0u;
+}
+
+fn occluded_by_meshes(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+    return false;
+}
+// #endif

@@ -3,8 +3,9 @@
 // hit's barycentrics (MeshPrimitive::surface), and the triangle's uv per world unit
 // (fray_mesh::texture::triangle_uv_per_world over its world corners: the mesh-space edges
 // through the inverse of the instance's world-to-mesh rows) — and the world geometric normal
-// the footprint's cosine takes. no_mesh_texture.wgsl is its twin without meshes.
-
+// the footprint's cosine takes.
+//
+// #if meshes
 struct MeshTexturing {
     uv: vec2<f32>,
     uv_per_world: f32,
@@ -83,3 +84,24 @@ fn mesh_texturing(path: GpuPath) -> MeshTexturing {
     out.uv_per_world = texture_triangle_uv_per_world(e1, e2, ub - ua, uc - ua);
     return out;
 }
+
+// #else
+// Without it: the mesh hook of texture.wgsl for a scene without meshes: never called
+// (no ray hits a mesh); no mesh code or binding compiled.
+
+struct MeshTexturing {
+    uv: vec2<f32>,
+    uv_per_world: f32,
+    has_uv: bool,
+    normal: vec3<f32>,
+}
+
+fn mesh_texturing(path: GpuPath) -> MeshTexturing {
+    var out: MeshTexturing;
+    out.uv = vec2<f32>(0.5);
+    out.uv_per_world = 0.0;
+    out.has_uv = false;
+    out.normal = -path.dir.xyz;
+    return out;
+}
+// #endif

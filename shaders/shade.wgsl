@@ -14,21 +14,14 @@
 // #bindings frame, free_forms, shading, surfaces
 // #include "freeform.wgsl"
 // #include "terrain.wgsl" if terrain
-// #include "terrain_shadows.wgsl" if terrain
-// #include "no_terrain.wgsl" unless terrain
+// #include "terrain_shadows.wgsl"
 // #include "mesh.wgsl" if meshes
-// #include "mesh_shading.wgsl" if meshes
-// #include "no_mesh.wgsl" unless meshes
-// #include "fog_shading.wgsl" if fog
-// #include "no_fog.wgsl" unless fog
-// #include "sky_shading.wgsl" if sky
-// #include "no_sky.wgsl" unless sky
-// #include "clouds_shading.wgsl" if clouds
-// #include "no_clouds.wgsl" unless clouds
-// #include "whitted.wgsl" if whitted
-// #include "no_whitted.wgsl" unless whitted
-// #include "texture.wgsl" if textures
-// #include "no_texture.wgsl" unless textures
+// #include "mesh_shading.wgsl"
+// #include "fog_shading.wgsl"
+// #include "sky_shading.wgsl"
+// #include "clouds_shading.wgsl"
+// #include "whitted.wgsl"
+// #include "texture.wgsl"
 // #include "counters.wgsl"
 
 override HAS_FREE_FORMS: bool = true;

@@ -3,8 +3,9 @@
 // sees its surface through the air over [0, t_hit] from the ray's origin, when the scene asks
 // for aerial perspective (Media::terms). For a miss the march runs over an empty path (t = 0:
 // zero-length steps, exactly clear terms) rather than under a branch on the hit — straight-line,
-// as sky.wgsl explains. no_sky_media.wgsl is its twin for a scene without a sky.
+// as sky.wgsl explains.
 //
+// #if sky
 // #include "sky.wgsl"
 
 fn media_background(d: vec3<f32>) -> vec3<f32> {
@@ -18,3 +19,16 @@ fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, finite: bool) -> MediaTerms {
     let air = sky_aerial_perspective(o, d, select(0.0, t, finite && aerial));
     return MediaTerms(air.transmittance, air.in_scatter);
 }
+
+// #else
+// Without it: the sky's hook in media.wgsl for a scene without a sky (but with fog):
+// the scene's background colour and no air; no sky code, parameter or table is compiled.
+
+fn media_background(d: vec3<f32>) -> vec3<f32> {
+    return frame.background.xyz;
+}
+
+fn media_air(o: vec3<f32>, d: vec3<f32>, t: f32, finite: bool) -> MediaTerms {
+    return MediaTerms(vec3<f32>(1.0), vec3<f32>(0.0));
+}
+// #endif

@@ -1,6 +1,7 @@
 // terrain_shadows.wgsl — shadow rays against every terrain, exactly (no level of detail), as
 // fray-trace's TerrainPrimitive::transmittance.
-
+//
+// #if terrain
 fn occluded_by_terrains(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
     for (var k = 0u; k < frame.terrains; k++) {
         if cast_terrain(k, o, d, 0.0, distance, eps, false).t >= 0.0 {
@@ -22,3 +23,18 @@ fn terrains_nearest(o: vec3<f32>, d: vec3<f32>, limit: f32, eps: f32, best: ptr<
         }
     }
 }
+
+// #else
+// Without it: the terrain hooks of a scene without terrain: nothing to hit, no terrain code
+// or binding compiled.
+
+fn occluded_by_terrains(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> bool {
+    return false;
+}
+
+fn terrain_material(k: u32) -> u32 {
+    return 0u;
+}
+
+fn terrains_nearest(o: vec3<f32>, d: vec3<f32>, limit: f32, eps: f32, best: ptr<function, SurfaceHit>) {}
+// #endif

@@ -1,5 +1,5 @@
 // texture.wgsl — a material's colour C from its image texture or colour ramp in the shade pass
-// (a scene with textures; no_texture.wgsl is its twin without): the f32 twin of fray-trace's
+// (a scene with textures; the `#else` below holds its identity without): the f32 twin of fray-trace's
 // `surface_colour` over `fray_mesh::texture` — the lookup's coordinates (the projected
 // mapping's, camera-relative; else a mesh's interpolated uv (mesh_texture.wgsl) or a terrain's
 // drape (terrain_texture.wgsl)), its width by the footprint rule (the camera pixel's width at
@@ -9,10 +9,9 @@
 // read from `texture_data` (crate::textures: mapping blocks, material records, level records,
 // texels, ramp stops, 16-byte texels TEXTURE_DATA_WIDTH a row) where `texture_info` says.
 //
-// #include "mesh_texture.wgsl" if meshes
-// #include "no_mesh_texture.wgsl" unless meshes
-// #include "terrain_texture.wgsl" if terrain
-// #include "no_terrain_texture.wgsl" unless terrain
+// #if textures
+// #include "mesh_texture.wgsl"
+// #include "terrain_texture.wgsl"
 
 // fray_mesh::texture::Footprint::DEFAULT_MAX_ANISOTROPY (a Rust test checks it).
 const TEXTURE_MAX_ANISOTROPY: f32 = 8.0;
@@ -435,3 +434,13 @@ fn textured(m: GpuMaterial, material: u32, path: GpuPath, p: vec3<f32>, normal: 
     out.diffuse = vec4<f32>(m.diffuse.xyz * c, m.diffuse.w);
     return out;
 }
+
+// #else
+// Without it: the textures' hook in shade.wgsl for a scene without image textures or
+// colour ramps: every material as it is (C = 1 exactly, so the radiance is bit for bit what it
+// was before textures reached the GPU); no texture code, uniform or data texture is compiled.
+
+fn textured(m: GpuMaterial, material: u32, path: GpuPath, p: vec3<f32>, normal: vec3<f32>, distance: f32) -> GpuMaterial {
+    return m;
+}
+// #endif

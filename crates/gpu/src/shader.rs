@@ -10,6 +10,10 @@
 //!   `unless fog`: with / without a fog layer; `if sky` / `unless sky`: with / without a
 //!   physically based sky; `if clouds` / `unless clouds`: with / without a cloud volume;
 //!   `if textures` / `unless textures`: with / without image textures or colour ramps);
+//! - `// #if fog` … `// #else` … `// #endif` — the lines (directives included) with / without
+//!   the feature (any of the conditions above): a feature's hooks and, in the `#else`, their
+//!   identities for a scene without it, in one file; a file whose outermost block is left out is
+//!   marked `// ---- file.wgsl (without fog) ----` in the composed text;
 //! - `// #instantiate "file.wgsl" { KEY: value; … }` — the file as a template, each `{{KEY}}`
 //!   replaced (the CSG evaluator, once per algebra);
 //! - `// #bindings frame, work, terrains if terrain` — the generated declarations of those bind
@@ -25,7 +29,7 @@ use fray_scene::{PrimitiveKind, Scene};
 
 /// Every shader file with its name: embedded at build time from `shaders/` (the crate's
 /// `shaders` is a link to the repository's, so a packaged crate holds them too).
-pub const SHADER_FILES: [(&str, &str); 63] = [
+pub const SHADER_FILES: [(&str, &str); 50] = [
     ("batch.wgsl", include_str!("../shaders/batch.wgsl")),
     ("camera.wgsl", include_str!("../shaders/camera.wgsl")),
     ("clouds.wgsl", include_str!("../shaders/clouds.wgsl")),
@@ -82,38 +86,6 @@ pub const SHADER_FILES: [(&str, &str); 63] = [
         "mesh_texture.wgsl",
         include_str!("../shaders/mesh_texture.wgsl"),
     ),
-    ("no_clouds.wgsl", include_str!("../shaders/no_clouds.wgsl")),
-    (
-        "no_clouds_media.wgsl",
-        include_str!("../shaders/no_clouds_media.wgsl"),
-    ),
-    ("no_fog.wgsl", include_str!("../shaders/no_fog.wgsl")),
-    ("no_mesh.wgsl", include_str!("../shaders/no_mesh.wgsl")),
-    (
-        "no_mesh_texture.wgsl",
-        include_str!("../shaders/no_mesh_texture.wgsl"),
-    ),
-    (
-        "no_fog_media.wgsl",
-        include_str!("../shaders/no_fog_media.wgsl"),
-    ),
-    ("no_sky.wgsl", include_str!("../shaders/no_sky.wgsl")),
-    (
-        "no_sky_media.wgsl",
-        include_str!("../shaders/no_sky_media.wgsl"),
-    ),
-    (
-        "no_terrain.wgsl",
-        include_str!("../shaders/no_terrain.wgsl"),
-    ),
-    (
-        "no_terrain_texture.wgsl",
-        include_str!("../shaders/no_terrain_texture.wgsl"),
-    ),
-    (
-        "no_texture.wgsl",
-        include_str!("../shaders/no_texture.wgsl"),
-    ),
     ("quadric.wgsl", include_str!("../shaders/quadric.wgsl")),
     ("ray.wgsl", include_str!("../shaders/ray.wgsl")),
     ("raygen.wgsl", include_str!("../shaders/raygen.wgsl")),
@@ -157,10 +129,6 @@ pub const SHADER_FILES: [(&str, &str); 63] = [
         include_str!("../shaders/whitted_media.wgsl"),
     ),
     (
-        "no_whitted_media.wgsl",
-        include_str!("../shaders/no_whitted_media.wgsl"),
-    ),
-    (
         "queue_forward.wgsl",
         include_str!("../shaders/queue_forward.wgsl"),
     ),
@@ -177,10 +145,6 @@ pub const SHADER_FILES: [(&str, &str); 63] = [
         include_str!("../shaders/intersect_secondary.wgsl"),
     ),
     ("whitted.wgsl", include_str!("../shaders/whitted.wgsl")),
-    (
-        "no_whitted.wgsl",
-        include_str!("../shaders/no_whitted.wgsl"),
-    ),
     (
         "whitted_gather.wgsl",
         include_str!("../shaders/whitted_gather.wgsl"),
@@ -415,13 +379,46 @@ impl Compose {
             missing: name.to_owned(),
         })?;
         self.included.push(name.to_owned());
+        // `// #if <feature>` … `// #else` … `// #endif` blocks: what a file holds with and
+        // without a feature (its hooks' real bodies and their identities), side by side.
+        let mut blocks: Vec<bool> = Vec::new();
+        // The feature a file's outermost `#if` found absent: its marker says so.
+        let mut without: Option<&str> = None;
+        let mut kept = String::with_capacity(text.len());
         for line in text.lines() {
-            let Some(directive) = line.trim().strip_prefix("// #") else {
-                continue;
-            };
             let malformed = || ComposeError::Malformed {
                 file: name.to_owned(),
                 line: line.to_owned(),
+            };
+            let on = blocks.iter().all(|&b| b);
+            let directive = line.trim().strip_prefix("// #");
+            match directive {
+                Some(d) if d.starts_with("if ") => {
+                    let present = self.condition(d);
+                    if blocks.is_empty() && !present {
+                        without = Some(d["if ".len()..].trim());
+                    }
+                    blocks.push(present);
+                    continue;
+                }
+                Some("else") => {
+                    let top = blocks.last_mut().ok_or_else(malformed)?;
+                    *top = !*top;
+                    continue;
+                }
+                Some("endif") => {
+                    blocks.pop().ok_or_else(malformed)?;
+                    continue;
+                }
+                _ => {}
+            }
+            if !on {
+                continue;
+            }
+            kept.push_str(line);
+            kept.push('\n');
+            let Some(directive) = directive else {
+                continue;
             };
             if let Some(rest) = directive.strip_prefix("include ") {
                 let (target, condition) = quoted(rest).ok_or_else(malformed)?;
@@ -472,8 +469,19 @@ impl Compose {
                 return Err(malformed());
             }
         }
-        self.body.push_str(&format!("\n// ---- {name} ----\n"));
-        self.body.push_str(text);
+        if !blocks.is_empty() {
+            return Err(ComposeError::Malformed {
+                file: name.to_owned(),
+                line: "an `// #if` without its `// #endif`".to_owned(),
+            });
+        }
+        match without {
+            Some(feature) => self
+                .body
+                .push_str(&format!("\n// ---- {name} (without {feature}) ----\n")),
+            None => self.body.push_str(&format!("\n// ---- {name} ----\n")),
+        }
+        self.body.push_str(&kept);
         Ok(())
     }
 }
@@ -875,7 +883,7 @@ mod tests {
         assert!(!shade.contains("{{"), "every placeholder replaced");
         // Conditional includes and bindings follow the terrain switch.
         assert!(shade.contains("// ---- terrain.wgsl ----"));
-        assert!(!shade.contains("// ---- no_terrain.wgsl ----"));
+        assert!(!shade.contains("// ---- terrain_shadows.wgsl (without terrain) ----"));
         let flat = compose(
             "shade.wgsl",
             &ModuleOptions {
@@ -888,14 +896,14 @@ mod tests {
             !flat.contains("// ---- terrain.wgsl ----")
                 && !flat.contains("var<storage, read> pyramid")
         );
-        assert!(flat.contains("// ---- no_terrain.wgsl ----"));
+        assert!(flat.contains("// ---- terrain_shadows.wgsl (without terrain) ----"));
         // And the meshes': a scene without them compiles no mesh code and binds no mesh data;
         // with them, shade reads the mesh texture through the terrains-and-meshes group.
         assert!(
             shade.contains("// ---- mesh.wgsl ----")
                 && shade.contains("// ---- mesh_shading.wgsl ----")
                 && shade.contains("var mesh_data: texture_2d<u32>")
-                && !shade.contains("// ---- no_mesh.wgsl ----")
+                && !shade.contains("// ---- mesh_shading.wgsl (without meshes) ----")
         );
         assert_eq!(
             module_groups("shade.wgsl", &options).unwrap()[3],
@@ -913,7 +921,7 @@ mod tests {
             for entry in frame_modules {
                 let source = compose(entry, &plain).unwrap();
                 assert!(
-                    !source.contains("// ---- mesh")
+                    !source.contains("// ---- mesh.wgsl")
                         && !source.contains("mesh_data")
                         && !source.contains("mesh_info")
                         && !source.contains("fn load_mesh")
@@ -942,7 +950,7 @@ mod tests {
         assert!(
             shade.contains("// ---- fog.wgsl ----") && shade.contains("var<uniform> fog: GpuFog")
         );
-        assert!(!shade.contains("// ---- no_fog.wgsl ----"));
+        assert!(!shade.contains("// ---- fog_shading.wgsl (without fog) ----"));
         for entry in ["shade.wgsl", "resolve.wgsl", "media.wgsl"] {
             let clear = compose(
                 entry,
@@ -967,7 +975,7 @@ mod tests {
                 && shade.contains("// ---- sky_shading.wgsl ----")
                 && shade.contains("var<uniform> sky: GpuSky")
                 && shade.contains("var sky_transmittance_table: texture_2d<f32>")
-                && !shade.contains("// ---- no_sky.wgsl ----")
+                && !shade.contains("// ---- sky_shading.wgsl (without sky) ----")
         );
         let media = compose("media.wgsl", &options).unwrap();
         assert!(
@@ -1002,7 +1010,7 @@ mod tests {
                     && cloudy.contains("var<uniform> clouds: GpuClouds")
                     && cloudy.contains("var cloud_density: texture_3d<f32>")
                     && cloudy.contains("var cloud_max: texture_3d<f32>")
-                    && !cloudy.contains("// ---- no_clouds"),
+                    && !cloudy.contains("(without clouds)"),
                 "{entry}"
             );
         }
@@ -1076,7 +1084,7 @@ mod tests {
                 && shade_textured.contains("// ---- terrain_texture.wgsl ----")
                 && shade_textured.contains("var texture_data: texture_2d<u32>")
                 && shade_textured.contains("var<uniform> texture_info: GpuTextureInfo")
-                && !shade_textured.contains("// ---- no_texture.wgsl ----")
+                && !shade_textured.contains("// ---- texture.wgsl (without textures) ----")
         );
         assert_eq!(
             module_groups("shade.wgsl", &textured).unwrap()[3],
@@ -1093,8 +1101,8 @@ mod tests {
         };
         let ff = compose("shade.wgsl", &free_forms_textured).unwrap();
         assert!(
-            ff.contains("// ---- no_mesh_texture.wgsl ----")
-                && ff.contains("// ---- no_terrain_texture.wgsl ----")
+            ff.contains("// ---- mesh_texture.wgsl (without meshes) ----")
+                && ff.contains("// ---- terrain_texture.wgsl (without terrain) ----")
                 && !ff.contains("// ---- mesh_texture.wgsl ----")
         );
         assert_eq!(
@@ -1104,18 +1112,17 @@ mod tests {
         for entry in ENTRY_MODULES {
             let source = compose(entry, &options).unwrap();
             assert!(
-                !source.contains("// ---- texture.wgsl")
+                !source.contains("// ---- texture.wgsl ----")
                     && !source.contains("// ---- mesh_texture.wgsl")
                     && !source.contains("// ---- terrain_texture.wgsl")
-                    && !source.contains("// ---- no_mesh_texture.wgsl")
-                    && !source.contains("// ---- no_terrain_texture.wgsl")
-                    && !source.contains("texture_data")
-                    && !source.contains("texture_info")
+                    && !source.contains("var texture_data")
+                    && !source.contains("var<uniform> texture_info")
+                    && !source.contains("texture_info.")
                     && !source.contains("fn texture_"),
                 "{entry}"
             );
         }
-        assert!(shade.contains("// ---- no_texture.wgsl ----"));
+        assert!(shade.contains("// ---- texture.wgsl (without textures) ----"));
         assert!(matches!(
             compose("nonexistent.wgsl", &options),
             Err(ComposeError::Missing { .. })
