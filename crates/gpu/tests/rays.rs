@@ -713,29 +713,8 @@ fn mesh_suite(backend: &dyn Backend) {
         let scene = data_scene(name);
         let instances: Vec<Instance> = scene.meshes.iter().map(|m| m.instance.clone()).collect();
         let reference = fray_gpu::params::reference_point(&scene.camera);
-        let (w, h) = (40, 30);
-        let mut camera = Vec::new();
-        for py in 0..h {
-            for px in 0..w {
-                if let Some(c) = scene.camera.pixel_ray(px, py, w, h) {
-                    camera.push(CaseRay {
-                        ray: c.ray,
-                        range: Interval::new(c.t_near, f64::INFINITY),
-                    });
-                }
-            }
-        }
-        let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
-        let far_eye = reference - forward * 1e3;
-        let far: Vec<CaseRay> = camera
-            .iter()
-            .filter_map(|r| {
-                Some(CaseRay {
-                    ray: Ray::new(far_eye, r.ray.at(3.0) - far_eye)?,
-                    range: Interval::new(0.0, f64::INFINITY),
-                })
-            })
-            .collect();
+        let camera = camera_rays(&scene, 40, 30);
+        let (far_eye, far) = far_rays(&camera, reference, 1e3, 3.0);
         let diagonal = instances
             .iter()
             .map(|i| i.bounds().diagonal())
@@ -893,29 +872,8 @@ fn terrain_suite(backend: &dyn Backend) {
             eps: scene.epsilon(),
             eps_gpu: fray_gpu::gpu_epsilon(&scene, scene.epsilon()),
         };
-        let (w, h) = (40, 30);
-        let mut camera = Vec::new();
-        for py in 0..h {
-            for px in 0..w {
-                if let Some(c) = scene.camera.pixel_ray(px, py, w, h) {
-                    camera.push(CaseRay {
-                        ray: c.ray,
-                        range: Interval::new(c.t_near, f64::INFINITY),
-                    });
-                }
-            }
-        }
-        let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
-        let far_eye = reference - forward * 1e4;
-        let far: Vec<CaseRay> = camera
-            .iter()
-            .filter_map(|r| {
-                Some(CaseRay {
-                    ray: Ray::new(far_eye, r.ray.at(100.0) - far_eye)?,
-                    range: Interval::new(0.0, f64::INFINITY),
-                })
-            })
-            .collect();
+        let camera = camera_rays(&scene, 40, 30);
+        let (far_eye, far) = far_rays(&camera, reference, 1e4, 100.0);
         let far_tol = Tolerance {
             eps_gpu: tol.eps_gpu.max(fray_gpu::EPSILON_FLOOR * 1e4),
             ..tol
@@ -1063,6 +1021,58 @@ fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     if inside_a { a } else { b }
 }
 
+/// The camera rays of `scene` through the pixel centres of a `width × height` grid.
+fn camera_rays(scene: &Scene, width: u32, height: u32) -> Vec<CaseRay> {
+    let mut rays = Vec::new();
+    for py in 0..height {
+        for px in 0..width {
+            if let Some(c) = scene.camera.pixel_ray(px, py, width, height) {
+                rays.push(CaseRay {
+                    ray: c.ray,
+                    range: Interval::new(c.t_near, f64::INFINITY),
+                });
+            }
+        }
+    }
+    rays
+}
+
+/// A camera `back` behind `reference` along the mean of `camera`'s directions, and its rays
+/// through the points `at` along each of them (a view of the same things from far away:
+/// positions relative to that camera, long `t`).
+fn far_rays(camera: &[CaseRay], reference: DVec3, back: f64, at: f64) -> (DVec3, Vec<CaseRay>) {
+    let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
+    let eye = reference - forward * back;
+    let rays = camera
+        .iter()
+        .filter_map(|r| {
+            Some(CaseRay {
+                ray: Ray::new(eye, r.ray.at(at) - eye)?,
+                range: Interval::new(0.0, f64::INFINITY),
+            })
+        })
+        .collect();
+    (eye, rays)
+}
+
+/// Rays from `eye` at every `elevations` × `azimuths` (degrees, Y up) to each of `ends`.
+fn fan(eye: DVec3, elevations: &[f64], azimuths: &[f64], ends: &[f64]) -> Vec<CaseRay> {
+    let mut rays = Vec::new();
+    for elevation in elevations {
+        for azimuth in azimuths {
+            let (e, a) = (elevation.to_radians(), azimuth.to_radians());
+            let dir = DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
+            for &end in ends {
+                rays.push(CaseRay {
+                    ray: Ray::new(eye, dir).expect("a unit direction"),
+                    range: Interval::new(0.0, end),
+                });
+            }
+        }
+    }
+    rays
+}
+
 /// A case: solids, the point the rays are relative to on a backend that needs one, the rays.
 struct Case {
     name: String,
@@ -1095,17 +1105,7 @@ fn cases(name: &str, width: u32) -> Vec<Case> {
         eps_gpu: fray_gpu::gpu_epsilon(&scene, scene.epsilon()),
     };
     let reference = fray_gpu::params::reference_point(&scene.camera);
-    let mut camera = Vec::new();
-    for py in 0..height {
-        for px in 0..width {
-            if let Some(c) = scene.camera.pixel_ray(px, py, width, height) {
-                camera.push(CaseRay {
-                    ray: c.ray,
-                    range: Interval::new(c.t_near, f64::INFINITY),
-                });
-            }
-        }
-    }
+    let camera = camera_rays(&scene, width, height);
     // Grazing rays: through each hit's neighbourhood along the tangent plane, just outside.
     let hits = Cpu.free_forms(&refs, reference, &camera, &tol);
     let mut grazing = Vec::new();
@@ -1126,20 +1126,8 @@ fn cases(name: &str, width: u32) -> Vec<Case> {
             });
         }
     }
-    // The camera 10⁴ back along its view: rays from there through the points 10 along the camera
-    // rays (a flight view of a model far ahead: positions relative to that camera, long `t`).
-    let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
-    let far_eye = reference - forward * 1e4;
-    let far: Vec<CaseRay> = camera
-        .iter()
-        .filter_map(|r| {
-            let ray = Ray::new(far_eye, r.ray.at(10.0) - far_eye)?;
-            Some(CaseRay {
-                ray,
-                range: Interval::new(0.0, f64::INFINITY),
-            })
-        })
-        .collect();
+    // The camera 10⁴ back: a flight view of a model far ahead.
+    let (far_eye, far) = far_rays(&camera, reference, 1e4, 10.0);
     let far_tol = Tolerance {
         eps_gpu: tol.eps_gpu.max(fray_gpu::EPSILON_FLOOR * 1e4),
         ..tol
@@ -1378,20 +1366,12 @@ fn fog_suite(backend: &dyn Backend) {
         let camera = fray_gpu::params::reference_point(&scene.camera);
         for eye_y in [camera.y, 0.5 * (layer.base + layer.top), layer.top] {
             let eye = DVec3::new(camera.x, eye_y, camera.z);
-            let mut rays = Vec::new();
-            for elevation in [-90.0, -30.0, -5.0, -0.5, 0.0, 0.5, 5.0, 30.0, 90.0f64] {
-                for azimuth in [0.0, 70.0, 200.0f64] {
-                    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-                    let dir = DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
-                    for end in [1.0, 100.0, 2e3, 2e4, f64::INFINITY] {
-                        let ray = Ray::new(eye, dir).expect("a unit direction");
-                        rays.push(CaseRay {
-                            ray,
-                            range: Interval::new(0.0, end),
-                        });
-                    }
-                }
-            }
+            let rays = fan(
+                eye,
+                &[-90.0, -30.0, -5.0, -0.5, 0.0, 0.5, 5.0, 30.0, 90.0],
+                &[0.0, 70.0, 200.0],
+                &[1.0, 100.0, 2e3, 2e4, f64::INFINITY],
+            );
             let answers = backend.fog(&fog, eye_y, &rays);
             for (r, m) in rays.iter().zip(&answers) {
                 rays_checked += 1;
@@ -1449,19 +1429,12 @@ fn sky_suite(backend: &dyn Backend) {
         let sun = sky.sky.sun();
         let camera = fray_gpu::params::reference_point(&scene.camera);
         for eye in [camera, camera + DVec3::Y * 1e4] {
-            let mut rays = Vec::new();
-            for elevation in [-30.0, -2.0, 0.5, 5.0, 45.0f64] {
-                for azimuth in [0.0, 120.0, 240.0f64] {
-                    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-                    let dir = DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
-                    for end in [100.0, 2e3, 2e4, f64::INFINITY] {
-                        rays.push(CaseRay {
-                            ray: Ray::new(eye, dir).expect("a unit direction"),
-                            range: Interval::new(0.0, end),
-                        });
-                    }
-                }
-            }
+            let rays = fan(
+                eye,
+                &[-30.0, -2.0, 0.5, 5.0, 45.0],
+                &[0.0, 120.0, 240.0],
+                &[100.0, 2e3, 2e4, f64::INFINITY],
+            );
             let answers = backend.sky(&sky, eye, &rays);
             for (r, a) in rays.iter().zip(&answers) {
                 rays_checked += 1;
@@ -1526,30 +1499,14 @@ fn cloud_suite(backend: &dyn Backend) {
         let clouds = scene.clouds.clone().expect("a cloud scene");
         let eye = fray_gpu::params::reference_point(&scene.camera);
         let light = fray_gpu::cloud_light(&scene, &clouds, eye);
-        let mut rays = Vec::new();
-        for elevation in [-60.0, -10.0, 0.0, 10.0, 60.0f64] {
-            for azimuth in [0.0, 72.0, 144.0, 216.0, 288.0f64] {
-                let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-                let dir = DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
-                for end in [100.0, 2e3, f64::INFINITY] {
-                    rays.push(CaseRay {
-                        ray: Ray::new(eye, dir).expect("a unit direction"),
-                        range: Interval::new(0.0, end),
-                    });
-                }
-            }
-        }
+        let mut rays = fan(
+            eye,
+            &[-60.0, -10.0, 0.0, 10.0, 60.0],
+            &[0.0, 72.0, 144.0, 216.0, 288.0],
+            &[100.0, 2e3, f64::INFINITY],
+        );
         // And every camera ray of a coarse grid.
-        for py in 0..12 {
-            for px in 0..16 {
-                if let Some(c) = scene.camera.pixel_ray(px, py, 16, 12) {
-                    rays.push(CaseRay {
-                        ray: c.ray,
-                        range: Interval::new(c.t_near, f64::INFINITY),
-                    });
-                }
-            }
-        }
+        rays.extend(camera_rays(&scene, 16, 12));
         let answers = backend.clouds(&clouds, &light, eye, &rays);
         for (r, m) in rays.iter().zip(&answers) {
             rays_checked += 1;
