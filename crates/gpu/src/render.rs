@@ -208,6 +208,66 @@ struct FrameBuffers {
     indices: wgpu::Buffer,
 }
 
+impl FrameBuffers {
+    /// The frame's buffers before its first view: its parameters and counters, and empty
+    /// placeholders that the first frame sizes.
+    fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
+        Ok(Self {
+            params: bindings::empty(
+                ctx,
+                "frame params",
+                std::mem::size_of::<FrameParams>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            )?,
+            counters: bindings::empty(
+                ctx,
+                "counters",
+                (counters::WORDS * 4) as u64,
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            )?,
+            counters_readback: readback_buffer(
+                &ctx.device,
+                "counters readback",
+                (counters::WORDS * 4) as u64,
+            ),
+            paths: bindings::empty(ctx, "paths", 0, U::STORAGE)?,
+            secondaries: bindings::empty(ctx, "secondary rays", 0, U::STORAGE)?,
+            queue_args: bindings::empty(ctx, "queue dispatch", 16, U::STORAGE | U::INDIRECT)?,
+            items: bindings::empty(ctx, "work items", 0, U::STORAGE | U::COPY_DST)?,
+            candidates: bindings::empty(ctx, "candidates", 0, U::STORAGE | U::COPY_DST)?,
+            indices: bindings::empty(ctx, "indices", 0, U::STORAGE | U::COPY_DST)?,
+        })
+    }
+}
+
+/// Refuses a composition the device cannot run: a solid whose per-invocation arrays pass the
+/// private memory the backend allows, or a Whitted shade pass past the device's storage buffers.
+fn check_device_fits(ctx: &GpuContext, options: &ModuleOptions) -> Result<(), GpuError> {
+    let private = shader::private_bytes(&options.sizes);
+    if private > shader::MAX_PRIVATE_BYTES {
+        return Err(GpuError::TooLarge {
+            what: "the private memory one GPU invocation needs for the largest solid, in bytes \
+                   (it grows with the solid's leaves and perturbations)",
+            needed: private,
+            limit: shader::MAX_PRIVATE_BYTES,
+        });
+    }
+    if options.whitted {
+        // The shade pass binds the secondary rays' records besides the frame's, the free
+        // forms' and the terrains' storage buffers.
+        let needed = 2 + 4 + if options.terrain { 2 } else { 0 } + 1;
+        let limit = ctx.limits.max_storage_buffers_per_shader_stage;
+        if needed > limit {
+            return Err(GpuError::TooLarge {
+                what: "storage buffers of the Whitted shade pass",
+                needed: u64::from(needed),
+                limit: u64::from(limit),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The frame's images on the GPU and their readback.
 #[derive(Debug)]
 struct Targets {
@@ -266,18 +326,8 @@ impl<'a> GpuScene<'a> {
         let cache = &renderer.cache;
         let anchor = params::reference_point(&scene.camera);
         let resident = ResidentScene::upload(ctx, cache, scene, anchor, &scene.budget)?;
-        let sizes = shader::array_sizes(scene, &resident.flat);
-        let private = shader::private_bytes(&sizes);
-        if private > shader::MAX_PRIVATE_BYTES {
-            return Err(GpuError::TooLarge {
-                what: "the private memory one GPU invocation needs for the largest solid, in bytes \
-                       (it grows with the solid's leaves and perturbations)",
-                needed: private,
-                limit: shader::MAX_PRIVATE_BYTES,
-            });
-        }
         let options = ModuleOptions {
-            sizes,
+            sizes: shader::array_sizes(scene, &resident.flat),
             terrain: !scene.terrains.is_empty(),
             meshes: !scene.meshes.is_empty(),
             fog: scene.atmosphere.fog.is_some(),
@@ -286,19 +336,7 @@ impl<'a> GpuScene<'a> {
             whitted: scene.features.reflection || scene.features.transmission,
             textures: resident.textures.is_some(),
         };
-        if options.whitted {
-            // The shade pass binds the secondary rays' records besides the frame's, the free
-            // forms' and the terrains' storage buffers.
-            let needed = 2 + 4 + if options.terrain { 2 } else { 0 } + 1;
-            let limit = ctx.limits.max_storage_buffers_per_shader_stage;
-            if needed > limit {
-                return Err(GpuError::TooLarge {
-                    what: "storage buffers of the Whitted shade pass",
-                    needed: u64::from(needed),
-                    limit: u64::from(limit),
-                });
-            }
-        }
+        check_device_fits(ctx, &options)?;
         let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
         let setup = PassSetup {
@@ -312,31 +350,7 @@ impl<'a> GpuScene<'a> {
             frame: crate::passes::frame_passes(&setup)?,
         };
         let pending_pipelines = cache.take_built();
-        let buffers = FrameBuffers {
-            params: bindings::empty(
-                ctx,
-                "frame params",
-                std::mem::size_of::<FrameParams>() as u64,
-                U::UNIFORM | U::COPY_DST,
-            )?,
-            counters: bindings::empty(
-                ctx,
-                "counters",
-                (counters::WORDS * 4) as u64,
-                U::STORAGE | U::COPY_SRC | U::COPY_DST,
-            )?,
-            counters_readback: readback_buffer(
-                &ctx.device,
-                "counters readback",
-                (counters::WORDS * 4) as u64,
-            ),
-            paths: bindings::empty(ctx, "paths", 0, U::STORAGE)?,
-            secondaries: bindings::empty(ctx, "secondary rays", 0, U::STORAGE)?,
-            queue_args: bindings::empty(ctx, "queue dispatch", 16, U::STORAGE | U::INDIRECT)?,
-            items: bindings::empty(ctx, "work items", 0, U::STORAGE | U::COPY_DST)?,
-            candidates: bindings::empty(ctx, "candidates", 0, U::STORAGE | U::COPY_DST)?,
-            indices: bindings::empty(ctx, "indices", 0, U::STORAGE | U::COPY_DST)?,
-        };
+        let buffers = FrameBuffers::new(ctx)?;
         Ok(Self {
             renderer,
             scene,
@@ -968,21 +982,20 @@ impl<'a> GpuScene<'a> {
     fn bind_groups(&self) -> Result<Groups, GpuError> {
         let ctx = &self.renderer.ctx;
         let cache = &self.renderer.cache;
-        let device = &ctx.device;
-        let b = &self.buffers;
-        let r = &self.resident;
-        let frame = FRAME.bind(
-            device,
-            &cache.layout(ctx, &FRAME),
+        let (b, r) = (&self.buffers, &self.resident);
+        let bind = |group: &bindings::Group, resources: &[wgpu::BindingResource<'_>]| {
+            group.bind(&ctx.device, &cache.layout(ctx, group), resources)
+        };
+        let frame = bind(
+            &FRAME,
             &[
                 b.params.as_entire_binding(),
                 b.paths.as_entire_binding(),
                 b.counters.as_entire_binding(),
             ],
         );
-        let free_forms = FREE_FORMS.bind(
-            device,
-            &cache.layout(ctx, &FREE_FORMS),
+        let free_forms = bind(
+            &FREE_FORMS,
             &[
                 r.solids.target.as_entire_binding(),
                 r.leaves.target.as_entire_binding(),
@@ -995,31 +1008,22 @@ impl<'a> GpuScene<'a> {
         let whitted = self.specialisation.whitted;
         let views = r.part_views();
         let bind_parts = |parts: &[Part]| {
-            let group = bindings::group_of(parts);
             let resources: Vec<wgpu::BindingResource<'_>> = parts
                 .iter()
                 .flat_map(|&part| r.part_resources(part, &views, &b.secondaries))
                 .collect();
-            group.bind(device, &cache.layout(ctx, &group), &resources)
+            bind(&bindings::group_of(parts), &resources)
         };
-        let shading = bind_parts(&bindings::shading_parts(
-            r.fog.is_some(),
-            r.sky.is_some(),
-            r.clouds.is_some(),
-            whitted,
-        ));
+        let (fog, sky, clouds) = (r.fog.is_some(), r.sky.is_some(), r.clouds.is_some());
+        let shading = bind_parts(&bindings::shading_parts(fog, sky, clouds, whitted));
         let terrains = r.terrains.is_some().then(|| bind_parts(&[Part::Terrains]));
         let meshes = r.meshes.is_some().then(|| bind_parts(&[Part::Meshes]));
         // The shade pass's fourth group: the terrains', the meshes' and the textures' in one.
-        let surface_parts = bindings::surface_parts(
-            r.terrains.is_some(),
-            r.meshes.is_some(),
-            r.textures.is_some(),
-        );
+        let (t, m, x) = (terrains.is_some(), meshes.is_some(), r.textures.is_some());
+        let surface_parts = bindings::surface_parts(t, m, x);
         let surfaces = (!surface_parts.is_empty()).then(|| bind_parts(&surface_parts));
-        let work = WORK.bind(
-            device,
-            &cache.layout(ctx, &WORK),
+        let work = bind(
+            &WORK,
             &[
                 b.items.as_entire_binding(),
                 b.candidates.as_entire_binding(),
@@ -1028,22 +1032,15 @@ impl<'a> GpuScene<'a> {
         let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
         let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
         let (c, n, d) = (view(&t.colour_depth), view(&t.normals), view(&t.display));
-        let targets = TARGETS.bind(
-            device,
-            &cache.layout(ctx, &TARGETS),
+        let targets = bind(
+            &TARGETS,
             &[
                 wgpu::BindingResource::TextureView(&c),
                 wgpu::BindingResource::TextureView(&n),
                 wgpu::BindingResource::TextureView(&d),
             ],
         );
-        let queue = whitted.then(|| {
-            QUEUE.bind(
-                device,
-                &cache.layout(ctx, &QUEUE),
-                &[b.queue_args.as_entire_binding()],
-            )
-        });
+        let queue = whitted.then(|| bind(&QUEUE, &[b.queue_args.as_entire_binding()]));
         Ok(Groups {
             frame,
             free_forms,
