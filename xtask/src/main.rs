@@ -7,12 +7,16 @@ mod bench_gpu;
 mod bench_gpu_table;
 mod bless;
 mod compare;
+mod datasize;
+mod datasize_plot;
+mod hausdorff;
 mod package;
 mod polygonise;
 mod regress;
 mod render;
 mod report;
 mod thresholds;
+mod triangle_grid;
 mod workspace;
 
 use clap::{Args, Parser, Subcommand};
@@ -45,6 +49,11 @@ enum Command {
     /// A scene's free forms as one closed triangle mesh (OBJ): marching tetrahedra with vertices
     /// on F = 0 and normals from its gradient; prints both descriptions' sizes.
     Polygonise(PolygoniseArgs),
+    /// The data-size claim at equal error: a scene's free form polygonised at several cell
+    /// counts, each mesh's two-sided Hausdorff distance to the surface, the bytes of the
+    /// functional model (GPU arrays) and of each mesh (indexed f32), and their ratio at the error
+    /// of one 1080p pixel; target/bench/datasize.{csv,md,svg,png}.
+    Datasize(DatasizeArgs),
     /// Package every library crate (`cargo package --no-verify --offline`, in dependency
     /// order) and check that each archive holds every file its sources `include_str!` or
     /// `include_bytes!`, its README and both licence texts.
@@ -62,6 +71,39 @@ struct PolygoniseArgs {
     /// The OBJ file to write
     #[arg(short, long, value_name = "FILE")]
     out: PathBuf,
+}
+
+#[derive(Debug, Args)]
+struct DatasizeArgs {
+    /// The scene (one free-form object) [default: data/scenes/turboprop.ron]
+    scene: Option<PathBuf>,
+    /// Cubic cells along the longest side of the solid's box, one mesh each
+    #[arg(long, value_name = "N,…", value_delimiter = ',',
+          default_values_t = [40, 60, 80, 120, 160, 240, 320, 480, 640, 960],
+          value_parser = clap::value_parser!(u32).range(2..=4096))]
+    cells: Vec<u32>,
+    /// Directory for datasize.csv, datasize.md, datasize.svg and datasize.png [default:
+    /// target/bench]
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Also write the plot as DIR/datasize.svg and DIR/datasize.png (the docs' copies: `docs`)
+    #[arg(long, value_name = "DIR")]
+    docs: Option<PathBuf>,
+    /// Random points per triangle for mesh → surface, besides vertices, edge midpoints and the
+    /// centroid
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    random: u32,
+    /// Directions of the parallel rays that sample the surface (surface → mesh)
+    #[arg(long, value_name = "N", default_value_t = 64,
+          value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    directions: u32,
+    /// Rays per side of each direction's square grid
+    #[arg(long, value_name = "N", default_value_t = 256,
+          value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    rays: u32,
+    /// Worker threads [default: the machine's parallelism]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
 }
 
 #[derive(Debug, Args)]
@@ -196,6 +238,29 @@ fn main() -> ExitCode {
         })
         .map(|summary| {
             println!("{summary}");
+            true
+        }),
+        Command::Datasize(args) => datasize::run(&datasize::DatasizeOptions {
+            scene: args
+                .scene
+                .unwrap_or_else(|| workspace::default_scenes().join("turboprop.ron")),
+            cells: args.cells,
+            out: args.out.unwrap_or_else(workspace::default_bench_out),
+            docs: args.docs,
+            sampling: hausdorff::Sampling {
+                random_per_triangle: args.random,
+                seed: 0x5eed_da7a,
+                directions: args.directions,
+                rays_across: args.rays,
+                eps_share: 1e-7,
+                threads: args.threads.map_or_else(
+                    || std::thread::available_parallelism().map_or(1, |n| n.get()),
+                    |n| n as usize,
+                ),
+            },
+        })
+        .map(|md| {
+            println!("{md}");
             true
         }),
         Command::Package => package::run(),
