@@ -128,6 +128,11 @@ impl MemoryBudget {
         self.limit
     }
 
+    /// Whether `other` charges the same account (a clone of this budget, or this one).
+    pub fn same_account(&self, other: &MemoryBudget) -> bool {
+        Arc::ptr_eq(&self.account, &other.account)
+    }
+
     /// What is charged or reserved on the account now.
     pub fn charged(&self) -> u64 {
         self.account.total.load(Ordering::Relaxed)

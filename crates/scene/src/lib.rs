@@ -10,6 +10,7 @@
 //! format is documented in `docs/scene-format.md`. [`work_list`] makes the work items both
 //! backends render, from the scene's cell test for the `fray-quadtree` scheduler.
 
+mod assets;
 mod atmosphere;
 mod clouds;
 pub mod description;

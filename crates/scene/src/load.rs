@@ -117,6 +117,9 @@ const OBJECT_BYTES: u64 =
 #[derive(Default)]
 struct Includes {
     merged: HashMap<PathBuf, description::Scene>,
+    /// What the load's files read and built, once (an included file is resolved alone, then as
+    /// part of the scene).
+    assets: crate::assets::LoadedAssets,
     /// Files being read now (an include whose own includes are still being read).
     reading: usize,
 }
@@ -182,8 +185,8 @@ fn parse_at_depth(
                     other => other,
                 })?;
                 // The included file is validated on its own (so its errors name it), on an
-                // account of its own: what it builds is dropped at once and built again, and
-                // charged, as part of this scene.
+                // account of its own; what it reads and builds is kept for this scene
+                // (`Includes::assets`), which is charged for it again.
                 let alone = BuildOptions {
                     budget: MemoryBudget::new(options.budget.remaining()),
                     progress: options.progress,
@@ -241,7 +244,7 @@ fn parse_at_depth(
             OBJECT_BYTES,
         )
         .map_err(|e| located(FieldPath::root().field("objects"), e.to_string()))?;
-    let scene = resolve(&d, base, options).map_err(|e| {
+    let scene = resolve(&d, base, options, &mut includes.assets).map_err(|e| {
         let LineColumn { line, column } = locate(source, &e.path);
         SceneError::Invalid {
             file: file.to_owned(),
@@ -397,5 +400,45 @@ fn wrong_type_message(code: &RonError) -> String {
                 None => text,
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mesh named by an included file and by the scene is read and built once in the load —
+    /// not once to validate the included file and again for the scene —, both objects are
+    /// instances of it, and the scene's account is charged for it.
+    #[test]
+    fn an_included_files_assets_are_built_once_and_charged_to_the_scene() {
+        let dir = std::env::temp_dir().join(format!("fray-assets-once-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let mesh = "(objects: [(shape: Mesh(path: \"tri.obj\"))])";
+        std::fs::write(dir.join("part.ron"), mesh).unwrap();
+        let main = dir.join("main.ron");
+        let text = "(include: [\"part.ron\"], objects: [(shape: Mesh(path: \"tri.obj\"))])";
+        std::fs::write(&main, text).unwrap();
+        let options = BuildOptions::default();
+        let mut includes = Includes::default();
+        let (scene, _) = parse_at_depth(
+            text,
+            &main.display().to_string(),
+            0,
+            &options,
+            &mut includes,
+        )
+        .unwrap();
+        assert_eq!(includes.assets.meshes.builds, 1);
+        assert_eq!(scene.meshes.len(), 2);
+        let packets = |k: usize| scene.meshes[k].instance.packets().map(std::ptr::from_ref);
+        assert!(packets(0).is_some() && packets(0) == packets(1));
+        let ledger = options.budget.ledger();
+        assert!(
+            ledger.iter().any(|(what, _)| what.contains("tri.obj")),
+            "{ledger:?}"
+        );
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

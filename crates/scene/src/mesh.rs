@@ -4,72 +4,67 @@
 //! mesh —, placed by the object's transform. The BVH's build is reserved on the scene's memory
 //! account before it starts, and the tree and its packet data are charged to it; a bad file is
 //! reported at the `path` field with the file's path, the line and the reason, and so is a mesh
-//! over the memory budget.
+//! over the memory budget. A file is loaded once per load (`crate::assets`).
 
+use crate::assets::LoadedAssets;
 use crate::description;
 use crate::path::FieldPath;
-use crate::resolve::{Result, invalid, transform};
+use crate::resolve::{Invalid, Result, invalid, transform};
 use fray_core::MemoryBudget;
 use fray_mesh::{Instance, MeshBvh, PacketBvh, TriangleMesh};
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::path::Path;
 
-/// The meshes loaded so far, by file (one BVH and its packet data per file, however many
-/// objects use it).
-#[derive(Default)]
-pub(crate) struct MeshCache {
-    loaded: HashMap<PathBuf, Arc<PacketBvh>>,
-}
-
-impl MeshCache {
-    /// The instance `m` describes (`path` is the shape's field path).
-    pub(crate) fn instance(
-        &mut self,
-        path: &FieldPath,
-        m: &description::Mesh,
-        base: &Path,
-        budget: &MemoryBudget,
-    ) -> Result<Instance> {
-        let to_world = transform(&path.field("transform"), &m.transform)?;
-        let file = base.join(&m.path);
-        // The same file by another spelling (`./a.obj`, `../x/a.obj`) is still one mesh.
-        let key = std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
-        let packets = match self.loaded.get(&key) {
-            Some(packets) => packets.clone(),
-            None => {
-                let mesh = TriangleMesh::load_obj(&file, budget)
+/// The instance `m` describes (`path` is the shape's field path): its mesh loaded and its BVH
+/// built once per file in a load (`assets`), however many objects — or resolves — use it.
+pub(crate) fn instance(
+    path: &FieldPath,
+    m: &description::Mesh,
+    base: &Path,
+    budget: &MemoryBudget,
+    assets: &mut LoadedAssets,
+) -> Result<Instance> {
+    let to_world = transform(&path.field("transform"), &m.transform)?;
+    let file = base.join(&m.path);
+    // The same file by another spelling (`./a.obj`, `../x/a.obj`) is still one mesh.
+    let key = std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
+    let packets = assets.meshes.get_or_build(
+        key,
+        budget,
+        || format!("the mesh {} and its BVH", file.display()),
+        || {
+            let mesh = TriangleMesh::load_obj(&file, budget)
+                .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
+            let triangles = mesh.triangles.len();
+            let name = |what: &str| {
+                format!(
+                    "{what} of the mesh {} ({triangles} triangles)",
+                    file.display()
+                )
+            };
+            // The build's peak (its boxes and the tree at its largest) is held on the account
+            // while it runs; then the tree as built, and the packet data before it is made, are
+            // charged for as long as the scene lives.
+            let bvh = {
+                let _building = budget
+                    .reserve(name("building the BVH"), MeshBvh::build_bytes(triangles))
                     .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
-                let triangles = mesh.triangles.len();
-                let name = |what: &str| {
-                    format!(
-                        "{what} of the mesh {} ({triangles} triangles)",
-                        file.display()
-                    )
-                };
-                // The build's peak (its boxes and the tree at its largest) is held on the account
-                // while it runs; then the tree as built, and the packet data before it is made,
-                // are charged for as long as the scene lives.
-                let bvh = {
-                    let _building = budget
-                        .reserve(name("building the BVH"), MeshBvh::build_bytes(triangles))
-                        .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
-                    MeshBvh::build(mesh)
-                };
-                for (what, bytes) in [
-                    ("the BVH", bvh.bytes()),
-                    ("the packet data", PacketBvh::bytes_for(&bvh)),
-                ] {
-                    budget
-                        .charge(name(what), bytes)
-                        .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
-                }
-                let packets = Arc::new(PacketBvh::new(bvh));
-                self.loaded.insert(key, packets.clone());
-                packets
+                MeshBvh::build(mesh)
+            };
+            for (what, bytes) in [
+                ("the BVH", bvh.bytes()),
+                ("the packet data", PacketBvh::bytes_for(&bvh)),
+            ] {
+                budget
+                    .charge(name(what), bytes)
+                    .or_else(|e| invalid(&path.field("path"), e.to_string()))?;
             }
-        };
-        Instance::with_packets(packets, to_world)
-            .or_else(|e| invalid(&path.field("transform"), e.to_string()))
-    }
+            Ok(PacketBvh::new(bvh))
+        },
+        |e| Invalid {
+            path: path.field("path"),
+            message: e.to_string(),
+        },
+    )?;
+    Instance::with_packets(packets, to_world)
+        .or_else(|e| invalid(&path.field("transform"), e.to_string()))
 }

@@ -48,6 +48,7 @@ pub(crate) fn resolve(
     d: &description::Scene,
     base: &Path,
     options: &crate::BuildOptions,
+    assets: &mut crate::assets::LoadedAssets,
 ) -> Result<Scene> {
     let budget = &options.budget;
     let root = FieldPath::root();
@@ -74,7 +75,6 @@ pub(crate) fn resolve(
     let materials_path = root.field("materials");
     let mut materials = vec![Material::default()];
     let mut material_index = BTreeMap::new();
-    let mut texture_cache = crate::texture::TextureCache::default();
     for (name, m) in &d.materials {
         let path = materials_path.field(name);
         if name == "default" {
@@ -86,7 +86,13 @@ pub(crate) fn resolve(
         material_index.insert(name.as_str(), materials.len() as u32);
         let mut m = material(&path, name, m)?;
         if let Some(t) = &d.materials[name].texture {
-            m.texture = Some(texture_cache.slot(&path.field("texture"), t, base, budget)?);
+            m.texture = Some(crate::texture::slot(
+                &path.field("texture"),
+                t,
+                base,
+                budget,
+                assets,
+            )?);
         }
         if let Some(r) = &d.materials[name].ramp {
             m.ramp = Some(crate::texture::ramp(&path.field("ramp"), r)?);
@@ -98,7 +104,6 @@ pub(crate) fn resolve(
     let mut objects = Vec::with_capacity(d.objects.len());
     let mut terrains = Vec::new();
     let mut meshes = Vec::new();
-    let mut mesh_cache = crate::mesh::MeshCache::default();
     for (i, o) in d.objects.iter().enumerate() {
         let path = objects_path.index(i);
         let name = || o.name.clone().unwrap_or_else(|| format!("object{i}"));
@@ -112,11 +117,25 @@ pub(crate) fn resolve(
                 .material(&path.field("material"), m)?,
                 None => 0,
             };
-            let terrain = crate::terrain::terrain(&path.field("shape"), t, base, budget)?;
+            let file = base.join(&t.path);
+            let key = (
+                std::fs::canonicalize(&file).unwrap_or(file),
+                format!("{t:?}"),
+            );
+            let terrain = assets.terrains.get_or_build(
+                key,
+                budget,
+                || format!("the terrain {}", t.path),
+                || crate::terrain::terrain(&path.field("shape"), t, base, budget),
+                |e| Invalid {
+                    path: path.field("shape").field("path"),
+                    message: e.to_string(),
+                },
+            )?;
             features.terrain = true;
             terrains.push(TerrainObject {
                 name: name(),
-                terrain: std::sync::Arc::new(terrain),
+                terrain,
                 material,
                 lod: t.lod,
             });
@@ -132,7 +151,7 @@ pub(crate) fn resolve(
                 .material(&path.field("material"), name)?,
                 None => 0,
             };
-            let instance = mesh_cache.instance(&path.field("shape"), m, base, budget)?;
+            let instance = crate::mesh::instance(&path.field("shape"), m, base, budget, assets)?;
             features.meshes = true;
             meshes.push(MeshObject {
                 name: name(),

@@ -3,9 +3,10 @@
 //! checked; a bad file is reported at `texture.path` with its path and the reason, a bad mapping
 //! parameter at its field.
 
+use crate::assets::LoadedAssets;
 use crate::description::{self, TextureFilter, TextureMapping, TextureWrap};
 use crate::path::FieldPath;
-use crate::resolve::{Result, invalid, point};
+use crate::resolve::{Invalid, Result, invalid, point};
 use fray_core::MemoryBudget;
 use fray_mesh::Texture;
 use fray_mesh::texture::{
@@ -13,8 +14,7 @@ use fray_mesh::texture::{
     Triplanar, Wrap, WrapMode,
 };
 use glam::{DVec2, Vec4};
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 /// A material's texture, ready to sample.
@@ -37,57 +37,53 @@ impl PartialEq for TextureSlot {
     }
 }
 
-/// The textures loaded so far, by file and encoding.
-#[derive(Default)]
-pub(crate) struct TextureCache {
-    loaded: HashMap<(PathBuf, bool), Arc<Texture>>,
-}
-
-impl TextureCache {
-    pub(crate) fn slot(
-        &mut self,
-        path: &FieldPath,
-        t: &description::MaterialTexture,
-        base: &Path,
-        budget: &MemoryBudget,
-    ) -> Result<TextureSlot> {
-        let mapping = mapping(&path.field("mapping"), &t.mapping)?;
-        let file = base.join(&t.path);
-        let key = (
-            std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone()),
-            t.linear,
-        );
-        let texture = match self.loaded.get(&key) {
-            Some(texture) => texture.clone(),
-            None => {
-                let encoding = if t.linear {
-                    Encoding::Linear
-                } else {
-                    Encoding::Srgb
-                };
-                let texture = Arc::new(
-                    Texture::load(&file, encoding, budget)
-                        .or_else(|e| invalid(&path.field("path"), e.to_string()))?,
-                );
-                self.loaded.insert(key, texture.clone());
-                texture
-            }
-        };
-        Ok(TextureSlot {
-            texture,
-            mapping,
-            wrap: Wrap::both(match t.wrap {
-                TextureWrap::Repeat => WrapMode::Repeat,
-                TextureWrap::Clamp => WrapMode::Clamp,
-                TextureWrap::Mirror => WrapMode::Mirror,
-            }),
-            filter: match t.filter {
-                TextureFilter::Trilinear => Filter::Trilinear,
-                TextureFilter::Bilinear => Filter::Bilinear,
-                TextureFilter::Nearest => Filter::Nearest,
-            },
-        })
-    }
+/// The texture slot `t` describes (`path` is its field path): its image loaded once per file
+/// and encoding in a load (`assets`), however many materials — or resolves — use it.
+pub(crate) fn slot(
+    path: &FieldPath,
+    t: &description::MaterialTexture,
+    base: &Path,
+    budget: &MemoryBudget,
+    assets: &mut LoadedAssets,
+) -> Result<TextureSlot> {
+    let mapping = mapping(&path.field("mapping"), &t.mapping)?;
+    let file = base.join(&t.path);
+    let key = (
+        std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone()),
+        t.linear,
+    );
+    let texture = assets.textures.get_or_build(
+        key,
+        budget,
+        || format!("the texture {}", file.display()),
+        || {
+            let encoding = if t.linear {
+                Encoding::Linear
+            } else {
+                Encoding::Srgb
+            };
+            Texture::load(&file, encoding, budget)
+                .or_else(|e| invalid(&path.field("path"), e.to_string()))
+        },
+        |e| Invalid {
+            path: path.field("path"),
+            message: e.to_string(),
+        },
+    )?;
+    Ok(TextureSlot {
+        texture,
+        mapping,
+        wrap: Wrap::both(match t.wrap {
+            TextureWrap::Repeat => WrapMode::Repeat,
+            TextureWrap::Clamp => WrapMode::Clamp,
+            TextureWrap::Mirror => WrapMode::Mirror,
+        }),
+        filter: match t.filter {
+            TextureFilter::Trilinear => Filter::Trilinear,
+            TextureFilter::Bilinear => Filter::Bilinear,
+            TextureFilter::Nearest => Filter::Nearest,
+        },
+    })
 }
 
 /// A mapping's parameter error at its field (`scale.y` → `…mapping.scale[1]`-style names are
