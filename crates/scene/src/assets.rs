@@ -4,7 +4,6 @@
 //! the scene) reads and builds each of them once. Each account an asset is used on is charged
 //! for it once: what the first build charged is charged again on another account.
 
-use crate::resolve::Result;
 use fray_core::MemoryBudget;
 use std::collections::HashMap;
 use std::hash::Hash;
@@ -38,14 +37,14 @@ impl<K: Eq + Hash, T> AssetStore<K, T> {
     /// The asset of `key`: built by `build` (which charges `budget` as it goes) the first time;
     /// afterwards the same one, charged to `budget` — as `what` — if its account has not paid
     /// for it yet. `charge` turns a budget refusal into the caller's error.
-    pub(crate) fn get_or_build(
+    pub(crate) fn get_or_build<E>(
         &mut self,
         key: K,
         budget: &MemoryBudget,
         what: impl FnOnce() -> String,
-        build: impl FnOnce() -> Result<T>,
-        charge: impl FnOnce(fray_core::BudgetError) -> crate::resolve::Invalid,
-    ) -> Result<Arc<T>> {
+        build: impl FnOnce() -> Result<T, E>,
+        charge: impl FnOnce(fray_core::BudgetError) -> E,
+    ) -> Result<Arc<T>, E> {
         if let Some(loaded) = self.loaded.get_mut(&key) {
             if !loaded.charged_on.iter().any(|b| b.same_account(budget)) {
                 budget.charge(what(), loaded.bytes).map_err(charge)?;
