@@ -9,7 +9,7 @@ use crate::datasize_plot::{self, Plot, PlotMesh};
 use crate::hausdorff::{self, Hausdorff, Sampling};
 use fray_core::{Aabb, MemoryBudget, Projector};
 use fray_geometry::Solid;
-use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuSolid, GpuSolids};
+use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuSolid};
 use fray_scene::Scene;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -55,33 +55,10 @@ const F64_LEAF: usize = F64_QUADRIC + 6 * 8 + 4 * 4;
 /// A solid: box, first leaf, leaf count, first word, word count, complement word (5 u32).
 const F64_SOLID: usize = 6 * 8 + 5 * 4;
 
-/// The scene's free forms as the GPU holds them: every object pushed with its leaves'
-/// materials, then the complement of each object with a transmissive leaf (as
-/// `fray_gpu::resident::ResidentScene::upload` lays them out).
+/// The scene's free forms as the GPU holds them (`fray_gpu::resident::scene_solids`, which
+/// `ResidentScene::upload` uploads).
 pub fn model_bytes(scene: &Scene) -> ModelBytes {
-    let mut flat = GpuSolids::new(glam::DVec3::ZERO);
-    let material_count = scene.materials.len() as u32;
-    for object in &scene.objects {
-        flat.push(&object.solid, |leaf| {
-            object
-                .leaf_materials
-                .get(leaf)
-                .copied()
-                .filter(|&m| m < material_count)
-                .unwrap_or(material_count)
-        });
-    }
-    for (index, object) in scene.objects.iter().enumerate() {
-        let transmits = object.leaf_materials.iter().any(|&m| {
-            scene
-                .materials
-                .get(m as usize)
-                .is_some_and(|m| m.transmits())
-        });
-        if transmits {
-            flat.push_complement(index);
-        }
-    }
+    let flat = fray_gpu::resident::scene_solids(scene, glam::DVec3::ZERO);
     let (s, l, p, w) = (
         flat.solids.len(),
         flat.leaves.len(),

@@ -174,6 +174,37 @@ pub struct ResidentScene {
     charges: crate::DeviceCharges,
 }
 
+/// The scene's free forms as the GPU holds them, relative to `anchor`: every object with its
+/// leaves' materials (the default where one is out of range), then the complement of each object
+/// with a transmitting leaf — rays travel inside transmissive solids and look for where they end,
+/// the first point of their complement (fray-trace's Interiors).
+pub fn scene_solids(scene: &Scene, anchor: DVec3) -> GpuSolids {
+    let mut flat = GpuSolids::new(anchor);
+    let material_count = scene.materials.len() as u32;
+    for object in &scene.objects {
+        flat.push(&object.solid, |leaf| {
+            object
+                .leaf_materials
+                .get(leaf)
+                .copied()
+                .filter(|&m| m < material_count)
+                .unwrap_or(material_count)
+        });
+    }
+    let transmits = |m: &u32| {
+        scene
+            .materials
+            .get(*m as usize)
+            .is_some_and(|m| m.transmits())
+    };
+    for (index, object) in scene.objects.iter().enumerate() {
+        if object.leaf_materials.iter().any(transmits) {
+            flat.push_complement(index);
+        }
+    }
+    flat
+}
+
 impl ResidentScene {
     /// Uploads `scene` relative to `anchor`. Every buffer and texture is charged to `budget`
     /// before it is allocated (a scene past the budget is refused with nothing allocated beyond
@@ -186,31 +217,7 @@ impl ResidentScene {
         anchor: DVec3,
         budget: &MemoryBudget,
     ) -> Result<Self, GpuError> {
-        let mut flat = GpuSolids::new(anchor);
-        let material_count = scene.materials.len() as u32;
-        for object in &scene.objects {
-            flat.push(&object.solid, |leaf| {
-                object
-                    .leaf_materials
-                    .get(leaf)
-                    .copied()
-                    .filter(|&m| m < material_count)
-                    .unwrap_or(material_count)
-            });
-        }
-        // Rays travel inside transmissive solids: those look for where they end, the first
-        // point of their complement (fray-trace's Interiors).
-        let transmits = |m: &u32| {
-            scene
-                .materials
-                .get(*m as usize)
-                .is_some_and(|m| m.transmits())
-        };
-        for (index, object) in scene.objects.iter().enumerate() {
-            if object.leaf_materials.iter().any(transmits) {
-                flat.push_complement(index);
-            }
-        }
+        let flat = scene_solids(scene, anchor);
         let mut charges = crate::DeviceCharges::new(budget);
         let mut bytes = 0;
         let (solids, b) = Rebased::new(
