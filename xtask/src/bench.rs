@@ -14,7 +14,12 @@
 //!   march at several steps, so the step with the same error can be read off.
 //! - `dem`: the DEM scenes (`terrain_low`, `terrain_high`) at their size, 2 threads, `Exact` vs
 //!   the default `Pixel`: frame times and the default's depth error in cells.
+//!
+//! The `lod` and `march` rows (and the exact cast) are also a time-against-error sweep
+//! (`sweep_plot`): the largest relative depth error `|Δt| / t` against the exact hits, plotted
+//! as `terrain_lod.{svg,png}` with its CSV.
 
+use crate::sweep_plot::{self, Setting, Sweep};
 use crate::workspace;
 use fray_core::{Interval, Pinhole, PixelFootprint, Projector, Ray, glam::DVec3};
 use fray_render::{Backend, RenderOptions, Renderer};
@@ -198,7 +203,18 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
     let cell = sweep::cell_size(n);
     let exact_terrain =
         sweep::upsampled(&base, n, TerrainOptions::default()).map_err(|e| e.to_string())?;
-    let reference = cast_batch(&exact_terrain, &rays, PixelFootprint::ZERO);
+    let (exact_ms, reference) = timed(repeats, || {
+        cast_batch(&exact_terrain, &rays, PixelFootprint::ZERO)
+    });
+    // Time against relative depth error on the 1024² map's ray batch: the plot's settings.
+    let mut settings = vec![Setting::new("exact", exact_ms, 0.0)];
+    let mut add = |label: String, ms: f64, got: &[Option<f64>]| {
+        let (error, flips) = relative_depth_error(&reference, got);
+        settings.push(Setting {
+            flips,
+            ..Setting::new(label, ms, error)
+        });
+    };
     for bias in 0..=4u32 {
         let t = sweep::upsampled(
             &base,
@@ -211,6 +227,7 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
         .map_err(|e| e.to_string())?;
         // The renderer's rule: `Pixel` with bias b is the footprint 2^b times wider.
         let (ms, got) = timed(repeats, || cast_batch(&t, &rays, screen.coarser(bias)));
+        add(format!("pixel +{bias}"), ms, &got);
         rows.push(Row {
             sweep: "lod",
             variant: "pixel".into(),
@@ -219,6 +236,9 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
             error: Some(DepthError::of(&reference, &got, cell)),
         });
         let (ms, got) = timed(repeats, || cast_batch(&t, &rays, PixelFootprint::ZERO));
+        if bias > 0 {
+            add(format!("level {bias}"), ms, &got);
+        }
         rows.push(Row {
             sweep: "lod",
             variant: "fixed_level".into(),
@@ -241,6 +261,7 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
         };
         // The finest steps are slow: time them once.
         let (ms, got) = timed(if cells < 0.2 { 1 } else { repeats }, march);
+        add(format!("march {cells}"), ms, &got);
         rows.push(Row {
             sweep: "march",
             variant: "fixed_step".into(),
@@ -249,6 +270,16 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
             error: Some(DepthError::of(&reference, &got, cell)),
         });
     }
+
+    let lod = Sweep {
+        name: "terrain_lod".into(),
+        method: "terrain (1024², 128² rays)".into(),
+        error_desc: "max |Δt| / t against exact".into(),
+        time_desc: "ray batch ms (one thread)".into(),
+        settings,
+        // The renderer's default LOD: `Pixel`, bias 0.
+        default: Some(1),
+    };
 
     eprintln!("DEM scenes");
     for name in ["terrain_low", "terrain_high"] {
@@ -296,12 +327,31 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
     std::fs::create_dir_all(&options.out)
         .map_err(|e| format!("cannot create {}: {e}", options.out.display()))?;
     let csv = to_csv(&rows);
-    let md = to_markdown(&rows, repeats);
+    let md = format!(
+        "{}\n## Time against error (`terrain_lod.{{csv,svg,png}}`)\n\n{}{}",
+        to_markdown(&rows, repeats),
+        sweep_plot::summary_header(),
+        lod.summary()
+    );
     for (file, text) in [("terrain.csv", &csv), ("terrain.md", &md)] {
         let path = options.out.join(file);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
+    lod.write(&options.out)?;
     Ok(md)
+}
+
+/// The largest `|Δt| / t` over the rays both hit, and the rays one hits and the other misses.
+fn relative_depth_error(reference: &[Option<f64>], got: &[Option<f64>]) -> (f64, usize) {
+    let (mut max, mut flips) = (0.0f64, 0);
+    for (a, b) in reference.iter().zip(got) {
+        match (a, b) {
+            (Some(a), Some(b)) => max = max.max((a - b).abs() / a.abs().max(f64::MIN_POSITIVE)),
+            (None, None) => {}
+            _ => flips += 1,
+        }
+    }
+    (max, flips)
 }
 
 fn to_csv(rows: &[Row]) -> String {

@@ -12,7 +12,10 @@
 //!   pixels; the largest channel) relative to the frame's brightest in-scatter, and the
 //!   transmittance's absolute error, per mode; for the grids also the share of pixels
 //!   interpolated.
+//! - Each scene's modes as time against the in-scatter's max relative error, plotted
+//!   (`sweep_plot`) as `atmosphere_{fog,sky}.{csv,svg,png}`, the scene's own mode the default.
 
+use crate::sweep_plot::{Setting, Sweep};
 use crate::workspace;
 use fray_atmosphere::reference::single_scattering;
 use fray_atmosphere::{FogLighting, FogModel, Sunlight};
@@ -85,18 +88,21 @@ impl Errors {
 
 use fray_core::glam;
 
-/// Runs the sweeps; returns their markdown.
-pub fn run(repeats: usize) -> Result<String, String> {
+/// Runs the sweeps; returns their markdown and each scene's time against error.
+pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>), String> {
     let mut out =
         String::from("# Atmosphere: media evaluation modes (`cargo xtask bench atmosphere`)\n");
+    let mut sweeps = Vec::new();
     for scene in SCENES {
-        out.push_str(&sweep(scene, repeats)?);
+        let (md, s) = sweep(scene, repeats)?;
+        out.push_str(&md);
+        sweeps.push(s);
     }
-    Ok(out)
+    Ok((out, sweeps))
 }
 
 /// One scene's sweep.
-fn sweep(name: &str, repeats: usize) -> Result<String, String> {
+fn sweep(name: &str, repeats: usize) -> Result<(String, Sweep), String> {
     let path = workspace::root().join(name);
     let mut scene = fray_scene::load(&path).map_err(|e| e.to_string())?;
     let fog = scene.atmosphere.fog;
@@ -245,11 +251,34 @@ fn sweep(name: &str, repeats: usize) -> Result<String, String> {
         .into_iter()
         .map(String::from)
         .chain(GRIDS.iter().map(|g| format!("grid {g} px")));
+    let mut plotted = Sweep {
+        name: format!("atmosphere_{}", if fog.is_some() { "fog" } else { "sky" }),
+        method: format!(
+            "{} ({})",
+            if fog.is_some() { "fog" } else { "sky's air" },
+            name.trim_start_matches("data/scenes/")
+        ),
+        error_desc: "in-scatter max |Δ| / brightest".into(),
+        time_desc: format!("frame ms ({}×{}, 2 threads)", TIMED.0, TIMED.1),
+        settings: Vec::new(),
+        default: None,
+    };
+    // The scene's own mode: its media grid, else per pixel (with its own fog model).
+    let default_mode = scene
+        .atmosphere
+        .grid
+        .map_or("per pixel".to_owned(), |g| format!("grid {g} px"));
     for (name, e) in names.zip(&errors) {
         if e.in_scatter.is_empty() {
             continue;
         }
         let (max, rms) = e.in_scatter_relative(brightest.max(1e-300));
+        if let Some((_, ms)) = rows.iter().find(|(mode, _)| *mode == name) {
+            if name == default_mode {
+                plotted.default = Some(plotted.settings.len());
+            }
+            plotted.settings.push(Setting::new(name.clone(), *ms, max));
+        }
         let (share, against) = if name.starts_with("grid") {
             let d = &e.against_per_pixel;
             let scale = brightest.max(1e-300);
@@ -271,5 +300,5 @@ fn sweep(name: &str, repeats: usize) -> Result<String, String> {
             e.max_transmittance
         );
     }
-    Ok(out)
+    Ok((out, plotted))
 }

@@ -21,7 +21,11 @@
 //! - Bake time against grid size: the scene's layer (its field, its region) re-read with a
 //!   resolution of 64³ … 512³, the bake the scene loader times itself (one bake each), the
 //!   grid's bytes, and its max grid's build time.
+//!
+//! The step and sun-step rows are also plotted (`sweep_plot`): `clouds_march.{csv,svg,png}`,
+//! frame time against the max error over the brightest pixel, the scene's march the default.
 
+use crate::sweep_plot::{Setting, Sweep};
 use crate::workspace;
 use fray_core::Frame;
 use fray_scene::{CloudSource, Scene};
@@ -167,8 +171,8 @@ fn with_resolution(source: &str, n: u32) -> Result<String, String> {
     ))
 }
 
-/// Runs the sweep; returns its markdown.
-pub fn run(repeats: usize) -> Result<String, String> {
+/// Runs the sweep; returns its markdown and the march's time against error.
+pub fn run(repeats: usize) -> Result<(String, Sweep), String> {
     let path = workspace::root().join(SCENE);
     let mut scene = fray_scene::load(&path).map_err(|e| e.to_string())?;
     (scene.width, scene.height) = SIZE;
@@ -255,6 +259,31 @@ pub fn run(repeats: usize) -> Result<String, String> {
         .iter()
         .find(|r| r.step == step && r.sun == sun)
         .map_or(f64::NAN, |r| r.ms);
+    let mut plotted = Sweep {
+        name: "clouds_march".into(),
+        method: format!("clouds ({})", SCENE.trim_start_matches("data/scenes/")),
+        error_desc: "max |Δ| / brightest pixel".into(),
+        time_desc: format!("frame ms ({}×{}, {THREADS} threads)", SIZE.0, SIZE.1),
+        settings: Vec::new(),
+        default: None,
+    };
+    for r in &rows {
+        let label = if r.factor.contains("sun") {
+            // "1, sun × 1" is the step sweep's × 1 again: drawn once.
+            if r.sun == sun {
+                continue;
+            }
+            format!("sun steps {}", r.sun)
+        } else {
+            if r.step == step {
+                plotted.default = Some(plotted.settings.len());
+            }
+            format!("step × {}", r.factor)
+        };
+        plotted
+            .settings
+            .push(Setting::new(label, r.ms, r.error.max / bright));
+    }
     for r in &rows {
         let _ = writeln!(
             out,
@@ -331,7 +360,7 @@ pub fn run(repeats: usize) -> Result<String, String> {
             bake_ms * 1e6 / count.max(1) as f64
         );
     }
-    Ok(out)
+    Ok((out, plotted))
 }
 
 /// Bytes as MiB (or KiB below one MiB).

@@ -3,6 +3,7 @@
 //! 1080p pixel as a vertical line — drawn once per backend as SVG and PNG with the repository's
 //! font (`xtask/fonts`).
 
+use crate::plot_font::{FONT, register_font};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -33,23 +34,6 @@ pub struct PlotMesh {
 }
 
 const SIZE: (u32, u32) = (960, 640);
-const FONT: &str = "sans-serif";
-
-/// The font, registered once for the process.
-fn register_font() -> Result<(), String> {
-    static DONE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let ok = *DONE.get_or_init(|| {
-        plotters::style::register_font(
-            FONT,
-            FontStyle::Normal,
-            include_bytes!("../fonts/DejaVuSansMono.ttf"),
-        )
-        .is_ok()
-    });
-    ok.then_some(())
-        .ok_or_else(|| "the plot's font does not load".to_string())
-}
-
 /// Writes the plot to `svg` and `png`.
 pub fn write(plot: &Plot, svg: &Path, png: &Path) -> Result<(), String> {
     register_font()?;

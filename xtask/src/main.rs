@@ -3,6 +3,7 @@
 mod bench;
 mod bench_atmosphere;
 mod bench_clouds;
+mod bench_freeform;
 mod bench_gpu;
 mod bench_gpu_table;
 mod bless;
@@ -11,10 +12,12 @@ mod datasize;
 mod datasize_plot;
 mod hausdorff;
 mod package;
+mod plot_font;
 mod polygonise;
 mod regress;
 mod render;
 mod report;
+mod sweep_plot;
 mod thresholds;
 mod triangle_grid;
 mod workspace;
@@ -42,8 +45,11 @@ enum Command {
     /// `atmosphere`: frame time and error against the numerical reference of each fog
     /// evaluation mode; target/bench/atmosphere.md. `clouds`: frame time against the march's
     /// step and sun steps with the error against a fine-step reference, empty-space skipping
-    /// on and off, bake time against grid size; target/bench/clouds.md. Default: all (these
-    /// three). `gpu`: every scene's frames on the GPU at 1280×720 and 1920×1080, each pass's
+    /// on and off, bake time against grid size; target/bench/clouds.md. `freeform`: the CPU
+    /// free-form caster's time against depth error over ε on the csg and turboprop camera
+    /// rays; target/bench/freeform.md. Each of these also writes its time-against-error
+    /// sweeps as <name>.{csv,svg,png}, the Pareto front and the default marked. Default: all
+    /// (these four). `gpu`: every scene's frames on the GPU at 1280×720 and 1920×1080, each pass's
     /// median time; target/bench/gpu.{csv,md} (not part of `all`).
     Bench(BenchArgs),
     /// A scene's free forms as one closed triangle mesh (OBJ): marching tetrahedra with vertices
@@ -111,7 +117,8 @@ struct BenchArgs {
     /// Which sweeps to run
     #[arg(value_enum, default_value_t = Sweeps::All)]
     sweeps: Sweeps,
-    /// Directory for terrain.csv, terrain.md, atmosphere.md, clouds.md, gpu.csv and gpu.md
+    /// Directory for terrain.csv, terrain.md, atmosphere.md, clouds.md, freeform.md, the
+    /// sweeps' plots, gpu.csv and gpu.md
     /// [default: target/bench]
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
@@ -164,6 +171,7 @@ enum Sweeps {
     Terrain,
     Atmosphere,
     Clouds,
+    Freeform,
     Gpu,
     All,
 }
@@ -213,6 +221,21 @@ struct BlessArgs {
     /// Scenes to bless, by file stem; all when none are given
     #[arg(value_name = "SCENE_STEMS")]
     stems: Vec<String>,
+}
+
+/// Writes each sweep's CSV and plots under `out`; returns `md` with their summary table.
+fn with_sweeps(
+    mut md: String,
+    sweeps: &[sweep_plot::Sweep],
+    out: &std::path::Path,
+) -> Result<String, String> {
+    md.push_str("\n## Time against error\n\n");
+    md.push_str(&sweep_plot::summary_header());
+    for s in sweeps {
+        s.write(out)?;
+        md.push_str(&s.summary());
+    }
+    Ok(md)
 }
 
 fn main() -> ExitCode {
@@ -311,6 +334,7 @@ fn main() -> ExitCode {
             let terrain = matches!(args.sweeps, Sweeps::Terrain | Sweeps::All);
             let atmosphere = matches!(args.sweeps, Sweeps::Atmosphere | Sweeps::All);
             let clouds = matches!(args.sweeps, Sweeps::Clouds | Sweeps::All);
+            let freeform = matches!(args.sweeps, Sweeps::Freeform | Sweeps::All);
             let mut result = Ok(());
             if terrain {
                 result = bench::run(&bench::BenchOptions {
@@ -320,7 +344,8 @@ fn main() -> ExitCode {
                 .map(|md| summary.push_str(&md));
             }
             if atmosphere && result.is_ok() {
-                result = bench_atmosphere::run(repeats).and_then(|md| {
+                result = bench_atmosphere::run(repeats).and_then(|(md, sweeps)| {
+                    let md = with_sweeps(md, &sweeps, &out)?;
                     let path = out.join("atmosphere.md");
                     std::fs::create_dir_all(&out)
                         .and_then(|()| std::fs::write(&path, &md))
@@ -330,8 +355,22 @@ fn main() -> ExitCode {
                 });
             }
             if clouds && result.is_ok() {
-                result = bench_clouds::run(repeats).and_then(|md| {
+                result = bench_clouds::run(repeats).and_then(|(md, sweep)| {
+                    let md = with_sweeps(md, &[sweep], &out)?;
                     let path = out.join("clouds.md");
+                    std::fs::create_dir_all(&out)
+                        .and_then(|()| std::fs::write(&path, &md))
+                        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                    summary.push_str(&md);
+                    Ok(())
+                });
+            }
+            if freeform && result.is_ok() {
+                result = bench_freeform::run(repeats).and_then(|(md, sweeps)| {
+                    for s in &sweeps {
+                        s.write(&out)?;
+                    }
+                    let path = out.join("freeform.md");
                     std::fs::create_dir_all(&out)
                         .and_then(|()| std::fs::write(&path, &md))
                         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
