@@ -7,10 +7,7 @@
 //
 // #bindings frame, free_forms, surfaces
 // #include "freeform.wgsl"
-// #include "terrain.wgsl" if terrain
-// #include "terrain_shadows.wgsl"
-// #include "mesh.wgsl" if meshes
-// #include "mesh_shading.wgsl"
+// #include "kinds.wgsl"
 // #include "queue.wgsl"
 // #include "secondary_hit.wgsl"
 // #include "counters.wgsl"

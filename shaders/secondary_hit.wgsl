@@ -5,7 +5,7 @@
 // inside a transmissive free form (its solid's value ≥ 0 at the origin) finds where it leaves
 // it: the first point of the solid's complement (its program negated, GpuSolid's
 // complement_word) or, a solid cut by its box, the box's far face (Interiors::exit_hit). The
-// including module has freeform.wgsl and the terrain and mesh hooks (or their no_* twins).
+// including module has freeform.wgsl and the scene's kinds' hooks (kinds.wgsl).
 
 // Whether `o` lies inside solid `si` (Solid::eval(o) ≥ 0): its program at the point, every leaf
 // present whose box holds it.
@@ -80,19 +80,15 @@ fn nearest_from_surface(o: vec3<f32>, d: vec3<f32>, limit: f32, eps: f32) -> Sur
     if HAS_FREE_FORMS {
         free_forms_nearest(o, d, limit, eps, &best);
     }
-    terrains_nearest(o, d, limit, eps, &best);
-    meshes_nearest(o, d, limit, &best);
+    kinds_nearest_from_surface(o, d, limit, eps, &best);
     return best;
 }
 
 // The material of hit `h` of the ray from `o` along `d`: a free form's leaf at the point, a
 // terrain's, a mesh instance's.
 fn surface_hit_material(h: SurfaceHit, o: vec3<f32>, d: vec3<f32>) -> u32 {
-    if h.kind == KIND_TERRAIN {
-        return terrain_material(h.index);
-    }
-    if h.kind == KIND_MESH {
-        return mesh_material(h.index);
+    if h.kind != KIND_FREE_FORM {
+        return kinds_material(h.kind, h.index);
     }
     return leaves[surface_at(h.index, o + d * h.t, -d).leaf].material;
 }

@@ -1,6 +1,7 @@
 // shade.wgsl — surfaces and shading: one invocation per ray of the band that hit something —
-// the surface interaction (a free form's normal and leaf from its CSG program, freeform.wgsl; a
-// terrain's normal from its hit; a mesh's from its triangle, mesh_shading.wgsl), the cut face
+// the surface interaction (a free form's normal and leaf from its CSG program, freeform.wgsl;
+// every other kind's from its hook through kinds.wgsl: a terrain's normal from its hit, a mesh's
+// from its triangle), the cut face
 // where the ray starts inside, then ambient +
 // Lambert (albedo/π) + normalised Phong with each light seen through the RGB transmittance of a
 // shadow ray that every primitive kind answers any-hit (fray-trace's Integrator, in f32), and
@@ -9,14 +10,12 @@
 // and the outward shading normal into the path. In a Whitted scene (whitted.wgsl) it also shades
 // the queue's levels of secondary rays, spawns each hit's reflected and refracted rays, and
 // shadow rays pass through transmissive surfaces. `shading` is the scene's group of lights and materials with its media's parameters and
-// tables (bindings::shading); `surfaces` the terrains', the meshes' or both (bindings::surfaces).
+// tables (bindings::shading); `surfaces` the other kinds' and the textures' (bindings::surfaces);
+// kinds.wgsl, generated for the scene's kinds, calls their hooks.
 //
 // #bindings frame, free_forms, shading, surfaces
 // #include "freeform.wgsl"
-// #include "terrain.wgsl" if terrain
-// #include "terrain_shadows.wgsl"
-// #include "mesh.wgsl" if meshes
-// #include "mesh_shading.wgsl"
+// #include "kinds.wgsl"
 // #include "fog_shading.wgsl"
 // #include "sky_shading.wgsl"
 // #include "clouds_shading.wgsl"
@@ -40,10 +39,7 @@ fn transmittance(o: vec3<f32>, d: vec3<f32>, distance: f32, eps: f32) -> vec3<f3
     if HAS_FREE_FORMS && occluded_by_solids(o, d, 0.0, distance, eps, frame.solids) {
         return vec3<f32>(0.0);
     }
-    if occluded_by_terrains(o, d, distance, eps) {
-        return vec3<f32>(0.0);
-    }
-    if occluded_by_meshes(o, d, distance, eps) {
+    if kinds_occlude(o, d, distance, eps) {
         return vec3<f32>(0.0);
     }
     return vec3<f32>(1.0);
@@ -134,12 +130,8 @@ fn main(
             var normal: vec3<f32>;
             var geometric: vec3<f32>;
             var material: u32;
-            if path.kind == KIND_TERRAIN {
-                normal = path.hit.yzw;
-                geometric = normal;
-                material = terrain_material(path.index);
-            } else if path.kind == KIND_MESH {
-                let surface = mesh_shading(path);
+            if path.kind != KIND_FREE_FORM {
+                let surface = kinds_shading(path);
                 normal = surface.normal;
                 geometric = surface.geometric;
                 material = surface.material;

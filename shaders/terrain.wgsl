@@ -27,7 +27,7 @@
 
 // The module that includes this file binds the terrains group (fray_gpu::bindings::TERRAINS:
 // `terrains`, `terrain_lods`, `pyramid`, `samples`). `intersect_terrain.wgsl` casts camera rays,
-// `terrain_shadows.wgsl` shadow rays, `terrain_batch.wgsl` ray batches.
+// `terrain_hooks.wgsl` shadow rays and secondary rays, `terrain_batch.wgsl` ray batches.
 
 // Pending segments of the pyramid search: a segment is split only while its footprint is wider
 // than a stop-level cell (≥ 1 finest cell) and a split halves it, so a search has at most

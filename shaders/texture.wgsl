@@ -1,8 +1,8 @@
 // texture.wgsl — a material's colour C from its image texture or colour ramp in the shade pass
 // (a scene with textures; the `#else` below holds its identity without): the f32 twin of fray-trace's
 // `surface_colour` over `fray_mesh::texture` — the lookup's coordinates (the projected
-// mapping's, camera-relative; else a mesh's interpolated uv (mesh_texture.wgsl) or a terrain's
-// drape (terrain_texture.wgsl)), its width by the footprint rule (the camera pixel's width at
+// mapping's, camera-relative; else the hit's kind's, `kinds_texturing`: a mesh's interpolated uv
+// or a terrain's drape), its width by the footprint rule (the camera pixel's width at
 // the path length, stretched by 1/|cos θ| up to TEXTURE_MAX_ANISOTROPY, times the uv per world
 // unit), nearest, bilinear or trilinear by hand over `textureLoad` with the CPU's texel-centre
 // convention, level rule and wrap modes, and the ramp by world height and slope. Everything is
@@ -10,8 +10,7 @@
 // texels, ramp stops, 16-byte texels TEXTURE_DATA_WIDTH a row) where `texture_info` says.
 //
 // #if textures
-// #include "mesh_texture.wgsl"
-// #include "terrain_texture.wgsl"
+// #include "kinds.wgsl"
 
 // fray_mesh::texture::Footprint::DEFAULT_MAX_ANISOTROPY (a Rust test checks it).
 const TEXTURE_MAX_ANISOTROPY: f32 = 8.0;
@@ -380,19 +379,14 @@ fn surface_colour(r: GpuTextureMaterial, material: u32, path: GpuPath, p: vec3<f
         var uv = vec2<f32>(0.5);
         var uv_per_world = 0.0;
         var coordinates = false;
-        if path.kind == KIND_MESH {
-            let m = mesh_texturing(path);
+        if path.kind != KIND_FREE_FORM {
+            let k = kinds_texturing(path, p, normal);
             if !cut {
-                geometric = m.normal;
+                geometric = k.geometric;
             }
-            uv = m.uv;
-            uv_per_world = m.uv_per_world;
-            coordinates = m.has_uv;
-        } else if path.kind == KIND_TERRAIN {
-            let t = terrain_texturing(path.index, p);
-            uv = t.xy;
-            uv_per_world = t.z;
-            coordinates = true;
+            uv = k.uv;
+            uv_per_world = k.uv_per_world;
+            coordinates = k.has_uv;
         }
         let pixel = frame.footprint.x + frame.footprint.y * max(distance, 0.0);
         let cos_theta = abs(dot(dir, geometric));

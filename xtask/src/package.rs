@@ -8,7 +8,8 @@
 //! crates.io index cache that building the workspace filled is enough, and nothing is fetched.
 //! Then, per crate, `cargo package --list` names the archive's files; every
 //! `include_str!`/`include_bytes!` in an archived `.rs` file must name a file in the archive
-//! (a path out of the crate's folder, such as `../../../shaders/x.wgsl`, is a failure), and the
+//! (a path out of the crate's folder, such as `../../../shaders/x.wgsl`, is a failure), what a
+//! build script reads (its `cargo:rerun-if-changed=` files and folders) must be in it too, and the
 //! README and both licence texts must be there.
 
 use serde::Deserialize;
@@ -82,7 +83,7 @@ pub fn run() -> Result<bool, String> {
         let (includes, problems) = check_archive(&files, read)?;
         if problems.is_empty() {
             println!(
-                "{}: {} files; {includes} include_str!/include_bytes! targets, all in the archive",
+                "{}: {} files; {includes} embedded files and build-script inputs, all in the archive",
                 lib.name,
                 files.len()
             );
@@ -152,7 +153,8 @@ pub fn libraries(metadata_json: &str) -> Result<Vec<Library>, String> {
 }
 
 /// Checks one archive's file list: `read` gives an archived file's text. Returns how many
-/// include targets were found and what is wrong (nothing: the archive is whole).
+/// include targets and build-script inputs were found and what is wrong (nothing: the archive
+/// is whole).
 pub fn check_archive(
     files: &[String],
     read: impl Fn(&str) -> Result<String, String>,
@@ -181,7 +183,37 @@ pub fn check_archive(
             }
         }
     }
+    if archived.contains("build.rs") {
+        let source = read("build.rs")?;
+        for input in build_inputs(&source) {
+            count += 1;
+            let prefix = format!("{input}/");
+            if !archived
+                .iter()
+                .any(|f| *f == input || f.starts_with(&prefix))
+            {
+                problems.push(format!(
+                    "build.rs reads {input}, which is not in the archive"
+                ));
+            }
+        }
+    }
     Ok((count, problems))
+}
+
+/// What a build script reads, as it tells cargo: every `cargo:rerun-if-changed=<path>` (a file,
+/// or a folder it reads files of), relative to the crate's folder.
+pub fn build_inputs(source: &str) -> Vec<String> {
+    source
+        .match_indices("rerun-if-changed=")
+        .map(|(at, key)| {
+            source[at + key.len()..]
+                .chars()
+                .take_while(|c| *c != '"' && !c.is_whitespace())
+                .collect::<String>()
+        })
+        .filter(|path| !path.is_empty())
+        .collect()
 }
 
 /// The string literal of every `include_str!(…)`/`include_bytes!(…)` in `source`, in order; an
@@ -311,6 +343,30 @@ mod tests {
         assert!(problems.iter().all(|p| p.contains("LICENSE-")));
         let uncheckable = check_archive(&names, |_| Ok("include_bytes!(PATH)".to_owned()));
         assert!(uncheckable.unwrap_err().contains("src/lib.rs"));
+    }
+
+    /// A build script's inputs must be archived: a folder by any file under it.
+    #[test]
+    fn a_build_script_s_inputs_must_be_in_the_archive() {
+        let script = r#"fn main() { println!("cargo:rerun-if-changed=shaders"); }"#;
+        assert_eq!(build_inputs(script), ["shaders"]);
+        let read = |f: &str| {
+            Ok(match f {
+                "build.rs" => script.to_owned(),
+                _ => String::new(),
+            })
+        };
+        let mut archive = files(&["build.rs", "shaders/a.wgsl"]);
+        archive.extend(files(&HEADER));
+        let (_, problems) = check_archive(&archive, read).unwrap();
+        assert!(problems.is_empty(), "{problems:?}");
+        archive.retain(|f| !f.starts_with("shaders/"));
+        archive.push("shaders.wgsl".to_owned());
+        let (_, problems) = check_archive(&archive, read).unwrap();
+        assert_eq!(
+            problems,
+            ["build.rs reads shaders, which is not in the archive"]
+        );
     }
 
     #[test]

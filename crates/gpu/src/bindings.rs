@@ -1,14 +1,14 @@
-//! The bind groups, one per subsystem, declared once: each [`Group`] lists its bindings with
-//! their WGSL names and types, from which both the WGSL declarations (`shader::compose` inserts
-//! them where a module says `// #bindings …`) and the wgpu bind-group layouts are made — the two
-//! sides cannot disagree. A module's groups are numbered in the order its `#bindings` line names
-//! them, which is the order its pass binds them in (a test checks every pass): pipeline layouts
-//! have no gaps. Every pipeline stays within wgpu's default limits — at most 4 groups and 8 storage
-//! buffers per stage (uniform arrays hold the small per-scene tables; the sky's tables, too
-//! large for a uniform, are sampled textures, which have a limit of their own) — except the
-//! shade pass of a Whitted scene (reflecting or transmitting materials: [`shading`]`(…, true)`),
-//! which binds one more storage buffer, its secondary rays' records: a device that cannot bind
-//! nine is refused before upload (`crate::render`), and the CPU renders the scene.
+//! The bind groups, one per subsystem, declared once: each [`Group`] lists its bindings with their
+//! WGSL names and types, from which both the WGSL declarations (`shader::compose` inserts them
+//! where a module says `// #bindings …`) and the wgpu bind-group layouts are made — the two sides
+//! cannot disagree. A module's groups are numbered in the order its `#bindings` line names them,
+//! which is the order its pass binds them in (a test checks every pass): pipeline layouts have no
+//! gaps. Every pipeline stays within wgpu's default limits — at most 4 groups and 8 storage buffers
+//! per stage (uniform arrays hold the small per-scene tables; the sky's tables, too large for a
+//! uniform, are sampled textures, which have a limit of their own) — except the shade pass of a
+//! Whitted scene (reflecting or transmitting materials: [`shading`] with `Feature::Whitted`), which
+//! binds one more storage buffer, its secondary rays' records: a device that cannot bind nine is
+//! refused before upload (`crate::render`), and the CPU renders the scene.
 //!
 //! The lights and materials travel with the scene's media in one group since the shade pass of a
 //! scene with free forms and terrains already binds four groups: the group is made of the
@@ -21,10 +21,12 @@
 //! the textures bind no storage buffer — the shade pass's eight are the frame's two, the free
 //! forms' four and the terrains' two —: their arrays are packed into `Rgba32Uint` textures read
 //! with `textureLoad`, with the sections' first texels in a uniform
-//! (`crate::resident::meshes::MeshBuffers`, `crate::textures::ResidentTextures`).
+//! (`crate::kinds::mesh::MeshBuffers`, `crate::textures::ResidentTextures`).
 
 use crate::GpuContext;
+use crate::features::{Feature, Features};
 use bytemuck::Pod;
+use fray_scene::PrimitiveKind;
 use wgpu::util::DeviceExt;
 
 /// What a binding is.
@@ -220,6 +222,17 @@ impl Part {
         }
     }
 
+    /// The part of a primitive kind's own arrays (its intersection pass's group, and its share
+    /// of the shade pass's surfaces group); `None` for free forms, whose arrays are the fixed
+    /// [`FREE_FORMS`] group every shading module binds.
+    pub const fn of_kind(kind: PrimitiveKind) -> Option<Part> {
+        match kind {
+            PrimitiveKind::FreeForm => None,
+            PrimitiveKind::Terrain => Some(Part::Terrains),
+            PrimitiveKind::Mesh => Some(Part::Meshes),
+        }
+    }
+
     /// The group of this part alone, named `name`.
     pub const fn alone(self, name: &'static str) -> Group {
         Group {
@@ -256,17 +269,18 @@ pub fn group_of(parts: &[Part]) -> Group {
     g
 }
 
-/// The parts of the lights-and-media group of a scene with (or without) fog, a sky and clouds,
-/// and with Whitted's records where its materials reflect or transmit (`whitted`; last).
-pub fn shading_parts(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Vec<Part> {
+/// The parts of the lights-and-media group of a scene with `features`: the lights, then its
+/// media's parts (fog, sky, clouds), then Whitted's records where its materials reflect or
+/// transmit (last).
+pub fn shading_parts(features: Features) -> Vec<Part> {
     let mut parts = vec![Part::Lighting];
-    for (on, part) in [
-        (fog, Part::Fog),
-        (sky, Part::Sky),
-        (clouds, Part::Clouds),
-        (whitted, Part::Secondaries),
+    for (feature, part) in [
+        (Feature::Fog, Part::Fog),
+        (Feature::Sky, Part::Sky),
+        (Feature::Clouds, Part::Clouds),
+        (Feature::Whitted, Part::Secondaries),
     ] {
-        if on {
+        if features.has(feature) {
             parts.push(part);
         }
     }
@@ -275,27 +289,25 @@ pub fn shading_parts(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Vec<P
 
 /// The lights-and-media group: what a module's `shading` stands for ([`shading_parts`]). A scene
 /// without a medium binds none of its buffers or textures.
-pub fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
-    group_of(&shading_parts(fog, sky, clouds, whitted))
+pub fn shading(features: Features) -> Group {
+    group_of(&shading_parts(features))
 }
 
-/// The parts of the shade pass's group of what a scene has beyond free forms: its terrains', its
-/// meshes' and its textures', in that order (empty without any of them).
-pub fn surface_parts(terrain: bool, meshes: bool, textures: bool) -> Vec<Part> {
-    [
-        (terrain, Part::Terrains),
-        (meshes, Part::Meshes),
-        (textures, Part::Textures),
-    ]
-    .into_iter()
-    .filter_map(|(on, part)| on.then_some(part))
-    .collect()
+/// The parts of the shade pass's group of what a scene has beyond free forms: each kind's own
+/// part (`Part::of_kind`) in kind order, then its textures' (empty without any of them).
+pub fn surface_parts(features: Features) -> Vec<Part> {
+    let kinds = PrimitiveKind::ALL
+        .into_iter()
+        .filter(|k| features.has_kind(*k))
+        .filter_map(Part::of_kind);
+    let textures = features.has(Feature::Textures).then_some(Part::Textures);
+    kinds.chain(textures).collect()
 }
 
 /// The shade pass's group of what a scene has beyond free forms (what a module's `surfaces`
 /// stands for, [`surface_parts`]), or none without any of it.
-pub fn surfaces(terrain: bool, meshes: bool, textures: bool) -> Option<Group> {
-    let parts = surface_parts(terrain, meshes, textures);
+pub fn surfaces(features: Features) -> Option<Group> {
+    let parts = surface_parts(features);
     (!parts.is_empty()).then(|| group_of(&parts))
 }
 
@@ -435,6 +447,63 @@ pub fn data_texture(
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     }))
+}
+
+/// Writes `data` (16-byte texels) into `texture` from texel `first` on, row-major with
+/// [`crate::params::DATA_TEXTURE_WIDTH`] per row: a partial first row, whole rows, a partial last
+/// row — no texel outside the range is touched. Returns the bytes written.
+pub(crate) fn write_texels(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    first: u64,
+    data: &[[u32; 4]],
+) -> u64 {
+    let w = u64::from(crate::params::DATA_TEXTURE_WIDTH);
+    let mut at = first;
+    let mut rest = data;
+    let write = |x: u64, y: u64, width: u64, rows: u64, texels: &[[u32; 4]]| {
+        ctx.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: x as u32,
+                    y: y as u32,
+                    z: 0,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some((width * 16) as u32),
+                rows_per_image: Some(rows as u32),
+            },
+            wgpu::Extent3d {
+                width: width as u32,
+                height: rows as u32,
+                depth_or_array_layers: 1,
+            },
+        );
+    };
+    let x = at % w;
+    if x != 0 && !rest.is_empty() {
+        let n = (w - x).min(rest.len() as u64);
+        write(x, at / w, n, 1, &rest[..n as usize]);
+        at += n;
+        rest = &rest[n as usize..];
+    }
+    let rows = rest.len() as u64 / w;
+    if rows > 0 {
+        let n = (rows * w) as usize;
+        write(0, at / w, w, rows, &rest[..n]);
+        at += rows * w;
+        rest = &rest[n..];
+    }
+    if !rest.is_empty() {
+        write(0, at / w, rest.len() as u64, 1, rest);
+    }
+    std::mem::size_of_val(data) as u64
 }
 
 impl Group {
@@ -646,6 +715,25 @@ pub(crate) fn check_buffer(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lights-and-media group with (or without) each medium and Whitted's records.
+    fn shading(fog: bool, sky: bool, clouds: bool, whitted: bool) -> Group {
+        let features = Features::NONE
+            .with_if(Feature::Fog, fog)
+            .with_if(Feature::Sky, sky)
+            .with_if(Feature::Clouds, clouds)
+            .with_if(Feature::Whitted, whitted);
+        super::shading(features)
+    }
+
+    /// The surfaces group with (or without) terrains, meshes and textures.
+    fn surfaces(terrain: bool, meshes: bool, textures: bool) -> Option<Group> {
+        let features = Features::NONE
+            .with_if(Feature::Kind(PrimitiveKind::Terrain), terrain)
+            .with_if(Feature::Kind(PrimitiveKind::Mesh), meshes)
+            .with_if(Feature::Textures, textures);
+        super::surfaces(features)
+    }
 
     #[test]
     fn groups_have_unique_bindings_and_fit_the_default_limits() {

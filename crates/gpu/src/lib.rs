@@ -26,6 +26,10 @@ mod context;
 pub mod counters;
 mod device_charges;
 mod error;
+pub mod features;
+pub mod kind_dispatch;
+pub mod kinds;
+pub mod media;
 pub mod params;
 pub mod passes;
 mod readback;
@@ -42,10 +46,12 @@ pub mod work;
 pub use context::{AdapterProbe, GpuContext, probe_adapter};
 pub use device_charges::DeviceCharges;
 pub use error::GpuError;
+pub use features::{Feature, Features};
+pub use media::clouds::cloud_light;
 pub use params::View;
 pub use render::{
     EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
-    SHADOW_OFFSET_EPSILONS, camera_distance, cloud_light, gpu_epsilon, gpu_epsilon_for, render,
+    SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon, gpu_epsilon_for, render,
     unsupported_feature,
 };
 pub use work::GpuWork;

@@ -6,22 +6,20 @@
 
 use crate::bindings::{self, FRAME, FREE_FORMS, Part, QUEUE, TARGETS, WORK};
 use crate::counters::{self, Counter};
+use crate::features::Feature;
 use crate::params::{self, FrameParams, GpuPath, GpuSecondary, View};
 use crate::passes::band::{Band, BindGroups, Pass, Role};
 use crate::passes::rebase::RebasePass;
 use crate::passes::whitted::QUEUE_SLOTS_PER_RAY;
 use crate::passes::{PassSetup, PipelineCache};
 use crate::readback::{map_read, read_back, readback_buffer};
-use crate::resident::{ResidentScene, terrain_lods};
+use crate::resident::ResidentScene;
 use crate::shader::{self, ModuleOptions, Specialisation};
 use crate::timestamps::{PassClock, PassTimes, TimedEncoder, Timestamps};
 use crate::work::{GpuWork, TILE, quadtree_config};
 use crate::{GpuContext, GpuError};
-use fray_atmosphere::gpu_layout::{GpuFog, GpuSky, GpuSkyOptions};
-use fray_clouds::gpu_layout::GpuClouds;
-use fray_clouds::march::CloudLight;
 use fray_core::{Frame, Image, PixelSamples, RenderStats};
-use fray_scene::Scene;
+use fray_scene::{PrimitiveKind, Scene};
 use glam::{DVec3, Vec3};
 use std::time::{Duration, Instant};
 use wgpu::BufferUsages as U;
@@ -92,40 +90,6 @@ pub fn gpu_epsilon_for(scene: &Scene, camera: &fray_core::Projector, requested: 
     requested.max(EPSILON_FLOOR * camera_distance(scene, camera))
 }
 
-/// How the scene's clouds are lit seen from `eye` (fray-trace's `Media::of`): by the scene's
-/// first sun — its irradiance dimmed by the air above the volume's centre when it is the sky's
-/// sun — and the scene's ambient radiance times the clouds' factor.
-pub fn cloud_light(scene: &Scene, clouds: &fray_scene::Clouds, eye: DVec3) -> CloudLight {
-    let sun_light = scene
-        .lights
-        .iter()
-        .position(|l| matches!(l, fray_scene::Light::Sun { .. }));
-    let (sun_direction, mut sun_irradiance) = match sun_light.map(|i| scene.lights[i]) {
-        Some(fray_scene::Light::Sun {
-            direction,
-            irradiance,
-        }) => (direction, irradiance.as_dvec3()),
-        _ => (DVec3::Y, DVec3::ZERO),
-    };
-    if let Some(s) = scene
-        .atmosphere
-        .sky
-        .as_ref()
-        .filter(|s| sun_light.is_some() && s.sun_light == sun_light)
-    {
-        let r = &clouds.volume.region;
-        let centre = DVec3::from_array(std::array::from_fn(|a| 0.5 * (r.min[a] + r.max[a])));
-        sun_irradiance *= s.sky.transmittance_to_sun(centre, eye);
-    }
-    CloudLight {
-        sun_direction: sun_direction.to_array(),
-        sun_irradiance: sun_irradiance.to_array(),
-        ambient: (scene.ambient.as_dvec3() * clouds.ambient).to_array(),
-        albedo: clouds.albedo,
-        phase: clouds.phase,
-    }
-}
-
 /// A GPU backend: one device and its pipelines, reused across scenes and frames.
 #[derive(Debug)]
 pub struct GpuRenderer {
@@ -183,7 +147,7 @@ pub fn render(scene: &Scene, settings: &GpuSettings) -> Result<Frame, GpuError> 
 }
 
 /// The passes of a scene's frames: the rebase (when the camera moved) and the frame's band
-/// passes in order (`passes::frame_passes`), built once per resident scene.
+/// passes in order (`passes::frame::frame_passes`), built once per resident scene.
 #[derive(Debug)]
 struct Passes {
     rebase: RebasePass,
@@ -252,10 +216,14 @@ fn check_device_fits(ctx: &GpuContext, options: &ModuleOptions) -> Result<(), Gp
             limit: shader::MAX_PRIVATE_BYTES,
         });
     }
-    if options.whitted {
+    if options.has(Feature::Whitted) {
         // The shade pass binds the secondary rays' records besides the frame's, the free
-        // forms' and the terrains' storage buffers.
-        let needed = 2 + 4 + if options.terrain { 2 } else { 0 } + 1;
+        // forms' and the kinds' storage buffers.
+        let needed: u32 = crate::passes::shade::SHADE
+            .groups(options)
+            .iter()
+            .map(|(_, g)| g.storage_buffers())
+            .sum();
         let limit = ctx.limits.max_storage_buffers_per_shader_stage;
         if needed > limit {
             return Err(GpuError::TooLarge {
@@ -299,9 +267,6 @@ pub struct GpuScene<'a> {
     timestamps: Option<Timestamps>,
     /// The camera offset the camera-relative copies hold (`None`: not yet rebased).
     rebased_for: Option<CameraOffset>,
-    /// The observer radius (f64 bits) the sky-view texture holds the table of (`None`: not yet
-    /// written); the table depends on nothing else that moves.
-    sky_view_for: Option<u64>,
     /// Scene bytes and pipeline builds not yet reported by a frame (the upload's).
     pending_scene_bytes: u64,
     pending_pipelines: (u32, Duration),
@@ -326,18 +291,12 @@ impl<'a> GpuScene<'a> {
         let cache = &renderer.cache;
         let anchor = params::reference_point(&scene.camera);
         let resident = ResidentScene::upload(ctx, cache, scene, anchor, &scene.budget)?;
+        let specialisation = Specialisation::for_scene(scene, settings.shadows);
         let options = ModuleOptions {
             sizes: shader::array_sizes(scene, &resident.flat),
-            terrain: !scene.terrains.is_empty(),
-            meshes: !scene.meshes.is_empty(),
-            fog: scene.atmosphere.fog.is_some(),
-            sky: scene.atmosphere.sky.is_some(),
-            clouds: scene.clouds.is_some(),
-            whitted: scene.features.reflection || scene.features.transmission,
-            textures: resident.textures.is_some(),
+            features: specialisation.features,
         };
         check_device_fits(ctx, &options)?;
-        let specialisation = Specialisation::for_scene(scene, settings.shadows);
         cache.take_built();
         let setup = PassSetup {
             cache,
@@ -347,7 +306,7 @@ impl<'a> GpuScene<'a> {
         };
         let passes = Passes {
             rebase: RebasePass::new(cache, ctx)?,
-            frame: crate::passes::frame_passes(&setup)?,
+            frame: crate::passes::frame::frame_passes(&setup)?,
         };
         let pending_pipelines = cache.take_built();
         let buffers = FrameBuffers::new(ctx)?;
@@ -363,7 +322,6 @@ impl<'a> GpuScene<'a> {
             targets: None,
             timestamps: Timestamps::new(ctx),
             rebased_for: None,
-            sky_view_for: None,
             pending_pipelines,
             queue_slots: QUEUE_SLOTS_PER_RAY,
         })
@@ -543,27 +501,22 @@ impl<'a> GpuScene<'a> {
         }
     }
 
-    /// This view's media, mesh instances, texture mappings and terrain levels (queue writes,
-    /// before the frame's first submission); returns the bytes written.
+    /// This view's data of each medium and kind (the media's blocks, the mesh instances, the
+    /// terrain levels) and the texture mappings (queue writes, before the frame's first
+    /// submission); returns the bytes written.
     fn write_view(&mut self, view: &View) -> Result<u64, GpuError> {
         let ctx = &self.renderer.ctx;
-        let mut uploaded = self.write_media(view);
+        let mut uploaded = 0;
+        for (_, medium) in &mut self.resident.media {
+            uploaded += medium.write_view(ctx, self.scene, view);
+        }
         let reference = params::reference_point(&view.camera);
-        if let Some(m) = &mut self.resident.meshes {
-            // The instance blocks relative to this camera, from f64 (nothing else of the
-            // meshes moves).
-            uploaded += m.move_to(ctx, reference)?;
+        for (_, resident) in &mut self.resident.kinds {
+            uploaded += resident.write_view(ctx, self.scene, view)?;
         }
         if let Some(t) = &mut self.resident.textures {
             // The mapping blocks and the ramps' reference height for this camera, from f64.
             uploaded += t.move_to(ctx, reference);
-        }
-        if let Some(t) = &self.resident.terrains {
-            let footprint = view.camera.pixel_footprint(view.width, view.height);
-            let lods = terrain_lods(self.scene, footprint);
-            ctx.queue
-                .write_buffer(&t.lods, 0, bytemuck::cast_slice(&lods));
-            uploaded += (lods.len() * 16) as u64;
         }
         Ok(uploaded)
     }
@@ -621,7 +574,7 @@ impl<'a> GpuScene<'a> {
             ctx.queue
                 .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
             uploaded += std::mem::size_of::<FrameParams>() as u64;
-            if self.specialisation.whitted {
+            if self.specialisation.has(Feature::Whitted) {
                 // An empty queue at level 0 for this band.
                 let at = (counters::QUEUE_TOP * 4) as u64;
                 ctx.queue.write_buffer(
@@ -696,7 +649,7 @@ impl<'a> GpuScene<'a> {
         if !self.specialisation.shadows {
             passes.retain(|p| p != "shadows");
         }
-        if self.specialisation.whitted {
+        if self.specialisation.has(Feature::Whitted) {
             passes.push(format!(
                 "whitted queue: {} slots per camera ray",
                 self.queue_slots
@@ -709,17 +662,8 @@ impl<'a> GpuScene<'a> {
             primary_rays: pixels * u64::from(view.rays_per_pixel()),
             shadow_rays: Counter::ShadowRays.read(words),
             hits: Counter::Hits.read(words),
-            bound_evaluations: Counter::BoundEvaluations.read(words),
-            point_evaluations: Counter::PointEvaluations.read(words),
             epsilon,
             passes,
-            terrain_rays: Counter::TerrainRays.read(words),
-            terrain_segments: Counter::TerrainSegments.read(words),
-            terrain_cells: Counter::TerrainCells.read(words),
-            terrain_stops: Counter::TerrainStops.read(words),
-            terrain_stop_levels: Counter::TerrainStopLevels.read(words),
-            cloud_samples: Counter::CloudSamples.read(words),
-            mesh_rays: Counter::MeshRays.read(words),
             secondary_rays: Counter::SecondaryRays.read(words),
             uploaded_bytes: scene_uploaded,
             scene_uploaded_bytes: scene_uploaded,
@@ -727,6 +671,13 @@ impl<'a> GpuScene<'a> {
             pipeline_build_time,
             ..RenderStats::default()
         };
+        // Each kind's and medium's own counters (zero where the scene lacks it).
+        for kind in crate::kinds::KINDS {
+            kind.read_stats(words, &mut stats);
+        }
+        for medium in crate::media::MEDIA {
+            medium.read_stats(words, &mut stats);
+        }
         if let Some(w) = work.stats {
             stats.cells_visited = w.cells_visited;
             stats.cells_culled = w.cells_culled;
@@ -760,71 +711,6 @@ impl<'a> GpuScene<'a> {
         Ok(())
     }
 
-    /// This view's media parameters, from f64: the fog's heights relative to the eye (and the
-    /// sky's sun's irradiance at its top, through the air above it, as the CPU's `Media::of`
-    /// takes it); the sky's block for the eye; and the sky-view table of the eye's height when
-    /// that height changed since the last frame (a camera moving level uploads none). Returns
-    /// the bytes written.
-    fn write_media(&mut self, view: &View) -> u64 {
-        let ctx = &self.renderer.ctx;
-        let scene = self.scene;
-        let eye = params::reference_point(&view.camera);
-        let mut uploaded = 0;
-        let sky = scene.atmosphere.sky.as_ref();
-        if let (Some(buffer), Some(fog)) = (&self.resident.fog, &scene.atmosphere.fog) {
-            // The layer's heights relative to this view's eye, in f64 before rounding.
-            let mut gpu_fog = GpuFog::new(&fog.layer, fog.model, eye.y);
-            if let Some((s, index)) = sky.and_then(|s| s.sun_light.map(|i| (s, i))) {
-                let top = DVec3::new(eye.x, fog.layer.top, eye.z);
-                gpu_fog = gpu_fog.with_sky_sun(index, s.sky.transmittance_to_sun(top, eye));
-            }
-            ctx.queue
-                .write_buffer(buffer, 0, bytemuck::bytes_of(&gpu_fog));
-            uploaded += std::mem::size_of::<GpuFog>() as u64;
-        }
-        if let (Some(resident), Some(s)) = (&self.resident.sky, sky) {
-            let radius = s.sky.model().observer_radius(eye.y).to_bits();
-            if self.sky_view_for != Some(radius) {
-                // The CPU builds the table in f64 (as fray-trace's Media::of does per frame).
-                let sky_view = s.sky.view(eye);
-                let table = sky_view.table();
-                uploaded += crate::resident::sky::write_table(
-                    ctx,
-                    &resident.view,
-                    table.width(),
-                    table.texels(),
-                );
-                self.sky_view_for = Some(radius);
-            }
-            let block = GpuSky::new(
-                &s.sky,
-                eye.y,
-                GpuSkyOptions {
-                    sun_disc: s.sun_disc,
-                    aerial_perspective: s.aerial_perspective,
-                    steps: s.steps,
-                    sun_light: s.sun_light,
-                },
-            );
-            ctx.queue
-                .write_buffer(&resident.params, 0, bytemuck::bytes_of(&block));
-            uploaded += std::mem::size_of::<GpuSky>() as u64;
-        }
-        if let (Some(resident), Some(c)) = (&self.resident.clouds, &scene.clouds) {
-            let block = GpuClouds::new(
-                &c.volume,
-                &cloud_light(scene, c, eye),
-                &c.march,
-                c.jitter,
-                eye.to_array(),
-            );
-            ctx.queue
-                .write_buffer(&resident.params, 0, bytemuck::bytes_of(&block));
-            uploaded += std::mem::size_of::<GpuClouds>() as u64;
-        }
-        uploaded
-    }
-
     /// Rows per band for `view`: a multiple of the tile side (every item lies in one band) whose
     /// rays in flight fit the device's storage binding and [`BAND_BYTES`].
     fn band_rows(&self, view: &View) -> Result<u32, GpuError> {
@@ -833,13 +719,14 @@ impl<'a> GpuScene<'a> {
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size)
             .min(BAND_BYTES);
-        let per_row = Self::bytes_per_ray(self.specialisation.whitted, self.queue_slots)
-            * u64::from(view.width)
-            * u64::from(view.rays_per_pixel());
+        let per_row =
+            Self::bytes_per_ray(self.specialisation.has(Feature::Whitted), self.queue_slots)
+                * u64::from(view.width)
+                * u64::from(view.rays_per_pixel());
         let tile = u64::from(TILE);
         if per_row * tile > limit {
             return Err(GpuError::TooLarge {
-                what: if self.specialisation.whitted {
+                what: if self.specialisation.has(Feature::Whitted) {
                     "the rays in flight for one row of 8-pixel tiles, in bytes: each camera ray \
                      with its queue of secondary rays (at most settings.max_secondary_rays; a \
                      smaller budget, depth, width or sample count needs less)"
@@ -857,7 +744,7 @@ impl<'a> GpuScene<'a> {
 
     /// Room for `rays` camera rays in flight, and with Whitted their records and queue.
     fn ensure_paths(&mut self, rays: u64) -> Result<(), GpuError> {
-        let slots = if self.specialisation.whitted {
+        let slots = if self.specialisation.has(Feature::Whitted) {
             rays * (1 + u64::from(self.queue_slots))
         } else {
             rays
@@ -866,7 +753,7 @@ impl<'a> GpuScene<'a> {
         if self.buffers.paths.size() < bytes {
             self.buffers.paths = bindings::empty(&self.renderer.ctx, "paths", bytes, U::STORAGE)?;
         }
-        if self.specialisation.whitted {
+        if self.specialisation.has(Feature::Whitted) {
             let bytes = slots * std::mem::size_of::<GpuSecondary>() as u64;
             if self.buffers.secondaries.size() < bytes {
                 self.buffers.secondaries =
@@ -1005,7 +892,7 @@ impl<'a> GpuScene<'a> {
         );
         // The groups made of parts — lights and media, the kinds' — from what the resident scene
         // has, in the order `bindings` composes them for the modules.
-        let whitted = self.specialisation.whitted;
+        let whitted = self.specialisation.has(Feature::Whitted);
         let views = r.part_views();
         let bind_parts = |parts: &[Part]| {
             let resources: Vec<wgpu::BindingResource<'_>> = parts
@@ -1014,13 +901,16 @@ impl<'a> GpuScene<'a> {
                 .collect();
             bind(&bindings::group_of(parts), &resources)
         };
-        let (fog, sky, clouds) = (r.fog.is_some(), r.sky.is_some(), r.clouds.is_some());
-        let shading = bind_parts(&bindings::shading_parts(fog, sky, clouds, whitted));
-        let terrains = r.terrains.is_some().then(|| bind_parts(&[Part::Terrains]));
-        let meshes = r.meshes.is_some().then(|| bind_parts(&[Part::Meshes]));
-        // The shade pass's fourth group: the terrains', the meshes' and the textures' in one.
-        let (t, m, x) = (terrains.is_some(), meshes.is_some(), r.textures.is_some());
-        let surface_parts = bindings::surface_parts(t, m, x);
+        let features = self.specialisation.features;
+        let shading = bind_parts(&bindings::shading_parts(features));
+        // Each kind's own group (its intersection pass's), and the shade pass's fourth: the
+        // kinds' and the textures' parts in one.
+        let kinds = PrimitiveKind::ALL
+            .into_iter()
+            .filter(|k| features.has_kind(*k))
+            .filter_map(|k| Some((k, bind_parts(&[Part::of_kind(k)?]))))
+            .collect();
+        let surface_parts = bindings::surface_parts(features);
         let surfaces = (!surface_parts.is_empty()).then(|| bind_parts(&surface_parts));
         let work = bind(
             &WORK,
@@ -1047,8 +937,7 @@ impl<'a> GpuScene<'a> {
             work,
             shading,
             queue,
-            terrains,
-            meshes,
+            kinds,
             surfaces,
             targets,
         })
@@ -1214,10 +1103,8 @@ struct Groups {
     shading: wgpu::BindGroup,
     /// Whitted's queue passes' (with reflecting or transmitting materials).
     queue: Option<wgpu::BindGroup>,
-    /// The terrain pass's (with terrains).
-    terrains: Option<wgpu::BindGroup>,
-    /// The mesh pass's (with meshes).
-    meshes: Option<wgpu::BindGroup>,
+    /// Each kind's own group (its part: `Part::of_kind`), for the kinds the scene has.
+    kinds: Vec<(PrimitiveKind, wgpu::BindGroup)>,
     /// The shade pass's fourth (with terrains, meshes or textures: `bindings::surfaces`).
     surfaces: Option<wgpu::BindGroup>,
     targets: wgpu::BindGroup,
@@ -1231,8 +1118,7 @@ impl BindGroups for Groups {
             Role::Work => Some(&self.work),
             Role::Shading => Some(&self.shading),
             Role::Surfaces => self.surfaces.as_ref(),
-            Role::Terrains => self.terrains.as_ref(),
-            Role::Meshes => self.meshes.as_ref(),
+            Role::Kind(kind) => self.kinds.iter().find(|(k, _)| *k == kind).map(|(_, g)| g),
             Role::Queue => self.queue.as_ref(),
             Role::Targets => Some(&self.targets),
         }

@@ -6,7 +6,7 @@
 //! - `// #include "file.wgsl"` — the file's text, once per module (WGSL declarations may come
 //!   in any order, so included text is simply appended);
 //! - `// #include "file.wgsl" if terrain` / `… unless terrain` — only with / without a terrain
-//!   (likewise `if meshes` / `unless meshes`: with / without triangle meshes; `if fog` /
+//!   (likewise `if mesh` / `unless mesh`: with / without triangle meshes; `if fog` /
 //!   `unless fog`: with / without a fog layer; `if sky` / `unless sky`: with / without a
 //!   physically based sky; `if clouds` / `unless clouds`: with / without a cloud volume;
 //!   `if textures` / `unless textures`: with / without image textures or colour ramps);
@@ -22,157 +22,24 @@
 //!   bindings only where the scene has them), `surfaces` for the terrains', the meshes' and
 //!   the textures' group (`bindings::surfaces`: any of them together, or no group at all).
 
-use crate::{bindings, counters, params};
+use crate::features::{Feature, Features};
+use crate::{bindings, counters, kind_dispatch, params};
 use fray_core::gpu_struct::GpuStruct;
 use fray_geometry::gpu_layout;
 use fray_scene::{PrimitiveKind, Scene};
 
-/// Every shader file with its name: embedded at build time from `shaders/` (the crate's
-/// `shaders` is a link to the repository's, so a packaged crate holds them too).
-pub const SHADER_FILES: [(&str, &str); 50] = [
-    ("batch.wgsl", include_str!("../shaders/batch.wgsl")),
-    ("camera.wgsl", include_str!("../shaders/camera.wgsl")),
-    ("clouds.wgsl", include_str!("../shaders/clouds.wgsl")),
-    (
-        "clouds_batch.wgsl",
-        include_str!("../shaders/clouds_batch.wgsl"),
-    ),
-    (
-        "clouds_media.wgsl",
-        include_str!("../shaders/clouds_media.wgsl"),
-    ),
-    (
-        "clouds_shading.wgsl",
-        include_str!("../shaders/clouds_shading.wgsl"),
-    ),
-    ("counters.wgsl", include_str!("../shaders/counters.wgsl")),
-    ("csg.wgsl", include_str!("../shaders/csg.wgsl")),
-    ("decay.wgsl", include_str!("../shaders/decay.wgsl")),
-    ("fog.wgsl", include_str!("../shaders/fog.wgsl")),
-    ("fog_batch.wgsl", include_str!("../shaders/fog_batch.wgsl")),
-    (
-        "freeform_batch.wgsl",
-        include_str!("../shaders/freeform_batch.wgsl"),
-    ),
-    ("fog_media.wgsl", include_str!("../shaders/fog_media.wgsl")),
-    (
-        "fog_shading.wgsl",
-        include_str!("../shaders/fog_shading.wgsl"),
-    ),
-    ("freeform.wgsl", include_str!("../shaders/freeform.wgsl")),
-    (
-        "intersect_freeform.wgsl",
-        include_str!("../shaders/intersect_freeform.wgsl"),
-    ),
-    (
-        "intersect_mesh.wgsl",
-        include_str!("../shaders/intersect_mesh.wgsl"),
-    ),
-    (
-        "intersect_terrain.wgsl",
-        include_str!("../shaders/intersect_terrain.wgsl"),
-    ),
-    ("media.wgsl", include_str!("../shaders/media.wgsl")),
-    ("mesh.wgsl", include_str!("../shaders/mesh.wgsl")),
-    (
-        "mesh_batch.wgsl",
-        include_str!("../shaders/mesh_batch.wgsl"),
-    ),
-    (
-        "mesh_shading.wgsl",
-        include_str!("../shaders/mesh_shading.wgsl"),
-    ),
-    (
-        "mesh_texture.wgsl",
-        include_str!("../shaders/mesh_texture.wgsl"),
-    ),
-    ("quadric.wgsl", include_str!("../shaders/quadric.wgsl")),
-    ("ray.wgsl", include_str!("../shaders/ray.wgsl")),
-    ("raygen.wgsl", include_str!("../shaders/raygen.wgsl")),
-    ("rebase.wgsl", include_str!("../shaders/rebase.wgsl")),
-    ("resolve.wgsl", include_str!("../shaders/resolve.wgsl")),
-    ("samples.wgsl", include_str!("../shaders/samples.wgsl")),
-    ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
-    ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
-    ("sky_batch.wgsl", include_str!("../shaders/sky_batch.wgsl")),
-    ("sky_media.wgsl", include_str!("../shaders/sky_media.wgsl")),
-    (
-        "sky_shading.wgsl",
-        include_str!("../shaders/sky_shading.wgsl"),
-    ),
-    ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
-    (
-        "terrain_batch.wgsl",
-        include_str!("../shaders/terrain_batch.wgsl"),
-    ),
-    (
-        "terrain_shadows.wgsl",
-        include_str!("../shaders/terrain_shadows.wgsl"),
-    ),
-    (
-        "terrain_texture.wgsl",
-        include_str!("../shaders/terrain_texture.wgsl"),
-    ),
-    ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
-    ("work_item.wgsl", include_str!("../shaders/work_item.wgsl")),
-    ("queue.wgsl", include_str!("../shaders/queue.wgsl")),
-    (
-        "queue_dispatch.wgsl",
-        include_str!("../shaders/queue_dispatch.wgsl"),
-    ),
-    (
-        "queue_level.wgsl",
-        include_str!("../shaders/queue_level.wgsl"),
-    ),
-    (
-        "whitted_media.wgsl",
-        include_str!("../shaders/whitted_media.wgsl"),
-    ),
-    (
-        "queue_forward.wgsl",
-        include_str!("../shaders/queue_forward.wgsl"),
-    ),
-    (
-        "queue_gather.wgsl",
-        include_str!("../shaders/queue_gather.wgsl"),
-    ),
-    (
-        "secondary_hit.wgsl",
-        include_str!("../shaders/secondary_hit.wgsl"),
-    ),
-    (
-        "intersect_secondary.wgsl",
-        include_str!("../shaders/intersect_secondary.wgsl"),
-    ),
-    ("whitted.wgsl", include_str!("../shaders/whitted.wgsl")),
-    (
-        "whitted_gather.wgsl",
-        include_str!("../shaders/whitted_gather.wgsl"),
-    ),
-];
+// `SHADER_FILES`: every file of `shaders/`, embedded (the crate's `shaders` is a link to the
+// repository's, so a packaged crate holds them too).
+include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
-/// The entry modules, one per pass (`passes::*`) and one per batch kernel (`testing::KERNELS`).
-pub const ENTRY_MODULES: [&str; 19] = [
-    "queue_forward.wgsl",
-    "queue_level.wgsl",
-    "queue_gather.wgsl",
-    "intersect_secondary.wgsl",
-    "whitted_gather.wgsl",
-    "raygen.wgsl",
-    "intersect_freeform.wgsl",
-    "intersect_terrain.wgsl",
-    "intersect_mesh.wgsl",
-    "shade.wgsl",
-    "media.wgsl",
-    "resolve.wgsl",
-    "rebase.wgsl",
-    "freeform_batch.wgsl",
-    "terrain_batch.wgsl",
-    "fog_batch.wgsl",
-    "sky_batch.wgsl",
-    "clouds_batch.wgsl",
-    "mesh_batch.wgsl",
-];
+/// The entry modules, one per pass (`passes`, `kinds`) and one per batch kernel (`testing`): the
+/// files that declare their bind groups (`// #bindings …`) — what only an entry module does.
+pub fn entry_modules() -> impl Iterator<Item = &'static str> {
+    SHADER_FILES
+        .iter()
+        .filter(|(_, text)| text.lines().any(|l| l.trim().starts_with("// #bindings ")))
+        .map(|(name, _)| *name)
+}
 
 /// The entry modules composed only for Whitted scenes (`ModuleOptions::whitted`).
 pub const WHITTED_ENTRY_MODULES: [&str; 5] = [
@@ -237,26 +104,13 @@ pub const MAX_PRIVATE_BYTES: u64 = 16 << 10;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ModuleOptions {
     pub sizes: ArraySizes,
-    /// The scene has terrains (`if terrain` / `unless terrain`).
-    pub terrain: bool,
-    /// The scene has triangle meshes (`if meshes` / `unless meshes`).
-    pub meshes: bool,
-    /// The scene has a fog layer (`if fog` / `unless fog`).
-    pub fog: bool,
-    /// The scene has a physically based sky (`if sky` / `unless sky`).
-    pub sky: bool,
-    /// The scene has a cloud volume (`if clouds` / `unless clouds`).
-    pub clouds: bool,
-    /// The scene's materials reflect or transmit: Whitted's secondary rays (`if whitted` /
-    /// `unless whitted`).
-    pub whitted: bool,
-    /// The scene has image textures or colour ramps (`if textures` / `unless textures`).
-    pub textures: bool,
+    /// The scene's features (`if <feature>` / `unless <feature>`: [`Features::condition`]).
+    pub features: Features,
 }
 
 impl ModuleOptions {
     /// What a batch test pass is composed with: no scene's arrays (every size 1) and no
-    /// feature; a pass turns on the one it tests (`ModuleOptions { fog: true, ..BATCH }`).
+    /// feature; a pass turns on the one it tests (`BATCH.with(Feature::Fog)`).
     pub const BATCH: Self = Self {
         sizes: ArraySizes {
             max_leaves: 1,
@@ -266,27 +120,37 @@ impl ModuleOptions {
             max_materials: 1,
             max_terrains: 1,
         },
-        terrain: false,
-        meshes: false,
-        fog: false,
-        sky: false,
-        clouds: false,
-        whitted: false,
-        textures: false,
+        features: Features::NONE,
     };
+
+    /// These options with `feature` on.
+    pub const fn with(self, feature: Feature) -> Self {
+        Self {
+            features: self.features.with(feature),
+            ..self
+        }
+    }
+
+    /// These options with `feature` on where `on`, off otherwise.
+    pub const fn with_if(self, feature: Feature, on: bool) -> Self {
+        Self {
+            features: self.features.with_if(feature, on),
+            ..self
+        }
+    }
+
+    /// Whether `feature` is on.
+    pub const fn has(&self, feature: Feature) -> bool {
+        self.features.has(feature)
+    }
 }
 
 impl Default for ModuleOptions {
+    /// Every feature but Whitted's secondary rays.
     fn default() -> Self {
         Self {
             sizes: ArraySizes::default(),
-            terrain: true,
-            meshes: true,
-            fog: true,
-            sky: true,
-            clouds: true,
-            whitted: false,
-            textures: true,
+            features: Features::every().with_if(Feature::Whitted, false),
         }
     }
 }
@@ -349,35 +213,32 @@ impl Compose {
         Ok(state)
     }
 
-    fn condition(&self, rest: &str) -> bool {
-        match rest.trim() {
-            "" => true,
-            "if terrain" => self.options.terrain,
-            "unless terrain" => !self.options.terrain,
-            "if meshes" => self.options.meshes,
-            "unless meshes" => !self.options.meshes,
-            "if fog" => self.options.fog,
-            "unless fog" => !self.options.fog,
-            "if sky" => self.options.sky,
-            "unless sky" => !self.options.sky,
-            "if clouds" => self.options.clouds,
-            "unless clouds" => !self.options.clouds,
-            "if whitted" => self.options.whitted,
-            "unless whitted" => !self.options.whitted,
-            "if textures" => self.options.textures,
-            "unless textures" => !self.options.textures,
-            _ => false,
-        }
+    /// Whether a directive's condition holds; an unknown feature is a malformed directive.
+    fn condition(&self, rest: &str, file: &str, line: &str) -> Result<bool, ComposeError> {
+        self.options
+            .features
+            .condition(rest)
+            .ok_or_else(|| ComposeError::Malformed {
+                file: file.to_owned(),
+                line: line.to_owned(),
+            })
     }
 
     fn include(&mut self, name: &str, from: &str) -> Result<(), ComposeError> {
         if self.included.iter().any(|n| n == name) {
             return Ok(());
         }
-        let text = file(name).ok_or_else(|| ComposeError::Missing {
-            file: from.to_owned(),
-            missing: name.to_owned(),
-        })?;
+        // The dispatch to the scene's kinds' hooks is generated for its features.
+        let generated;
+        let text = if name == kind_dispatch::FILE {
+            generated = kind_dispatch::kinds_wgsl(self.options.features);
+            generated.as_str()
+        } else {
+            file(name).ok_or_else(|| ComposeError::Missing {
+                file: from.to_owned(),
+                missing: name.to_owned(),
+            })?
+        };
         self.included.push(name.to_owned());
         // `// #if <feature>` … `// #else` … `// #endif` blocks: what a file holds with and
         // without a feature (its hooks' real bodies and their identities), side by side.
@@ -394,7 +255,7 @@ impl Compose {
             let directive = line.trim().strip_prefix("// #");
             match directive {
                 Some(d) if d.starts_with("if ") => {
-                    let present = self.condition(d);
+                    let present = self.condition(d, name, line)?;
                     if blocks.is_empty() && !present {
                         without = Some(d["if ".len()..].trim());
                     }
@@ -422,7 +283,7 @@ impl Compose {
             };
             if let Some(rest) = directive.strip_prefix("include ") {
                 let (target, condition) = quoted(rest).ok_or_else(malformed)?;
-                if self.condition(condition) {
+                if self.condition(condition, name, line)? {
                     self.include(target, name)?;
                 }
             } else if let Some(rest) = directive.strip_prefix("instantiate ") {
@@ -433,22 +294,16 @@ impl Compose {
                 for item in rest.split(',') {
                     let item = item.trim();
                     let (group, condition) = item.split_once(' ').unwrap_or((item, ""));
-                    if !self.condition(condition) {
+                    if !self.condition(condition, name, line)? {
                         continue;
                     }
                     let g = if group == "shading" {
                         // The scene's lights with its media (see `bindings::shading`).
-                        bindings::shading(
-                            self.options.fog,
-                            self.options.sky,
-                            self.options.clouds,
-                            self.options.whitted,
-                        )
+                        bindings::shading(self.options.features)
                     } else if group == "surfaces" {
                         // The scene's terrains, meshes and textures (see
                         // `bindings::surfaces`), if any.
-                        let o = &self.options;
-                        match bindings::surfaces(o.terrain, o.meshes, o.textures) {
+                        match bindings::surfaces(self.options.features) {
                             Some(g) => g,
                             None => continue,
                         }
@@ -586,10 +441,12 @@ pub fn prelude(sizes: &ArraySizes) -> String {
             .into_iter()
             .map(|(n, v)| (n.to_owned(), v)),
     );
+    constants.extend(
+        PrimitiveKind::ALL
+            .into_iter()
+            .map(|k| (kind_dispatch::kind_constant(k), k.code())),
+    );
     constants.extend([
-        ("KIND_FREE_FORM".to_owned(), PrimitiveKind::FreeForm.code()),
-        ("KIND_TERRAIN".to_owned(), PrimitiveKind::Terrain.code()),
-        ("KIND_MESH".to_owned(), PrimitiveKind::Mesh.code()),
         ("TILE_THREADS".to_owned(), crate::work::TILE),
         (
             "MAX_SHADOW_CROSSINGS".to_owned(),
@@ -633,28 +490,18 @@ pub fn array_sizes(scene: &Scene, solids: &gpu_layout::GpuSolids) -> ArraySizes 
 /// default has no feature (what modules without overrides are built with).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Specialisation {
-    pub free_forms: bool,
+    /// The kinds, media, Whitted's rays and textures the scene has (as its modules are
+    /// composed): each kind's intersection pass runs where it has one, the media pass where it
+    /// has a medium, Whitted's queue passes where its materials reflect or transmit.
+    pub features: Features,
     pub perturbations: bool,
     pub csg: bool,
     pub shadows: bool,
     pub sun: bool,
     pub point_lights: bool,
     pub projector: u32,
-    pub terrain: bool,
-    /// Triangle meshes: the mesh intersection pass runs and shade reads their surfaces.
-    pub meshes: bool,
-    /// A fog layer: the media pass runs and resolve takes the misses' radiance from it.
-    pub fog: bool,
-    /// A physically based sky: likewise (the media pass draws it and its air).
-    pub sky: bool,
-    /// A cloud volume: likewise (the media pass marches it; shade dims light through it).
-    pub clouds: bool,
-    /// Materials that reflect or transmit: Whitted's queue passes run after shade.
-    pub whitted: bool,
     /// Materials that transmit: shadow rays pass through them, dimmed by `kt`.
     pub transmission: bool,
-    /// Image textures or colour ramps: shade reads them (`crate::textures`).
-    pub textures: bool,
 }
 
 impl Specialisation {
@@ -662,27 +509,25 @@ impl Specialisation {
     pub fn for_scene(scene: &Scene, shadows: bool) -> Self {
         let f = &scene.features;
         Self {
-            free_forms: !scene.objects.is_empty(),
+            features: Features::of_scene(scene),
             perturbations: f.perturbations,
             csg: f.csg,
             shadows: shadows && f.shadows && !scene.lights.is_empty(),
             sun: f.sun,
             point_lights: f.point_lights,
             projector: params::projector_kind(&scene.camera),
-            terrain: !scene.terrains.is_empty(),
-            meshes: !scene.meshes.is_empty(),
-            fog: scene.atmosphere.fog.is_some(),
-            sky: scene.atmosphere.sky.is_some(),
-            clouds: scene.clouds.is_some(),
-            whitted: f.reflection || f.transmission,
             transmission: f.transmission,
-            textures: f.textures,
         }
+    }
+
+    /// Whether the scene has `feature`.
+    pub const fn has(&self, feature: Feature) -> bool {
+        self.features.has(feature)
     }
 
     /// Whether the scene has media (fog, a sky or clouds): the media pass runs.
     pub fn media(&self) -> bool {
-        self.fog || self.sky || self.clouds
+        self.features.media()
     }
 
     /// The `override` constants of entry module `entry` (each module declares only its own).
@@ -700,12 +545,15 @@ impl Specialisation {
             "shade.wgsl" => {
                 let mut c = free_form.to_vec();
                 c.extend([
-                    ("HAS_FREE_FORMS", b(self.free_forms)),
+                    (
+                        "HAS_FREE_FORMS",
+                        b(self.has(Feature::Kind(PrimitiveKind::FreeForm))),
+                    ),
                     ("SHADOWS", b(self.shadows)),
                     ("HAS_SUN", b(self.sun)),
                     ("HAS_POINT", b(self.point_lights)),
                 ]);
-                if self.whitted {
+                if self.has(Feature::Whitted) {
                     c.push(("TRANSMISSION", b(self.transmission)));
                 }
                 c
@@ -723,24 +571,25 @@ impl Specialisation {
             _ => "sphere",
         };
         let mut parts = vec![projector];
+        let has_free_forms = self.has(Feature::Kind(PrimitiveKind::FreeForm));
         for (on, name) in [
-            (self.free_forms, "free-form"),
+            (has_free_forms, "free-form"),
             (self.perturbations, "perturbations"),
             (self.csg, "csg"),
             (self.shadows, "shadows"),
             (self.sun, "sun"),
             (self.point_lights, "point-lights"),
-            (self.terrain, "terrain"),
-            (self.meshes, "meshes"),
-            (self.fog, "fog"),
-            (self.sky, "sky"),
-            (self.clouds, "clouds"),
-            (self.whitted, "whitted"),
-            (self.transmission, "transmission"),
-            (self.textures, "textures"),
         ] {
             if on {
                 parts.push(name);
+            }
+        }
+        for feature in self.features.iter() {
+            if feature != Feature::Kind(PrimitiveKind::FreeForm) {
+                parts.push(feature.name());
+            }
+            if feature == Feature::Whitted && self.transmission {
+                parts.push("transmission");
             }
         }
         parts.join(", ")
@@ -814,9 +663,12 @@ mod tests {
         embedded.sort();
         assert_eq!(on_disk, embedded, "every file in shaders/ must be embedded");
         let mut reached: Vec<String> = Vec::new();
-        for k in 0..128u32 {
-            let (terrain, fog, sky, clouds) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
-            let (meshes, whitted, textures) = (k & 16 != 0, k & 32 != 0, k & 64 != 0);
+        let all: Vec<Feature> = Feature::all().collect();
+        for k in 0..1u32 << all.len() {
+            let features = all.iter().enumerate().fold(Features::NONE, |set, (i, f)| {
+                set.with_if(*f, k & (1 << i) != 0)
+            });
+            let whitted = features.has(Feature::Whitted);
             for sizes in [
                 ArraySizes::default(),
                 ArraySizes {
@@ -828,27 +680,13 @@ mod tests {
                     max_terrains: 0,
                 },
             ] {
-                let options = ModuleOptions {
-                    sizes,
-                    terrain,
-                    meshes,
-                    fog,
-                    sky,
-                    clouds,
-                    whitted,
-                    textures,
-                };
-                for entry in ENTRY_MODULES {
+                let options = ModuleOptions { sizes, features };
+                for entry in entry_modules() {
                     if !whitted && WHITTED_ENTRY_MODULES.contains(&entry) {
                         continue;
                     }
                     let source = compose(entry, &options).unwrap();
-                    validate(
-                        &format!(
-                            "{entry} (terrain {terrain}, meshes {meshes}, fog {fog}, sky {sky}, clouds {clouds}, whitted {whitted}, textures {textures})"
-                        ),
-                        &source,
-                    );
+                    validate(&format!("{entry} ({features:?})"), &source);
                     for (name, text) in SHADER_FILES {
                         if !text.is_empty() && source.contains(&format!("// ---- {name}")) {
                             reached.push(name.to_owned());
@@ -868,10 +706,7 @@ mod tests {
     #[test]
     fn the_include_step_resolves_once_instantiates_and_reports_errors() {
         // Every feature but the textures (whose switch is checked on its own below).
-        let options = ModuleOptions {
-            textures: false,
-            ..ModuleOptions::default()
-        };
+        let options = ModuleOptions::default().with_if(Feature::Textures, false);
         let shade = compose("shade.wgsl", &options).unwrap();
         // freeform.wgsl is included by shade.wgsl and reached again through nothing else: once.
         assert_eq!(shade.matches("// ---- freeform.wgsl ----").count(), 1);
@@ -883,41 +718,34 @@ mod tests {
         assert!(!shade.contains("{{"), "every placeholder replaced");
         // Conditional includes and bindings follow the terrain switch.
         assert!(shade.contains("// ---- terrain.wgsl ----"));
-        assert!(!shade.contains("// ---- terrain_shadows.wgsl (without terrain) ----"));
+        assert!(shade.contains("// ---- terrain_hooks.wgsl"));
         let flat = compose(
             "shade.wgsl",
-            &ModuleOptions {
-                terrain: false,
-                ..options
-            },
+            &options.with_if(Feature::Kind(PrimitiveKind::Terrain), false),
         )
         .unwrap();
         assert!(
             !flat.contains("// ---- terrain.wgsl ----")
                 && !flat.contains("var<storage, read> pyramid")
         );
-        assert!(flat.contains("// ---- terrain_shadows.wgsl (without terrain) ----"));
+        assert!(!flat.contains("terrain_hooks.wgsl") && !flat.contains("fn terrain_"));
         // And the meshes': a scene without them compiles no mesh code and binds no mesh data;
         // with them, shade reads the mesh texture through the terrains-and-meshes group.
         assert!(
             shade.contains("// ---- mesh.wgsl ----")
-                && shade.contains("// ---- mesh_shading.wgsl ----")
+                && shade.contains("// ---- mesh_hooks.wgsl")
                 && shade.contains("var mesh_data: texture_2d<u32>")
-                && !shade.contains("// ---- mesh_shading.wgsl (without meshes) ----")
         );
         assert_eq!(
             module_groups("shade.wgsl", &options).unwrap()[3],
             bindings::group_of(&[bindings::Part::Terrains, bindings::Part::Meshes])
         );
         for (terrain, group) in [(true, Some(bindings::TERRAINS)), (false, None)] {
-            let plain = ModuleOptions {
-                terrain,
-                meshes: false,
-                ..options
-            };
-            let frame_modules = ENTRY_MODULES
-                .iter()
-                .filter(|e| !e.starts_with("mesh") && !e.ends_with("_mesh.wgsl"));
+            let plain = options
+                .with_if(Feature::Kind(PrimitiveKind::Terrain), terrain)
+                .with_if(Feature::Kind(PrimitiveKind::Mesh), false);
+            let frame_modules =
+                entry_modules().filter(|e| !e.starts_with("mesh") && !e.ends_with("_mesh.wgsl"));
             for entry in frame_modules {
                 let source = compose(entry, &plain).unwrap();
                 assert!(
@@ -934,10 +762,7 @@ mod tests {
                 group
             );
         }
-        let meshes_only = ModuleOptions {
-            terrain: false,
-            ..options
-        };
+        let meshes_only = options.with_if(Feature::Kind(PrimitiveKind::Terrain), false);
         assert_eq!(
             module_groups("shade.wgsl", &meshes_only).unwrap()[3],
             bindings::MESHES
@@ -952,14 +777,7 @@ mod tests {
         );
         assert!(!shade.contains("// ---- fog_shading.wgsl (without fog) ----"));
         for entry in ["shade.wgsl", "resolve.wgsl", "media.wgsl"] {
-            let clear = compose(
-                entry,
-                &ModuleOptions {
-                    fog: false,
-                    ..options
-                },
-            )
-            .unwrap();
+            let clear = compose(entry, &options.with_if(Feature::Fog, false)).unwrap();
             assert!(
                 !clear.contains("// ---- fog.wgsl ----")
                     && !clear.contains("// ---- fog_shading.wgsl ----")
@@ -983,14 +801,7 @@ mod tests {
                 && media.contains("// ---- fog_media.wgsl ----")
         );
         for entry in ["shade.wgsl", "resolve.wgsl", "media.wgsl"] {
-            let clear = compose(
-                entry,
-                &ModuleOptions {
-                    sky: false,
-                    ..options
-                },
-            )
-            .unwrap();
+            let clear = compose(entry, &options.with_if(Feature::Sky, false)).unwrap();
             assert!(
                 !clear.contains("// ---- sky.wgsl ----")
                     && !clear.contains("// ---- sky_shading.wgsl ----")
@@ -1015,14 +826,7 @@ mod tests {
             );
         }
         for entry in ["shade.wgsl", "resolve.wgsl", "media.wgsl"] {
-            let clear = compose(
-                entry,
-                &ModuleOptions {
-                    clouds: false,
-                    ..options
-                },
-            )
-            .unwrap();
+            let clear = compose(entry, &options.with_if(Feature::Clouds, false)).unwrap();
             assert!(
                 !clear.contains("// ---- clouds.wgsl ----")
                     && !clear.contains("// ---- clouds_shading.wgsl ----")
@@ -1035,12 +839,10 @@ mod tests {
             );
         }
         // A scene with no medium: the plain lights-and-materials group.
-        let plain = ModuleOptions {
-            fog: false,
-            sky: false,
-            clouds: false,
-            ..options
-        };
+        let plain = options
+            .with_if(Feature::Fog, false)
+            .with_if(Feature::Sky, false)
+            .with_if(Feature::Clouds, false);
         assert_eq!(
             module_groups("shade.wgsl", &plain).unwrap()[2],
             bindings::group_of(&[bindings::Part::Lighting])
@@ -1055,14 +857,7 @@ mod tests {
             ])
         );
         assert_eq!(
-            module_groups(
-                "media.wgsl",
-                &ModuleOptions {
-                    clouds: false,
-                    ..options
-                }
-            )
-            .unwrap()[1],
+            module_groups("media.wgsl", &options.with_if(Feature::Clouds, false)).unwrap()[1],
             bindings::group_of(&[
                 bindings::Part::Lighting,
                 bindings::Part::Fog,
@@ -1073,15 +868,12 @@ mod tests {
         // group (alone for free forms only, after the terrains' and the meshes' bindings), with
         // the mesh and terrain hooks only where the scene has those kinds; without, no module
         // has texture code, the uniform or the data texture.
-        let textured = ModuleOptions {
-            textures: true,
-            ..options
-        };
+        let textured = options.with_if(Feature::Textures, true);
         let shade_textured = compose("shade.wgsl", &textured).unwrap();
         assert!(
             shade_textured.contains("// ---- texture.wgsl ----")
-                && shade_textured.contains("// ---- mesh_texture.wgsl ----")
-                && shade_textured.contains("// ---- terrain_texture.wgsl ----")
+                && shade_textured.contains("fn mesh_texturing(")
+                && shade_textured.contains("fn terrain_texturing(")
                 && shade_textured.contains("var texture_data: texture_2d<u32>")
                 && shade_textured.contains("var<uniform> texture_info: GpuTextureInfo")
                 && !shade_textured.contains("// ---- texture.wgsl (without textures) ----")
@@ -1094,27 +886,25 @@ mod tests {
                 bindings::Part::Textures
             ])
         );
-        let free_forms_textured = ModuleOptions {
-            terrain: false,
-            meshes: false,
-            ..textured
-        };
+        let free_forms_textured = textured
+            .with_if(Feature::Kind(PrimitiveKind::Terrain), false)
+            .with_if(Feature::Kind(PrimitiveKind::Mesh), false);
         let ff = compose("shade.wgsl", &free_forms_textured).unwrap();
         assert!(
-            ff.contains("// ---- mesh_texture.wgsl (without meshes) ----")
-                && ff.contains("// ---- terrain_texture.wgsl (without terrain) ----")
-                && !ff.contains("// ---- mesh_texture.wgsl ----")
+            ff.contains("// ---- texture.wgsl ----")
+                && !ff.contains("fn mesh_texturing(")
+                && !ff.contains("fn terrain_texturing(")
         );
         assert_eq!(
             module_groups("shade.wgsl", &free_forms_textured).unwrap()[3],
             bindings::group_of(&[bindings::Part::Textures])
         );
-        for entry in ENTRY_MODULES {
+        for entry in entry_modules() {
             let source = compose(entry, &options).unwrap();
             assert!(
                 !source.contains("// ---- texture.wgsl ----")
-                    && !source.contains("// ---- mesh_texture.wgsl")
-                    && !source.contains("// ---- terrain_texture.wgsl")
+                    && !source.contains("fn mesh_texturing(")
+                    && !source.contains("fn terrain_texturing(")
                     && !source.contains("var texture_data")
                     && !source.contains("var<uniform> texture_info")
                     && !source.contains("texture_info.")
@@ -1239,13 +1029,18 @@ mod tests {
         )
         .unwrap();
         let s = Specialisation::for_scene(&scene, true);
-        assert!(!s.perturbations && !s.csg && s.free_forms && !s.terrain);
+        assert!(
+            !s.perturbations
+                && !s.csg
+                && s.has(Feature::Kind(PrimitiveKind::FreeForm))
+                && !s.has(Feature::Kind(PrimitiveKind::Terrain))
+        );
         assert_eq!(s.projector, params::PROJECTOR_PINHOLE);
         assert!(s.describe().starts_with("pinhole"));
         assert_eq!(s.constants("shade.wgsl").len(), 6);
         assert_eq!(s.constants("raygen.wgsl"), vec![("PROJECTOR", 0.0)]);
         // Without fog resolve takes misses as the background; with fog the media pass's.
-        assert!(!s.fog && !s.describe().contains("fog"));
+        assert!(!s.has(Feature::Fog) && !s.describe().contains("fog"));
         assert_eq!(s.constants("resolve.wgsl"), vec![("HAS_MEDIA", 0.0)]);
         let foggy = fray_scene::parse(
             "Scene(camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), atmosphere: (fog: (top: 2)), objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
@@ -1253,7 +1048,7 @@ mod tests {
         )
         .unwrap();
         let f = Specialisation::for_scene(&foggy, true);
-        assert!(f.fog && f.describe().ends_with("fog"));
+        assert!(f.has(Feature::Fog) && f.describe().ends_with("fog"));
         assert_eq!(f.constants("resolve.wgsl"), vec![("HAS_MEDIA", 1.0)]);
         // A sky alone is media too.
         let sky = fray_scene::parse(
@@ -1262,9 +1057,14 @@ mod tests {
         )
         .unwrap();
         let k = Specialisation::for_scene(&sky, true);
-        assert!(k.sky && !k.fog && k.media() && k.describe().ends_with("sky"));
+        assert!(
+            k.has(Feature::Sky)
+                && !k.has(Feature::Fog)
+                && k.media()
+                && k.describe().ends_with("sky")
+        );
         assert_eq!(k.constants("resolve.wgsl"), vec![("HAS_MEDIA", 1.0)]);
-        assert!(!s.clouds && !f.clouds && !k.clouds);
+        assert!(!s.has(Feature::Clouds) && !f.has(Feature::Clouds) && !k.has(Feature::Clouds));
         // And clouds alone.
         let cloudy = fray_scene::parse(
             "Scene(camera: Pinhole(eye: (0, 0, -4), look_at: (0, 0, 0)), clouds: (region: (min: (-1, -1, -1), max: (1, 1, 1)), density: Layer((resolution: (4, 4, 4)))), objects: [(shape: Sphere(center: (0, 0, 0), radius: 1))])",
@@ -1272,7 +1072,13 @@ mod tests {
         )
         .unwrap();
         let c = Specialisation::for_scene(&cloudy, true);
-        assert!(c.clouds && !c.sky && !c.fog && c.media() && c.describe().ends_with("clouds"));
+        assert!(
+            c.has(Feature::Clouds)
+                && !c.has(Feature::Sky)
+                && !c.has(Feature::Fog)
+                && c.media()
+                && c.describe().ends_with("clouds")
+        );
         assert_eq!(c.constants("resolve.wgsl"), vec![("HAS_MEDIA", 1.0)]);
     }
 }

@@ -6,7 +6,7 @@ use fray_core::gpu_struct::GpuStruct;
 use fray_mesh::texture::gpu_layout::GpuMapping;
 
 /// Texels (of 16 bytes) per row of the texture data (`TEXTURE_DATA_WIDTH` in the prelude): as
-/// the meshes' (the one texel writer, `resident::meshes::write_texels`), within the 8192 every WebGPU device allows.
+/// the meshes' (the one texel writer, `bindings::write_texels`), within the 8192 every WebGPU device allows.
 pub const TEXTURE_DATA_WIDTH: u32 = crate::params::DATA_TEXTURE_WIDTH;
 
 /// [`GpuTextureMaterial::flags`]: the material has an image texture.

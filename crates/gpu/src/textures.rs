@@ -24,7 +24,7 @@
 //! limit before the texture is made.
 
 use crate::bindings;
-use crate::resident::meshes::write_texels;
+use crate::bindings::write_texels;
 pub use crate::texture_layout::*;
 use crate::{GpuContext, GpuError};
 use fray_core::MemoryBudget;

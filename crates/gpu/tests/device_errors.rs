@@ -74,7 +74,8 @@ fn every_feature_uploads_none_is_refused() {
         match renderer.upload(&scene, &settings) {
             Ok(resident) => {
                 let s = resident.specialisation();
-                assert_eq!((s.whitted, s.textures), (whitted, textures), "{text}");
+                let (w, t) = (fray_gpu::Feature::Whitted, fray_gpu::Feature::Textures);
+                assert_eq!((s.has(w), s.has(t)), (whitted, textures), "{text}");
             }
             Err(e) => panic!("{text}: {e}"),
         }

@@ -586,7 +586,10 @@ fn a_scene_without_textures_builds_none_of_them() {
     {
         let textured = gpu.upload(&scene, &settings).unwrap();
         let untextured = gpu.upload(&plain, &settings).unwrap();
-        assert!(textured.specialisation().textures && !untextured.specialisation().textures);
+        let textures = fray_gpu::Feature::Textures;
+        assert!(
+            textured.specialisation().has(textures) && !untextured.specialisation().has(textures)
+        );
     }
     let a = gpu.render(&scene, &settings).unwrap();
     let b = gpu.render(&plain, &settings).unwrap();

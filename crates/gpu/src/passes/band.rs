@@ -4,86 +4,10 @@
 //! every pass encodes against. A scene's frame is the ordered list of passes its features call
 //! for ([`super::frame_passes`]), built once when the scene is uploaded.
 
+pub use super::spec::{PassSpec, Role, Workload};
 use super::{Kernel, PassSetup};
-use crate::bindings::{self, FRAME, FREE_FORMS, Group, QUEUE, TARGETS, TERRAINS, WORK};
-use crate::shader::ModuleOptions;
+use crate::bindings::Group;
 use crate::{GpuContext, GpuError};
-
-/// Which of the frame's bind groups a pass binds at an index: the group's layout follows from
-/// the role and the scene's composition ([`Role::group`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Role {
-    /// The frame's parameters, paths and counters.
-    Frame,
-    /// The free forms' solids, leaves, perturbations and programs.
-    FreeForms,
-    /// The band's work list.
-    Work,
-    /// Lights and materials, with the scene's media (`bindings::shading`).
-    Shading,
-    /// Terrains, meshes and textures as the shade pass reads them (`bindings::surfaces`).
-    Surfaces,
-    /// The terrains' pyramids and samples (their intersection pass).
-    Terrains,
-    /// The meshes' arrays (their intersection pass).
-    Meshes,
-    /// Whitted's queue of secondary rays.
-    Queue,
-    /// The frame's storage textures.
-    Targets,
-}
-
-impl Role {
-    /// The group this role binds in a scene composed with `options`; `None` where the scene has
-    /// nothing for it (no terrains, meshes or textures: no surfaces group).
-    pub fn group(self, options: &ModuleOptions) -> Option<Group> {
-        let o = options;
-        Some(match self {
-            Role::Frame => FRAME,
-            Role::FreeForms => FREE_FORMS,
-            Role::Work => WORK,
-            Role::Shading => bindings::shading(o.fog, o.sky, o.clouds, o.whitted),
-            Role::Surfaces => return bindings::surfaces(o.terrain, o.meshes, o.textures),
-            Role::Terrains => TERRAINS,
-            Role::Meshes => bindings::MESHES,
-            Role::Queue => QUEUE,
-            Role::Targets => TARGETS,
-        })
-    }
-}
-
-/// How many workgroups a [`BandPass`] dispatches over a band.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Workload {
-    /// One invocation per camera ray, 64 per workgroup.
-    Rays,
-    /// One workgroup per work item (its tile's pixels).
-    Items,
-    /// One workgroup per 8 × 8 pixels of the band.
-    Tiles,
-    /// One workgroup (a queue's bookkeeping).
-    Single,
-}
-
-/// What a pass is: its label (in timings), its entry module, the roles of the groups it binds
-/// in the module's order (a role with no group in the scene is left out), and its workload.
-#[derive(Clone, Copy, Debug)]
-pub struct PassSpec {
-    pub label: &'static str,
-    pub entry: &'static str,
-    pub roles: &'static [Role],
-    pub workload: Workload,
-}
-
-impl PassSpec {
-    /// The roles and groups it binds in a scene composed with `options`.
-    pub fn groups(&self, options: &ModuleOptions) -> Vec<(Role, Group)> {
-        self.roles
-            .iter()
-            .filter_map(|r| r.group(options).map(|g| (*r, g)))
-            .collect()
-    }
-}
 
 /// The frame's bind groups by role.
 pub trait BindGroups {

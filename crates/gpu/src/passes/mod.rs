@@ -4,19 +4,19 @@
 //! per kind) → Whitted's levels (with reflecting or transmitting materials) → media (fog, the sky,
 //! clouds, only with them) → resolve into the frame's storage textures. A pass that is one
 //! kernel is a [`band::PassSpec`] (label, entry module, the roles of the groups it binds,
-//! workload) in its own file; [`frame_passes`] builds the list a scene's features call for, once
+//! workload) in its own file (a kind's intersection pass in `crate::kinds`); [`frame::frame_passes`]
+//! builds the list a scene's features call for, once
 //! per resident scene. The frame's shared buffers (paths, counters, parameters) and bind groups
 //! belong to `crate::render::GpuScene`; pipelines come from the renderer's cache.
 
 pub mod band;
-pub mod freeform;
+pub mod frame;
 pub mod media;
-pub mod mesh;
 pub mod raygen;
 pub mod rebase;
 pub mod resolve;
 pub mod shade;
-pub mod terrain;
+pub mod spec;
 pub mod whitted;
 
 use crate::bindings::Group;
@@ -240,123 +240,4 @@ pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, ctx: &GpuContext, group
     let max = ctx.limits.max_compute_workgroups_per_dimension.max(1);
     let x = groups.min(max);
     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
-}
-
-/// The band passes of a scene composed with `options`, in frame order, before and after
-/// Whitted's queue passes (which follow shade when `options.whitted`): ray generation; the
-/// intersection pass of each kind the scene has (`free_forms`: it has free-form objects); shade;
-/// then the media (`media`: fog, a sky or clouds) and resolve.
-pub fn frame_specs(
-    options: &ModuleOptions,
-    free_forms: bool,
-    media: bool,
-) -> (Vec<band::PassSpec>, Vec<band::PassSpec>) {
-    let mut before = vec![raygen::RAYGEN];
-    for (present, spec) in [
-        (free_forms, freeform::FREE_FORMS),
-        (options.terrain, terrain::TERRAINS),
-        (options.meshes, mesh::MESHES),
-    ] {
-        if present {
-            before.push(spec);
-        }
-    }
-    before.push(shade::SHADE);
-    let mut after = Vec::new();
-    if media {
-        after.push(media::MEDIA);
-    }
-    after.push(resolve::RESOLVE);
-    (before, after)
-}
-
-/// A scene's frame: its passes in order ([`frame_specs`], Whitted's between shade and the media),
-/// as its specialisation calls for them, built once when the scene is uploaded.
-pub fn frame_passes(setup: &PassSetup<'_>) -> Result<Vec<Box<dyn band::Pass>>, GpuError> {
-    let media = setup.specialisation.media();
-    let (before, after) = frame_specs(setup.options, setup.specialisation.free_forms, media);
-    let mut passes: Vec<Box<dyn band::Pass>> = Vec::new();
-    for spec in before {
-        passes.push(Box::new(band::BandPass::new(setup, spec)?));
-    }
-    if setup.options.whitted {
-        passes.push(Box::new(whitted::WhittedPasses::new(setup, media)?));
-    }
-    for spec in after {
-        passes.push(Box::new(band::BandPass::new(setup, spec)?));
-    }
-    Ok(passes)
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::shader::{self, ModuleOptions};
-
-    /// Every pass binds its groups in the order its module numbers them (so a pipeline layout
-    /// has no gaps and a bind group lands at the index the WGSL declares), for every composition.
-    #[test]
-    fn every_pass_binds_the_groups_its_module_declares_in_order() {
-        for k in 0..128u32 {
-            let options = ModuleOptions {
-                terrain: k & 1 != 0,
-                meshes: k & 2 != 0,
-                fog: k & 4 != 0,
-                sky: k & 8 != 0,
-                clouds: k & 16 != 0,
-                textures: k & 32 != 0,
-                whitted: k & 64 != 0,
-                ..ModuleOptions::default()
-            };
-            let media = options.fog || options.sky || options.clouds;
-            let (before, after) = super::frame_specs(&options, true, media);
-            let mut specs: Vec<_> = before.into_iter().chain(after).collect();
-            if options.whitted {
-                use super::whitted::{FORWARD, GATHER, INTERSECT, SELECT_LEVEL, SELECT_PARENTS};
-                specs.extend([FORWARD, INTERSECT, SELECT_PARENTS, GATHER, SELECT_LEVEL]);
-            }
-            for spec in specs {
-                let declared = shader::module_groups(spec.entry, &options).unwrap();
-                let groups: Vec<_> = spec.groups(&options).into_iter().map(|(_, g)| g).collect();
-                assert_eq!(declared, groups, "{} ({options:?})", spec.entry);
-            }
-        }
-        let declared = shader::module_groups("rebase.wgsl", &ModuleOptions::BATCH).unwrap();
-        assert_eq!(declared, [crate::bindings::REBASE]);
-    }
-
-    /// The frame holds exactly the passes the scene's features call for, in order.
-    #[test]
-    fn the_frame_follows_the_features() {
-        let labels = |options: &ModuleOptions, free_forms, media| {
-            let (before, after) = super::frame_specs(options, free_forms, media);
-            before
-                .iter()
-                .chain(&after)
-                .map(|s| s.label)
-                .collect::<Vec<_>>()
-        };
-        let plain = ModuleOptions {
-            terrain: false,
-            meshes: false,
-            fog: false,
-            sky: false,
-            clouds: false,
-            textures: false,
-            ..ModuleOptions::default()
-        };
-        assert_eq!(
-            labels(&plain, true, false),
-            ["raygen", "free forms", "shade", "resolve"]
-        );
-        let all = ModuleOptions {
-            terrain: true,
-            meshes: true,
-            fog: true,
-            ..plain
-        };
-        assert_eq!(
-            labels(&all, false, true),
-            ["raygen", "terrains", "meshes", "shade", "media", "resolve"]
-        );
-    }
 }

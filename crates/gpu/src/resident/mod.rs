@@ -1,36 +1,25 @@
 //! What stays on the GPU: a scene uploaded once, relative to a fixed anchor (the first view's
 //! eye), with the camera-relative copies the rebase pass refreshes from it — so a frame from a
 //! moved camera uploads only the camera and its work list. Free forms (solids, leaves,
-//! perturbations and their CSG programs, at the head of `indices`), lights, materials, the
-//! terrains (parameters, concatenated pyramids and samples), the fog layer's parameters
-//! (camera-relative heights, written per frame) and the sky (its transmittance table, uploaded
-//! here once; its sky-view table, written when the eye's height changes; its parameters, written
-//! per frame), the clouds (their density grid and max grid as 3D textures, uploaded here once;
-//! their parameters, camera-relative, written per frame), the meshes (every mesh's BVH, triangles
-//! and vertices once, in one texture with the instance blocks, which alone a moved camera
-//! rewrites — relative to the camera, from f64 —: `meshes::MeshBuffers`); every buffer and
-//! texture checked against the device's limits before it is made.
-
-pub mod clouds;
-pub mod meshes;
-pub mod sky;
-pub mod terrains;
+//! perturbations and their CSG programs, at the head of `indices`), lights, materials, what each
+//! other kind keeps (`crate::kinds`: the terrains' parameters, pyramids and samples; the meshes'
+//! BVHs, triangles and instance blocks), what each medium keeps (`crate::media`: the fog layer's
+//! parameters; the sky's tables; the clouds' grids, each with parameters written per view), the
+//! materials' textures; every buffer and texture checked against the device's limits and
+//! charged to the render's budget before it is made.
 
 use crate::bindings::Part;
+use crate::kinds::{ResidentKind, Upload};
+use crate::media::ResidentMedium;
 use crate::params::{self, GpuLight, GpuMaterial};
 use crate::passes::PipelineCache;
 use crate::passes::rebase::{RebaseLayout, Rebased};
 use crate::{GpuContext, GpuError};
-use fray_atmosphere::gpu_layout::{GpuFog, GpuSky};
 use fray_core::MemoryBudget;
 use fray_geometry::gpu_layout::{GpuLeaf, GpuPerturbation, GpuQuadric, GpuSolid, GpuSolids};
-use fray_mesh::gpu_layout::GpuMeshes;
-use fray_scene::Scene;
-use fray_terrain::gpu_layout::GpuTerrainParams;
+use fray_scene::{PrimitiveKind, Scene};
 use glam::DVec3;
-use meshes::{MeshBuffers, layout_error, mesh_buffers};
 use std::mem::{offset_of, size_of};
-use terrains::{TerrainUpload, terrain_arrays};
 use wgpu::BufferUsages as U;
 
 /// Where the positions and box corners of the scene's GPU structs are.
@@ -58,84 +47,12 @@ pub const LIGHT_LAYOUT: RebaseLayout = RebaseLayout::new(
     &[],
     &[],
 );
-pub const TERRAIN_LAYOUT: RebaseLayout = RebaseLayout::new(
-    size_of::<GpuTerrainParams>(),
-    &[offset_of!(GpuTerrainParams, origin)],
-    &[],
-    &[],
-);
 
-/// The terrains on the GPU.
-#[derive(Debug)]
-pub struct ResidentTerrains {
-    /// The parameters (anchor-relative source, camera-relative copy).
-    pub params: Rebased,
-    /// The camera-relative parameters as the uniform table the passes read (copied from
-    /// `params.target` each frame the camera moves).
-    pub table: wgpu::Buffer,
-    /// This view's level-of-detail parameters, one vec4 per terrain (camera data, written per
-    /// frame).
-    pub lods: wgpu::Buffer,
-    pub pyramid: wgpu::Buffer,
-    pub samples: wgpu::Buffer,
-}
-
-/// The sky on the GPU.
-#[derive(Debug)]
-pub struct ResidentSky {
-    /// Its parameters (`GpuSky`, a uniform written per frame from f64).
-    pub params: wgpu::Buffer,
-    /// The transmittance table (optical depth), uploaded once: it depends on the model only.
-    pub transmittance: wgpu::Texture,
-    /// The sky-view table of the eye's height (`Sky::view`), written when that height changes:
-    /// it depends neither on the eye's horizontal position nor on where the camera looks.
-    pub view: wgpu::Texture,
-}
-
-/// The texture views of the resident scene's parts, where it has them.
+/// The texture views of the resident scene's textures part, where it has one (made for each set
+/// of bind groups; the kinds and media keep their own).
 #[derive(Debug)]
 pub struct PartViews {
-    sky: Option<(wgpu::TextureView, wgpu::TextureView)>,
-    clouds: Option<(wgpu::TextureView, wgpu::TextureView)>,
-    meshes: Option<wgpu::TextureView>,
     textures: Option<wgpu::TextureView>,
-}
-
-/// The clouds on the GPU.
-#[derive(Debug)]
-pub struct ResidentClouds {
-    /// Their parameters (`GpuClouds`, a uniform written per frame from f64: the box relative to
-    /// the camera, the sun's light through the sky).
-    pub params: wgpu::Buffer,
-    /// The density grid and the max grid, uploaded once.
-    pub textures: clouds::CloudTextures,
-}
-
-/// The meshes on the GPU.
-#[derive(Debug)]
-pub struct ResidentMeshes {
-    /// The layout uploaded (each distinct mesh once, one instance per mesh object in scene
-    /// order, with its material and smooth flag), kept for the instance blocks of a moved
-    /// camera.
-    pub layout: GpuMeshes,
-    pub buffers: MeshBuffers,
-    /// The point (world, f64) the instance blocks on the GPU are relative to.
-    pub reference: DVec3,
-}
-
-impl ResidentMeshes {
-    /// Rewrites the instance blocks relative to `reference` (a camera's eye, f64), unless they
-    /// already are; nothing else of the meshes moves. Returns the bytes written.
-    pub fn move_to(&mut self, ctx: &GpuContext, reference: DVec3) -> Result<u64, GpuError> {
-        if reference == self.reference {
-            return Ok(0);
-        }
-        let blocks = self.layout.instances_at(reference).map_err(layout_error)?;
-        let bytes = self.buffers.write_instances(ctx, &blocks);
-        self.layout.instances = blocks;
-        self.reference = reference;
-        Ok(bytes)
-    }
 }
 
 /// A scene on the GPU.
@@ -154,16 +71,13 @@ pub struct ResidentScene {
     /// The camera-relative lights as the uniform table the shade pass reads.
     pub lights_table: wgpu::Buffer,
     pub materials: wgpu::Buffer,
-    pub terrains: Option<ResidentTerrains>,
-    /// The fog layer's parameters (`GpuFog`, a uniform written per frame: its heights are
-    /// relative to the camera's); `None` without fog.
-    pub fog: Option<wgpu::Buffer>,
-    /// The sky's parameters and tables; `None` without a sky (nothing of it is allocated).
-    pub sky: Option<ResidentSky>,
-    /// The clouds' parameters and grids; `None` without clouds (nothing of them is allocated).
-    pub clouds: Option<ResidentClouds>,
-    /// The meshes; `None` without meshes (nothing of them is allocated).
-    pub meshes: Option<ResidentMeshes>,
+    /// What each kind the scene has keeps of its own (`crate::kinds::GpuKind::upload`), in
+    /// kind order; nothing for a kind it lacks.
+    pub kinds: Vec<(PrimitiveKind, Box<dyn ResidentKind>)>,
+    /// What each medium the scene has keeps (`crate::media::GpuMedium::upload`: the fog's
+    /// parameters, the sky's and its tables, the clouds' and their grids), in `MEDIA` order;
+    /// nothing for a medium it lacks.
+    pub media: Vec<(Part, Box<dyn ResidentMedium>)>,
     /// The materials' image textures and colour ramps; `None` without them (nothing of them is
     /// allocated).
     pub textures: Option<crate::textures::ResidentTextures>,
@@ -267,51 +181,30 @@ impl ResidentScene {
             U::UNIFORM,
         )?;
         bytes += programs.size() + materials_buffer.size();
-        let terrains = if scene.terrains.is_empty() {
-            None
-        } else {
-            let (t, b) = upload_terrains(ctx, &mut charges, cache, scene, anchor)?;
-            bytes += b;
-            Some(t)
+        let at = Upload {
+            ctx,
+            cache,
+            scene,
+            anchor,
+            budget,
         };
-        let fog = match scene.atmosphere.fog {
-            Some(_) => Some(charges.empty(
-                ctx,
-                "fog",
-                size_of::<GpuFog>() as u64,
-                U::UNIFORM | U::COPY_DST,
-            )?),
-            None => None,
-        };
-        let sky = match &scene.atmosphere.sky {
-            Some(s) => {
-                let (sky, b) = upload_sky(ctx, &mut charges, &s.sky)?;
-                bytes += b;
-                Some(sky)
+        let mut kinds = Vec::new();
+        for kind in crate::kinds::KINDS {
+            if scene.count(kind.kind()) == 0 {
+                continue;
             }
-            None => None,
-        };
-        let clouds = match &scene.clouds {
-            Some(c) => {
-                let (textures, b) = clouds::CloudTextures::upload(ctx, &mut charges, &c.volume)?;
-                bytes += b;
-                let params = charges.empty(
-                    ctx,
-                    "clouds",
-                    size_of::<fray_clouds::gpu_layout::GpuClouds>() as u64,
-                    U::UNIFORM | U::COPY_DST,
-                )?;
-                Some(ResidentClouds { params, textures })
+            if let Some(resident) = kind.upload(at, &mut charges)? {
+                bytes += resident.bytes();
+                kinds.push((kind.kind(), resident));
             }
-            None => None,
-        };
-        let meshes = if scene.meshes.is_empty() {
-            None
-        } else {
-            let m = upload_meshes(ctx, &mut charges, scene, anchor, budget)?;
-            bytes += m.buffers.bytes;
-            Some(m)
-        };
+        }
+        let mut media = Vec::new();
+        for medium in crate::media::MEDIA {
+            if let Some(resident) = medium.upload(at, &mut charges)? {
+                bytes += resident.bytes();
+                media.push((medium.part(), resident));
+            }
+        }
         let textures = if scene.features.textures {
             let layout = crate::textures::TextureLayout::build(scene, budget)?;
             let t = crate::textures::ResidentTextures::upload(ctx, &mut charges, layout, anchor)?;
@@ -331,11 +224,8 @@ impl ResidentScene {
             lights: lights_rebased,
             lights_table,
             materials: materials_buffer,
-            terrains,
-            fog,
-            sky,
-            clouds,
-            meshes,
+            kinds,
+            media,
             textures,
             bytes,
             charges,
@@ -350,12 +240,6 @@ impl ResidentScene {
     /// The texture views its parts bind (made for each set of bind groups).
     pub fn part_views(&self) -> PartViews {
         PartViews {
-            sky: self
-                .sky
-                .as_ref()
-                .map(|s| (sky::view(&s.transmittance), sky::view(&s.view))),
-            clouds: self.clouds.as_ref().map(|c| c.textures.views()),
-            meshes: self.meshes.as_ref().map(|m| m.buffers.view()),
             textures: self.textures.as_ref().map(|t| t.view()),
         }
     }
@@ -375,42 +259,20 @@ impl ResidentScene {
                 self.lights_table.as_entire_binding(),
                 self.materials.as_entire_binding(),
             ],
-            Part::Fog => self.fog.iter().map(|f| f.as_entire_binding()).collect(),
-            Part::Sky => match (&self.sky, &views.sky) {
-                (Some(s), Some((transmittance, view))) => vec![
-                    s.params.as_entire_binding(),
-                    TextureView(transmittance),
-                    TextureView(view),
-                ],
-                _ => Vec::new(),
-            },
-            Part::Clouds => match (&self.clouds, &views.clouds) {
-                (Some(c), Some((density, max))) => vec![
-                    c.params.as_entire_binding(),
-                    TextureView(density),
-                    TextureView(max),
-                ],
-                _ => Vec::new(),
-            },
             Part::Secondaries => vec![secondaries.as_entire_binding()],
-            Part::Terrains => match &self.terrains {
-                Some(t) => vec![
-                    t.table.as_entire_binding(),
-                    t.lods.as_entire_binding(),
-                    t.pyramid.as_entire_binding(),
-                    t.samples.as_entire_binding(),
-                ],
-                None => Vec::new(),
-            },
-            Part::Meshes => match (&self.meshes, &views.meshes) {
-                (Some(m), Some(view)) => {
-                    vec![m.buffers.info.as_entire_binding(), TextureView(view)]
-                }
-                _ => Vec::new(),
-            },
             Part::Textures => match (&self.textures, &views.textures) {
                 (Some(t), Some(view)) => vec![t.info.as_entire_binding(), TextureView(view)],
                 _ => Vec::new(),
+            },
+            // A medium's part, or a kind's.
+            part => match self.media.iter().find(|(p, _)| *p == part) {
+                Some((_, medium)) => medium.resources(),
+                None => self
+                    .kinds
+                    .iter()
+                    .find(|(kind, _)| Part::of_kind(*kind) == Some(part))
+                    .map(|(_, resident)| resident.resources())
+                    .unwrap_or_default(),
             },
         }
     }
@@ -423,13 +285,13 @@ impl ResidentScene {
             &self.perturbations,
             &self.lights,
         ];
-        if let Some(t) = &self.terrains {
-            v.push(&t.params);
+        for (_, resident) in &self.kinds {
+            v.extend(resident.rebased());
         }
         v
     }
 
-    /// Copies the moved uniform tables (lights, terrain parameters) into their uniform buffers.
+    /// Copies the moved uniform tables (lights, the kinds' tables) into their uniform buffers.
     pub fn copy_tables(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.copy_buffer_to_buffer(
             &self.lights.target,
@@ -438,165 +300,10 @@ impl ResidentScene {
             0,
             self.lights_table.size(),
         );
-        if let Some(t) = &self.terrains {
-            encoder.copy_buffer_to_buffer(&t.params.target, 0, &t.table, 0, t.table.size());
+        for (_, resident) in &self.kinds {
+            resident.copy_tables(encoder);
         }
     }
-}
-
-/// The terrains' parameters (their pyramids and samples at offsets in the concatenated arrays,
-/// their materials) anchor-relative, and the concatenated arrays, written straight into mapped
-/// GPU buffers (`terrains::terrain_arrays`); returns them and the bytes uploaded.
-fn upload_terrains(
-    ctx: &GpuContext,
-    charges: &mut crate::DeviceCharges,
-    cache: &PipelineCache,
-    scene: &Scene,
-    anchor: DVec3,
-) -> Result<(ResidentTerrains, u64), GpuError> {
-    let material_count = scene.materials.len() as u32;
-    let uploads: Vec<TerrainUpload<'_>> = scene
-        .terrains
-        .iter()
-        .map(|t| TerrainUpload {
-            terrain: &t.terrain,
-            material: t.material.min(material_count),
-            // The level of detail is the view's: `terrain_lods`, per frame.
-            footprint: fray_core::PixelFootprint::ZERO,
-        })
-        .collect();
-    let (params, pyramid, samples) = terrain_arrays(ctx, charges, &uploads, anchor)?;
-    let (params_rebased, params_bytes) = Rebased::new(
-        ctx,
-        charges,
-        cache,
-        "terrain params",
-        &params,
-        TERRAIN_LAYOUT,
-    )?;
-    let table_bytes = (params.len() * size_of::<GpuTerrainParams>()) as u64;
-    let table = charges.empty(ctx, "terrain table", table_bytes, U::UNIFORM | U::COPY_DST)?;
-    let lods = charges.empty(
-        ctx,
-        "terrain lods",
-        16 * params.len() as u64,
-        U::UNIFORM | U::COPY_DST,
-    )?;
-    let bytes = params_bytes + pyramid.size() + samples.size();
-    Ok((
-        ResidentTerrains {
-            params: params_rebased,
-            table,
-            lods,
-            pyramid,
-            samples,
-        },
-        bytes,
-    ))
-}
-
-/// The scene's meshes laid out relative to `anchor` (`fray_mesh::gpu_layout::GpuMeshes`: each
-/// distinct mesh — objects naming one file share its BVH — once, one instance per mesh object
-/// in scene order with its material, the default where it has none, and its smooth flag) and
-/// uploaded (`meshes::mesh_buffers`).
-fn upload_meshes(
-    ctx: &GpuContext,
-    charges: &mut crate::DeviceCharges,
-    scene: &Scene,
-    anchor: DVec3,
-    budget: &MemoryBudget,
-) -> Result<ResidentMeshes, GpuError> {
-    let mut distinct: Vec<&std::sync::Arc<fray_mesh::MeshBvh>> = Vec::new();
-    let mut placements = Vec::with_capacity(scene.meshes.len());
-    for object in &scene.meshes {
-        let mesh = &object.instance.mesh;
-        let index = match distinct
-            .iter()
-            .position(|m| std::sync::Arc::ptr_eq(m, mesh))
-        {
-            Some(i) => i,
-            None => {
-                distinct.push(mesh);
-                distinct.len() - 1
-            }
-        };
-        placements.push((index as u32, object.instance.to_world()));
-    }
-    let bvhs: Vec<&fray_mesh::MeshBvh> = distinct.iter().map(|m| m.as_ref()).collect();
-    let material_count = scene.materials.len() as u32;
-    let materials: Vec<u32> = scene
-        .meshes
-        .iter()
-        .map(|m| m.material.min(material_count))
-        .collect();
-    let smooth: Vec<bool> = scene.meshes.iter().map(|m| m.smooth).collect();
-    let layout = meshes::mesh_layout(&bvhs, &placements, anchor, budget)?
-        .with_materials(&materials)
-        .with_smooth(&smooth);
-    let buffers = mesh_buffers(ctx, charges, &layout)?;
-    Ok(ResidentMeshes {
-        layout,
-        buffers,
-        reference: anchor,
-    })
-}
-
-/// The sky's parameter block (empty: written per frame), its transmittance table (uploaded) and
-/// its sky-view table (empty: written per eye height); returns them and the bytes uploaded.
-fn upload_sky(
-    ctx: &GpuContext,
-    charges: &mut crate::DeviceCharges,
-    sky: &fray_atmosphere::sky::Sky,
-) -> Result<(ResidentSky, u64), GpuError> {
-    let table = sky.transmittance_table();
-    let transmittance = sky::table_texture(
-        ctx,
-        charges,
-        "the sky's transmittance table (texels per side)",
-        table.width(),
-        table.height(),
-    )?;
-    let bytes = sky::write_table(ctx, &transmittance, table.width(), table.texels());
-    let sizes = sky.tables();
-    let view = sky::table_texture(
-        ctx,
-        charges,
-        "the sky-view table (texels per side)",
-        sizes.sky_view_width,
-        sizes.sky_view_height,
-    )?;
-    let params = charges.empty(
-        ctx,
-        "sky",
-        size_of::<GpuSky>() as u64,
-        U::UNIFORM | U::COPY_DST,
-    )?;
-    Ok((
-        ResidentSky {
-            params,
-            transmittance,
-            view,
-        },
-        bytes,
-    ))
-}
-
-/// This view's level-of-detail parameters of each terrain of `scene` (camera rays at the
-/// terrain's `lod`; `GpuTerrainParams::with_pixel_lod`, exactly as the CPU casts them).
-pub fn terrain_lods(scene: &Scene, footprint: fray_core::PixelFootprint) -> Vec<[f32; 4]> {
-    scene
-        .terrains
-        .iter()
-        .map(|t| {
-            let fp = match t.lod {
-                fray_scene::TerrainLod::Pixel => footprint.coarser(t.terrain.options().lod_bias),
-                fray_scene::TerrainLod::Exact => fray_core::PixelFootprint::ZERO,
-            };
-            GpuTerrainParams::new(&t.terrain, DVec3::ZERO)
-                .with_pixel_lod(&t.terrain, fp)
-                .lod
-        })
-        .collect()
 }
 
 #[cfg(test)]
@@ -619,6 +326,5 @@ mod tests {
         // Directions are never moved: a sun's direction slot is not a position.
         assert_eq!(LIGHT_LAYOUT.points & 1, 0);
         assert_eq!(PERTURBATION_LAYOUT.points, 1);
-        assert_eq!(TERRAIN_LAYOUT.points, 1);
     }
 }

@@ -6,7 +6,7 @@
 
 use super::batch::{BatchPass, Kernel, floats};
 use crate::bindings::CLOUD_VOLUME;
-use crate::resident::clouds::CloudTextures;
+use crate::media::clouds::CloudTextures;
 use crate::shader::ModuleOptions;
 use crate::{DeviceCharges, GpuContext, GpuError};
 use fray_clouds::gpu_layout::GpuClouds;
@@ -16,10 +16,7 @@ use fray_clouds::march::GridVolume;
 pub const KERNEL: Kernel = Kernel {
     label: "clouds",
     module: "clouds_batch.wgsl",
-    options: ModuleOptions {
-        clouds: true,
-        ..ModuleOptions::BATCH
-    },
+    options: ModuleOptions::BATCH.with(crate::features::Feature::Clouds),
     data: &[CLOUD_VOLUME],
     query_rows: 3,
     answer_rows: 2,

@@ -14,10 +14,7 @@ use fray_atmosphere::gpu_layout::GpuFog;
 pub const KERNEL: Kernel = Kernel {
     label: "fog",
     module: "fog_batch.wgsl",
-    options: ModuleOptions {
-        fog: true,
-        ..ModuleOptions::BATCH
-    },
+    options: ModuleOptions::BATCH.with(crate::features::Feature::Fog),
     data: &[FOG_LAYER],
     query_rows: 3,
     answer_rows: 2,

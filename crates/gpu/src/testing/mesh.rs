@@ -3,12 +3,12 @@
 //! under `fray_mesh::Instance` — and reads back per ray the nearest hit `(t, instance, triangle,
 //! barycentrics)`, the any-hit flag over the same range, and the hit's surface (world geometric
 //! and shading normals, uv), over the resources the resident scene uploads
-//! (`crate::resident::meshes`).
+//! (`crate::kinds::mesh`).
 
 use super::batch::{BatchPass, Kernel, floats};
 use super::terrain::GpuRay;
 use crate::bindings::MESHES;
-use crate::resident::meshes::{MeshBuffers, layout_error, mesh_buffers, mesh_layout};
+use crate::kinds::mesh::{MeshBuffers, layout_error, mesh_buffers, mesh_layout};
 use crate::shader::ModuleOptions;
 use crate::{DeviceCharges, GpuContext, GpuError};
 use fray_core::MemoryBudget;

@@ -9,7 +9,7 @@
 
 use super::batch::{BatchPass, Kernel, floats};
 use crate::bindings::SKY_TABLES;
-use crate::resident::sky::{table_texture, view, write_table};
+use crate::media::sky::{table_texture, view, write_table};
 use crate::shader::ModuleOptions;
 use crate::{DeviceCharges, GpuContext, GpuError};
 use fray_atmosphere::gpu_layout::GpuSky;
@@ -19,10 +19,7 @@ use fray_atmosphere::sky::{SkyViewTable, TransmittanceTable};
 pub const KERNEL: Kernel = Kernel {
     label: "sky",
     module: "sky_batch.wgsl",
-    options: ModuleOptions {
-        sky: true,
-        ..ModuleOptions::BATCH
-    },
+    options: ModuleOptions::BATCH.with(crate::features::Feature::Sky),
     data: &[SKY_TABLES],
     query_rows: 3,
     answer_rows: 6,

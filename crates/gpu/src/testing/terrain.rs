@@ -2,11 +2,11 @@
 //! on rays given by the caller against one terrain, reading back per ray the hit `(t, normal)`
 //! and `(kind, levels above the finest, cell)` — the f32 twin of
 //! `fray_terrain::Terrain::cast_footprint` (bilinear and B-spline bicubic, walls, starts, pixel
-//! LOD), over the arrays the resident scene uploads (`crate::resident::terrains`).
+//! LOD), over the arrays the resident scene uploads (`crate::kinds::terrain`).
 
 use super::batch::{BatchPass, Kernel, floats};
 use crate::bindings::{self, TERRAINS};
-use crate::resident::terrains::{TerrainUpload, terrain_arrays};
+use crate::kinds::terrain::{TerrainUpload, terrain_arrays};
 use crate::shader::ModuleOptions;
 use crate::{DeviceCharges, GpuContext, GpuError};
 use fray_core::PixelFootprint;
@@ -18,10 +18,9 @@ use glam::DVec3;
 pub const KERNEL: Kernel = Kernel {
     label: "terrain",
     module: "terrain_batch.wgsl",
-    options: ModuleOptions {
-        terrain: true,
-        ..ModuleOptions::BATCH
-    },
+    options: ModuleOptions::BATCH.with(crate::features::Feature::Kind(
+        fray_scene::PrimitiveKind::Terrain,
+    )),
     data: &[TERRAINS],
     query_rows: 2,
     answer_rows: 2,

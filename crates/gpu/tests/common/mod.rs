@@ -29,21 +29,36 @@ pub fn gpu(test: &str) -> GpuRenderer {
     }
 }
 
+/// A named test: a closure over what it checks.
+pub type Test = (String, Box<dyn FnOnce() + Send>);
+
 /// Runs `gpu_tests` (reported as ignored when [`gpu_tests_ignored`]) and `host_tests` (which need
 /// no adapter and always run) under libtest-mimic, then exits with the result.
+#[allow(dead_code)] // the ray suite names closures ([`run_tests`])
 pub fn run(gpu_tests: &[(&'static str, fn())], host_tests: &[(&'static str, fn())]) -> ! {
+    let boxed = |tests: &[(&'static str, fn())]| -> Vec<Test> {
+        tests
+            .iter()
+            .map(|&(name, test)| (name.to_owned(), Box::new(test) as Box<dyn FnOnce() + Send>))
+            .collect()
+    };
+    run_tests(boxed(gpu_tests), boxed(host_tests))
+}
+
+/// [`run`] with closures.
+pub fn run_tests(gpu_tests: Vec<Test>, host_tests: Vec<Test>) -> ! {
     let args = libtest_mimic::Arguments::from_args();
     let ignored = gpu_tests_ignored();
-    let trial = |&(name, test): &(&'static str, fn())| {
+    let trial = |(name, test): Test| {
         libtest_mimic::Trial::test(name, move || {
             test();
             Ok(())
         })
     };
     let trials = gpu_tests
-        .iter()
+        .into_iter()
         .map(|t| trial(t).with_ignored_flag(ignored))
-        .chain(host_tests.iter().map(trial))
+        .chain(host_tests.into_iter().map(trial))
         .collect();
     libtest_mimic::run(&args, trials).exit()
 }

@@ -1,33 +1,31 @@
-//! The GPU sky functions (`shaders/sky.wgsl`, through the batch `SkyBatch`) vs the f64 reference
-//! (`fray_atmosphere::sky`: `SkyView::{lookup, background}`, `Sky::{aerial_perspective,
-//! transmittance_to_sun}`, `TransmittanceTable::lookup`) over a grid: two models (Earth; hazy
-//! air — four times the aerosols, no ozone — over a ground at −1300 m), eyes on the ground
-//! (2 m up), at 1 km, 66 km and above the atmosphere at 120 km, suns at −2°, 0°, 2°, 10°, 45° and
-//! 90°, view directions from the nadir to the zenith (the dipped horizon ± 0.05° included) at
-//! five azimuths from the sun's and into the sun's disc, surfaces 100 m to 150 km away and the
-//! whole ray, ray origins at the eye and off it (a parallel projector's), the transmittance
-//! table on a grid of altitudes and cosines (the horizon ± 10⁻⁴ included).
+//! Sky parity: the GPU's sky (`shaders/sky.wgsl`) against the f64 CPU (`fray_atmosphere::sky`:
+//! `SkyView::{lookup, background}`, `Sky::{aerial_perspective, transmittance_to_sun}`,
+//! `TransmittanceTable::lookup`) on the same queries — a GPU-vs-CPU bound, the f32
+//! arithmetic's. Two models (Earth; hazy air — four times the aerosols, no ozone — over a
+//! ground at −1300 m), eyes on the ground (2 m up), at 1 km, 66 km and above the atmosphere at
+//! 120 km, suns at −2°, 0°, 2°, 10°, 45° and 90°, view directions from the nadir to the zenith
+//! (the dipped horizon ± 0.05° included) at five azimuths from the sun's and into the sun's
+//! disc, surfaces 100 m to 150 km away and the whole ray, ray origins at the eye and off it (a
+//! parallel projector's), the transmittance table on a grid of altitudes and cosines (the
+//! horizon ± 10⁻⁴ included).
 //!
-//! The CPU answers for the inputs the GPU gets (directions, origins, points rounded to f32; the
-//! eye in f64), so the test measures the shader's arithmetic. Measures (worst over the grid,
-//! printed with the means): for radiances (the table, the background, the in-scatter) the
-//! largest channel difference relative to the brightest channel of the CPU's value (dim channels
-//! at sunset are 1/600 of the red: relative to themselves they measure the f32 rounding of
-//! nothing); for transmittances the largest absolute difference. Bounds: [`BOUNDS`], with the
-//! measured figures.
-//!
-//! Uses the libtest-mimic harness: ignored without an adapter, a failure under
-//! `FRAY_REQUIRE_GPU=1`.
+//! Both backends get the same inputs, rounded to f32 (the eye stays f64: the GPU's block is made
+//! from it), so the check measures the shader's arithmetic. Measures: for radiances (the table,
+//! the background, the in-scatter) the largest channel difference relative to the brightest
+//! channel of the CPU's value (dim channels at sunset are 1/600 of the red: relative to
+//! themselves they measure the f32 rounding of nothing); for transmittances the largest absolute
+//! difference. Bounds: [`BOUNDS`], with the measured figures.
 
-mod common;
-
-use fray_atmosphere::gpu_layout::{GpuSky, GpuSkyOptions};
-use fray_atmosphere::sky::{Sky, SkyModel, SkySun, SkyTables, SkyView};
+use crate::cases::direction;
+use crate::cpu::Cpu;
+use crate::gpu::gpu;
+use crate::sky::SkyBackend;
+use crate::sky::{SKY_NAMES, SkyOptions, SkyQuery};
+use fray_atmosphere::sky::{Sky, SkyModel, SkySun, SkyTables};
 use fray_core::MemoryBudget;
-use fray_gpu::testing::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkySeen};
 use glam::DVec3;
 
-/// The allowed difference per quantity (in [`NAMES`]' order; radiances relative to their
+/// The allowed difference per quantity (in [`SKY_NAMES`]' order; radiances relative to their
 /// brightest channel, transmittances absolute). Measured on lavapipe over the 25 872 queries
 /// (worst / mean): the sky-view table 5.6e-6 / 1.5e-7 and the background 5.6e-6 / 1.5e-7 (a
 /// dim sky 2° up, away from a sun 2° below the horizon: the f32 bilinear weights); the
@@ -42,12 +40,6 @@ const BOUNDS: [f64; 6] = [2.5e-5, 2.5e-5, 3e-5, 3e-5, 2e-6, 1e-6];
 const DARK: f64 = 1e-9;
 /// Aerial-perspective steps (the scenes' default).
 const STEPS: u32 = 16;
-
-/// The unit vector at `elevation` and `azimuth` (degrees) from the sun's azimuth, Y up.
-fn direction(elevation: f64, azimuth: f64) -> DVec3 {
-    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-    DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin())
-}
 
 fn models() -> Vec<(&'static str, SkyModel)> {
     let earth = SkyModel::earth();
@@ -66,32 +58,14 @@ fn models() -> Vec<(&'static str, SkyModel)> {
     ]
 }
 
-/// One query and what the CPU answers.
-struct Case {
-    name: String,
-    query: GpuSkyQuery,
-    /// In [`GpuSkyAnswer`]'s order: view, background, in-scatter, transmittance, to sun, table.
-    cpu: [DVec3; 6],
-}
-
-const NAMES: [&str; 6] = [
-    "sky-view table",
-    "background",
-    "aerial in-scatter",
-    "aerial transmittance",
-    "transmittance to sun",
-    "transmittance table",
-];
-
 /// Whether quantity `q` is a radiance (else a transmittance).
 fn radiance(q: usize) -> bool {
     q < 3
 }
 
-/// The queries of one sky seen from `eye` (world), with the CPU's answers.
-fn cases(label: &str, sky: &Sky, view: &SkyView, eye: DVec3) -> Vec<Case> {
+/// The queries of one sky seen from `eye` (world), with their names: every input rounded to f32.
+fn queries(label: &str, sky: &Sky, eye: DVec3) -> Vec<(String, SkyQuery)> {
     let model = sky.model();
-    let model_ref = model;
     let r = model.observer_radius(eye.y);
     // The dipped horizon's elevation (degrees): −acos(R_g / r).
     let dip = -(model.ground_radius / r).min(1.0).acos().to_degrees();
@@ -134,37 +108,26 @@ fn cases(label: &str, sky: &Sky, view: &SkyView, eye: DVec3) -> Vec<Case> {
             };
             // A surface point along the ray, kept above the ground (where the scenes' are).
             let reach = if t.is_finite() { t.min(1e5) } else { 5e4 };
-            let p = *d * reach.min(above_ground(model_ref, eye, *d));
+            let p = *d * reach.min(above_ground(model, eye, *d));
             let h = altitudes[n % altitudes.len()];
             let mu = [-1.0, -0.3, -0.02, -1e-4, 0.0, 1e-4, 0.01, 0.1, 0.5, 1.0][n % 10];
-            // The CPU answers for the inputs the GPU gets: the direction, origin, point, table
-            // altitude and cosine rounded to f32 (the eye stays f64: the block is made from
-            // it). A degenerate ray — here, looking at right angles to a sun on the horizon,
-            // where the planet's shadow edge runs along the ray — may change the march's steps
-            // between a direction and its f32 rounding; that is the ray's, not the shader's.
-            let (df, of, pf) = (d.as_vec3(), o.as_vec3(), p.as_vec3());
-            let (hf, muf) = (h as f32, mu as f32);
-            let d = &df.as_dvec3();
-            let air = sky.aerial_perspective(eye + of.as_dvec3(), *d, t, STEPS);
-            let cpu = [
-                view.lookup(*d),
-                view.background(*d),
-                air.in_scatter,
-                air.transmittance,
-                sky.transmittance_to_sun(eye + pf.as_dvec3(), eye),
-                sky.transmittance_table()
-                    .lookup(model.ground_radius + f64::from(hf), f64::from(muf)),
-            ];
-            let tf = if t.is_finite() { t as f32 } else { 1e30 };
-            out.push(Case {
-                name: format!("{label}: {dir_name}, t {t}, origin {o}, table ({h}, {mu})"),
-                query: [
-                    [of.x, of.y, of.z, tf],
-                    [df.x, df.y, df.z, hf],
-                    [pf.x, pf.y, pf.z, muf],
-                ],
-                cpu,
-            });
+            // The direction, origin, point, table altitude and cosine rounded to f32, for both
+            // backends. A degenerate ray — here, looking at right angles to a sun on the
+            // horizon, where the planet's shadow edge runs along the ray — may change the
+            // march's steps between a direction and its f32 rounding; that is the ray's, not
+            // the shader's.
+            let f = |v: DVec3| v.as_vec3().as_dvec3();
+            let f1 = |x: f64| f64::from(x as f32);
+            out.push((
+                format!("{label}: {dir_name}, t {t}, origin {o}, table ({h}, {mu})"),
+                SkyQuery {
+                    origin: f(o),
+                    dir: f(*d),
+                    t: if t.is_finite() { f1(t) } else { t },
+                    point: f(p),
+                    table: (f1(h), f1(mu)),
+                },
+            ));
             n += 1;
         }
     }
@@ -183,18 +146,6 @@ fn above_ground(model: &SkyModel, eye: DVec3, d: DVec3) -> f64 {
     }
 }
 
-fn values(a: &GpuSkyAnswer) -> [DVec3; 6] {
-    [
-        a.view,
-        a.background,
-        a.in_scatter,
-        a.transmittance,
-        a.to_sun,
-        a.table,
-    ]
-    .map(|v| DVec3::new(v[0].into(), v[1].into(), v[2].into()))
-}
-
 /// The difference measure of quantity `q`: relative to the brightest channel (radiances) or
 /// absolute (transmittances).
 fn difference(q: usize, cpu: DVec3, gpu: DVec3) -> f64 {
@@ -209,15 +160,17 @@ fn difference(q: usize, cpu: DVec3, gpu: DVec3) -> f64 {
     }
 }
 
-fn sky_functions_match_the_cpu_reference() {
-    let gpu = common::gpu("sky_functions_match_the_cpu_reference");
-    let ctx = gpu.context();
-    let pass = SkyBatch::new(ctx).unwrap();
+/// Every quantity of the GPU's sky within [`BOUNDS`] of the CPU's on every query.
+pub fn sky_matches_the_cpu() {
     let tables = SkyTables::default();
     let mut worst: [(f64, String); 6] = std::array::from_fn(|_| (0.0, String::new()));
     let mut sums = [0.0f64; 6];
     let mut count = 0usize;
     let mut bad = 0usize;
+    let options = SkyOptions {
+        steps: STEPS,
+        sun_disc: true,
+    };
     for (model_name, model) in models() {
         let first = SkySun::from_angles(0.0, 0.0, DVec3::splat(1.0));
         let mut sky = Sky::new(model, first, tables, &MemoryBudget::default()).unwrap();
@@ -228,41 +181,29 @@ fn sky_functions_match_the_cpu_reference() {
             sky.set_sun(sun).unwrap();
             for altitude in [2.0, 1e3, 6.6e4, 1.2e5] {
                 let eye = DVec3::new(-3.0e4, model.ground_elevation + altitude, 1.2e4);
-                let view = sky.view(eye);
-                let options = GpuSkyOptions {
-                    sun_disc: true,
-                    aerial_perspective: true,
-                    steps: STEPS,
-                    sun_light: Some(0),
-                };
-                let block = GpuSky::new(&sky, eye.y, options);
                 let label = format!("{model_name}, sun {elevation}°, eye {altitude} m");
-                let all = cases(&label, &sky, &view, eye);
-                let queries: Vec<GpuSkyQuery> = all.iter().map(|c| c.query).collect();
-                let batch = SkySeen {
-                    block: &block,
-                    transmittance: sky.transmittance_table(),
-                    view: view.table(),
-                };
-                let got = pass.answers(ctx, batch, &queries).unwrap();
-                for (c, g) in all.iter().zip(&got) {
-                    let have = values(g);
+                let all = queries(&label, &sky, eye);
+                let qs: Vec<SkyQuery> = all.iter().map(|(_, q)| *q).collect();
+                let view = sky.view(eye);
+                let cpu = Cpu.sky(&sky, &view, options, eye, &qs);
+                let got = gpu().sky(&sky, &view, options, eye, &qs);
+                for (((name, _), c), g) in all.iter().zip(&cpu).zip(&got) {
+                    let (want, have) = (c.values(), g.values());
                     count += 1;
                     for q in 0..6 {
-                        let e = difference(q, c.cpu[q], have[q]);
+                        let e = difference(q, want[q], have[q]);
                         sums[q] += e;
-                        let bound = BOUNDS[q];
-                        if e > bound {
+                        if e > BOUNDS[q] {
                             bad += 1;
                             if bad <= 20 {
                                 eprintln!(
-                                    "{}: {}: cpu {} gpu {} ({e:.3e})",
-                                    NAMES[q], c.name, c.cpu[q], have[q]
+                                    "{}: {name}: cpu {} gpu {} ({e:.3e})",
+                                    SKY_NAMES[q], want[q], have[q]
                                 );
                             }
                         }
                         if e > worst[q].0 {
-                            worst[q] = (e, format!("{}: cpu {} gpu {}", c.name, c.cpu[q], have[q]));
+                            worst[q] = (e, format!("{name}: cpu {} gpu {}", want[q], have[q]));
                         }
                     }
                 }
@@ -276,24 +217,14 @@ fn sky_functions_match_the_cpu_reference() {
             "absolute"
         };
         eprintln!(
-            "{:>22}: worst {:.3e} {measure} ({:.2} of the bound), mean {:.3e} ({})",
-            NAMES[q],
+            "sky parity {:>22}: worst {:.3e} {measure} ({:.2} of the bound), mean {:.3e} ({})",
+            SKY_NAMES[q],
             worst[q].0,
             worst[q].0 / BOUNDS[q],
             sums[q] / count.max(1) as f64,
             worst[q].1
         );
     }
-    eprintln!("{count} queries");
+    eprintln!("sky parity: {count} queries");
     assert_eq!(bad, 0, "{bad} values beyond the bounds");
-}
-
-fn main() {
-    common::run(
-        &[(
-            "sky_functions_match_the_cpu_reference",
-            sky_functions_match_the_cpu_reference,
-        )],
-        &[],
-    );
 }

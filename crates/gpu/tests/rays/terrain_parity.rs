@@ -1,9 +1,11 @@
-//! GPU terrain pass vs the f64 CPU reference (`fray_terrain::Terrain::cast_footprint`, the same
-//! ε = 1e-6 on both sides) on the DEM scenes' camera rays — both scenes with bilinear patches and
-//! with the bicubic B-spline (grazing rays in terrain_low), exact, at a LOD bias of 2 (max-column
-//! tops) and at the scenes' own pixel level of detail — on a walled synthetic map (walls at the
-//! border and a threshold hole, the base from below, starts inside the solid; exact and LOD) and
-//! on the 32768 × 2 map of issue 10. Bounds (f32 vs f64, rays up to 66 km), measured on lavapipe:
+//! Terrain parity: the GPU's terrain (`shaders/terrain.wgsl`) against the f64 CPU
+//! (`fray_terrain::Terrain::cast_footprint`), the same ε = 1e-6 on both sides, on the same rays
+//! — a GPU-vs-CPU bound, the f32 arithmetic's, tighter than the independent reference allows —
+//! on the DEM scenes' camera rays — both scenes with bilinear patches and with the bicubic
+//! B-spline (grazing rays in terrain_low), exact, at a LOD bias of 2 (max-column tops) and at
+//! the scenes' own pixel level of detail — on a walled synthetic map (walls at the border and a
+//! threshold hole, the base from below, starts inside the solid; exact and LOD) and on the
+//! 32768 × 2 map of issue 10. Bounds (f32 vs f64, rays up to 66 km), measured on lavapipe:
 //! - depth, on rays both hit: `|Δt| ≤ 1e-5 · (t + |origin − reference|)` (`t` for camera rays)
 //!   except on at most 0.05 % of them (bicubic, grazing rays nearly tangent to the smooth
 //!   surface, where an f32 height error moves the hit by `Δh / sin θ` or more); measured max
@@ -38,28 +40,24 @@
 //! The walls (map border, threshold outlines) are no such exception: both sides give a wall the
 //! entry face's normal by the same rule (`Terrain::entry_hit`).
 //!
-//! The acceptance logic is unit-tested without a GPU (`edge_*` trials), on a synthetic creased
-//! map and on a ray aimed at a cell line of the real DEM.
-//!
-//! Uses the libtest-mimic harness: ignored without an adapter, a failure under
-//! `FRAY_REQUIRE_GPU=1` (the `edge_*` trials need no adapter and always run).
+//! The acceptance logic is unit-tested without a GPU (the `edge::*` trials, which always run), on a
+//! synthetic creased map and on a ray aimed at a cell line of the real DEM.
 
-mod common;
-
+use crate::backend::{CaseRay, Tolerance};
+use crate::cases::{camera_rays, data_scene};
+use crate::cpu::Cpu;
+use crate::gpu::gpu;
+use crate::terrains::TerrainAnswer;
+use crate::terrains::TerrainBackend;
 use fray_core::{Interval, PixelFootprint, Ray};
-use fray_gpu::testing::{GpuRay, TerrainBatch};
 use fray_terrain::{
     Heightmap, HitKind, Interpolation, MapRay, Placement, Terrain, TerrainHit, TerrainOptions,
-    TerrainStats,
 };
 use glam::{DVec2, DVec3};
-use std::path::Path;
 
+/// A data scene at `width` pixels wide.
 fn scene(name: &str, width: u32) -> fray_scene::Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/scenes")
-        .join(name);
-    let mut s = fray_scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mut s = data_scene(name);
     s.height = (f64::from(s.height) * f64::from(width) / f64::from(s.width)).round() as u32;
     s.width = width;
     s
@@ -203,30 +201,15 @@ fn measure(
     what: &str,
     terrain: &Terrain,
     reference: DVec3,
-    rays: &[(Ray, Interval)],
+    rays: &[CaseRay],
     footprint: PixelFootprint,
 ) -> Figures {
-    let gpu = common::gpu(what);
-    let pass = TerrainBatch::with_pixel_lod(gpu.context(), terrain, reference, footprint)
-        .unwrap()
-        .with_epsilon(EPS);
-    let batch: Vec<GpuRay> = rays
-        .iter()
-        .map(|(r, range)| {
-            let o = r.origin - reference;
-            let d = r.dir;
-            let hi = if range.hi.is_finite() {
-                range.hi as f32
-            } else {
-                f32::MAX
-            };
-            [
-                [o.x as f32, o.y as f32, o.z as f32, range.lo as f32],
-                [d.x as f32, d.y as f32, d.z as f32, hi],
-            ]
-        })
-        .collect();
-    let hits = pass.cast_hits(gpu.context(), &batch).unwrap();
+    let tol = Tolerance {
+        eps: EPS,
+        eps_gpu: EPS,
+    };
+    let cpu: Vec<TerrainAnswer> = Cpu.terrain(terrain, reference, rays, &tol, footprint);
+    let hits: Vec<TerrainAnswer> = gpu().terrain(terrain, reference, rays, &tol, footprint);
     let mut f = Figures {
         rays: rays.len(),
         ..Figures::default()
@@ -234,19 +217,14 @@ fn measure(
     // CPU hits within the f32 tolerance of a cell line across which the normal jumps by more than
     // the bound: where a cell-edge pixel can occur at all (diagnostic).
     let (mut at_risk, mut jumps) = (0usize, Vec::new());
-    for ((ray, range), g) in rays.iter().zip(&hits) {
-        let mut stats = TerrainStats::default();
-        let c = terrain.cast_footprint(ray, *range, EPS, footprint, &mut stats);
-        let Some(h) = c else {
-            f.flips += usize::from(g.is_hit());
+    for ((r, c), g) in rays.iter().zip(&cpu).zip(&hits) {
+        let ray = &r.ray;
+        let (Some(h), Some(g)) = (c.hit, g.hit) else {
+            f.flips += usize::from(c.hit.is_some() != g.hit.is_some());
             continue;
         };
-        if !g.is_hit() {
-            f.flips += 1;
-            continue;
-        }
         f.both += 1;
-        let t_gpu = f64::from(g.t);
+        let t_gpu = g.t;
         // Relative to the hit's distance from the reference point (f32 positions are relative
         // to it): `t` for camera rays.
         let scale = h.t.abs() + (ray.origin - reference).length();
@@ -256,16 +234,12 @@ fn measure(
             f.over += 1;
             continue;
         }
-        f.kinds_differ += usize::from(g.hit_kind() != h.kind);
+        f.kinds_differ += usize::from(g.kind != h.kind);
         let m = terrain.placement().map_ray(ray);
         let same_level = g.levels_above_finest == h.levels_above_finest;
         let explained = same_level && (g.cell == h.cell || across_a_line(&m, &h, t_gpu, g.cell));
         f.cells_differ += usize::from(!explained);
-        let gn = DVec3::new(
-            f64::from(g.normal[0]),
-            f64::from(g.normal[1]),
-            f64::from(g.normal[2]),
-        );
+        let gn = g.normal;
         if h.levels_above_finest > 0 || h.kind != HitKind::Surface {
             // Column faces, walls and starts: axis normals or −dir, no crease to cross.
             f.worst_normal = f.worst_normal.max((gn - h.normal).length());
@@ -348,16 +322,12 @@ fn compare(what: &str, s: &fray_scene::Scene, terrain: &Terrain, footprint: Pixe
         .expect("camera ray")
         .ray
         .origin;
-    let mut rays = Vec::new();
-    for y in 0..s.height {
-        for x in 0..s.width {
-            let c = s
-                .camera
-                .pixel_ray(x, y, s.width, s.height)
-                .expect("camera ray");
-            rays.push((c.ray, Interval::new(c.t_near, f64::INFINITY)));
-        }
-    }
+    let rays = camera_rays(s, s.width, s.height);
+    assert_eq!(
+        rays.len() as u32,
+        s.width * s.height,
+        "{what}: a ray per pixel"
+    );
     check(what, &measure(what, terrain, eye, &rays, footprint));
 }
 
@@ -375,7 +345,7 @@ fn rebuilt(s: &fray_scene::Scene, options: TerrainOptions) -> Terrain {
 
 const EXACT: PixelFootprint = PixelFootprint::ZERO;
 
-fn low_view_bilinear_and_bicubic() {
+pub fn low_view_bilinear_and_bicubic() {
     let s = scene("terrain_low.ron", 160);
     compare("terrain_low, bilinear", &s, &s.terrains[0].terrain, EXACT);
     let bicubic = TerrainOptions {
@@ -385,7 +355,7 @@ fn low_view_bilinear_and_bicubic() {
     compare("terrain_low, bicubic", &s, &rebuilt(&s, bicubic), EXACT);
 }
 
-fn high_view_bilinear_and_lod() {
+pub fn high_view_bilinear_and_lod() {
     let s = scene("terrain_high.ron", 128);
     let exact = TerrainOptions {
         interpolation: Interpolation::Bilinear,
@@ -399,14 +369,14 @@ fn high_view_bilinear_and_lod() {
     compare("terrain_high, LOD bias 2", &s, &rebuilt(&s, lod), EXACT);
 }
 
-fn high_view_bicubic() {
+pub fn high_view_bicubic() {
     let s = scene("terrain_high.ron", 128);
     compare("terrain_high, bicubic", &s, &s.terrains[0].terrain, EXACT);
 }
 
 /// The scenes' own pixel level of detail (`lod: Pixel`): the stop level per segment from the
 /// footprint, by the same exponent-bit rule on both sides; the same columns are hit.
-fn pixel_lod_views() {
+pub fn pixel_lod_views() {
     for (file, width) in [("terrain_low.ron", 160), ("terrain_high.ron", 128)] {
         let s = scene(file, width);
         let t = &s.terrains[0].terrain;
@@ -455,7 +425,7 @@ fn walled(interpolation: Interpolation, lod_bias: u32) -> Terrain {
 /// Rays that hit walls (the map's border and the hole's outline, each aimed at the middle of a
 /// cell's face, below its lowest corner), the base from below, the solid from inside (starts)
 /// and the surface from above.
-fn wall_rays(t: &Terrain) -> Vec<(Ray, Interval)> {
+fn wall_rays(t: &Terrain) -> Vec<CaseRay> {
     let p = t.placement();
     let (cw, ch) = t.map().cells();
     let map = t.map();
@@ -463,10 +433,10 @@ fn wall_rays(t: &Terrain) -> Vec<(Ray, Interval)> {
     let world_dir = |d: DVec3| p.to_world(d) - p.to_world(DVec3::ZERO);
     let ray = |from: DVec3, d: DVec3| {
         let dir = world_dir(d);
-        (
-            Ray::new(p.to_world(from), dir).unwrap(),
-            Interval::new(0.0, f64::INFINITY),
-        )
+        CaseRay {
+            ray: Ray::new(p.to_world(from), dir).unwrap(),
+            range: Interval::new(0.0, f64::INFINITY),
+        }
     };
     let low = |i: usize, j: usize| {
         [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
@@ -544,14 +514,14 @@ fn wall_rays(t: &Terrain) -> Vec<(Ray, Interval)> {
 /// Walls (map border, the threshold's outline), the base and starts inside the solid: the GPU
 /// gives the CPU's kind and normal (the entry face's, or −dir) — bilinear and bicubic, exact and
 /// at LOD bias 1 (column walls, column bottoms, starts in a column).
-fn walls_and_starts_match_the_cpu() {
+pub fn walls_and_starts_match_the_cpu() {
     for interpolation in [Interpolation::Bilinear, Interpolation::Bicubic] {
         for bias in [0, 1] {
             let t = walled(interpolation, bias);
             let rays = wall_rays(&t);
             let mut kinds = [0usize; 3];
-            for (ray, range) in &rays {
-                if let Some(h) = t.cast(ray, *range, EPS) {
+            for r in &rays {
+                if let Some(h) = t.cast(&r.ray, r.range, EPS) {
                     kinds[h.kind as usize] += 1;
                 }
             }
@@ -572,7 +542,7 @@ fn walls_and_starts_match_the_cpu() {
 
 /// The 32768 × 2 map of issue 10 on the GPU: its rectangular pyramid (65 534 values) and samples
 /// upload in well under a MiB, and rays along it hit as on the CPU.
-fn a_long_thin_map_on_the_gpu() {
+pub fn a_long_thin_map_on_the_gpu() {
     let map = Heightmap::from_fn(32768, 2, |i, j| {
         1000.0 + 400.0 * (i as f32 * 0.01).sin() + 50.0 * j as f32
     })
@@ -588,10 +558,10 @@ fn a_long_thin_map_on_the_gpu() {
         for dir in [DVec3::new(0.05, -1.0, 0.001), DVec3::new(0.8, -0.5, 0.0)] {
             // Through the target on the base plane, so the surface is hit on the way.
             let from = target - dir.normalize() * 2500.0;
-            rays.push((
-                Ray::new(from, dir).unwrap(),
-                Interval::new(0.0, f64::INFINITY),
-            ));
+            rays.push(CaseRay {
+                ray: Ray::new(from, dir).unwrap(),
+                range: Interval::new(0.0, f64::INFINITY),
+            });
         }
     }
     let reference = placement.to_world(DVec3::new(16384.0, 1.0, 2000.0));
@@ -633,7 +603,7 @@ fn cell_normal(terrain: &Terrain, i: usize, j: usize, u: f64, v: f64) -> DVec3 {
 
 /// A hit within f32 rounding of a cell line, shaded with the neighbouring patch's normal (what
 /// the H100 did): accepted; the same normal away from the line, or any other normal: rejected.
-fn edge_neighbour_normal_accepted_only_within_tolerance() {
+pub fn edge_neighbour_normal_accepted_only_within_tolerance() {
     let t = creased(f32::NEG_INFINITY);
     // The tolerance across u = 3 for this ray: 8 ε_f32 · |o_u| = 8 ε_f32 · 3 ≈ 2.9e-6 cells.
     let (ray, hit) = down_at(&t, 3.0 + 1e-6, 2.5);
@@ -674,7 +644,7 @@ fn edge_neighbour_normal_accepted_only_within_tolerance() {
 
 /// At a corner every cell meeting there is a neighbour, the diagonal one included; a cut-out
 /// cell is not (the CPU has no surface there).
-fn edge_corner_and_cut_out_cells() {
+pub fn edge_corner_and_cut_out_cells() {
     let t = creased(f32::NEG_INFINITY);
     let (u, v) = (3.0 - 5e-7, 2.0 + 5e-7);
     let (ray, hit) = down_at(&t, u, v);
@@ -705,7 +675,7 @@ fn edge_corner_and_cut_out_cells() {
 /// The H100 case on the real DEM: a camera ray of terrain_high aimed at a point on a cell line
 /// where the bilinear normal jumps; the neighbouring patch's normal is accepted there, and the
 /// tolerance is a few f32 ulps of the map position (far below a pixel's ≈ 2 cells).
-fn edge_on_the_dem_from_terrain_high() {
+pub fn edge_on_the_dem_from_terrain_high() {
     let s = scene("terrain_high.ron", 128);
     let exact = TerrainOptions {
         interpolation: Interpolation::Bilinear,
@@ -752,38 +722,5 @@ fn edge_on_the_dem_from_terrain_high() {
     assert_eq!(
         check_normal(&t, &ray, &hit, hit.t, hit.normal),
         NormalCheck::Same
-    );
-}
-
-fn main() {
-    common::run(
-        &[
-            ("pixel_lod_views", pixel_lod_views),
-            (
-                "walls_and_starts_match_the_cpu",
-                walls_and_starts_match_the_cpu,
-            ),
-            ("a_long_thin_map_on_the_gpu", a_long_thin_map_on_the_gpu),
-            (
-                "low_view_bilinear_and_bicubic",
-                low_view_bilinear_and_bicubic,
-            ),
-            ("high_view_bilinear_and_lod", high_view_bilinear_and_lod),
-            ("high_view_bicubic", high_view_bicubic),
-        ],
-        &[
-            (
-                "edge_neighbour_normal_accepted_only_within_tolerance",
-                edge_neighbour_normal_accepted_only_within_tolerance,
-            ),
-            (
-                "edge_corner_and_cut_out_cells",
-                edge_corner_and_cut_out_cells,
-            ),
-            (
-                "edge_on_the_dem_from_terrain_high",
-                edge_on_the_dem_from_terrain_high,
-            ),
-        ],
     );
 }

@@ -1,5 +1,6 @@
-//! GPU mesh kernel (`mesh.wgsl` through the batch pass `MeshBatch`) vs the f64 CPU reference
-//! (`fray_mesh::Instance::nearest_hit`/`any_hit` over `MeshBvh`), ray by ray.
+//! Mesh parity: the GPU's mesh kernel (`mesh.wgsl` through the batch pass `MeshBatch`) against
+//! the f64 CPU (`fray_mesh::Instance::nearest_hit`/`any_hit` over `MeshBvh`) on the same rays —
+//! a GPU-vs-CPU bound, the f32 arithmetic's, tighter than the independent reference allows.
 //!
 //! Rays (f32 on the GPU, relative to a reference point — the camera — as the frame will cast
 //! them; f64 on the CPU): pinhole camera rays (256², 192²) and random rays at the bunny
@@ -31,6 +32,9 @@
 //!   the boeing's scaled slivers, ≤ 4·10⁻⁴ elsewhere off grazing rays);
 //! - **normals**: world geometric normals within 10⁻⁴ (measured 2.3·10⁻⁵), interpolated shading
 //!   normals within 5·10⁻⁴ off grazing rays (measured 7.6·10⁻⁵);
+//! - **uvs** (the bunny with planar uvs, alone and under a mirroring instance): the GPU's uv is
+//!   the CPU's interpolation at the GPU's own weights within `UV_K = 4` ε_f32 · max |uv| (measured
+//!   1.52; `|Δuv|` from the CPU's answer ≤ 1.1·10⁻⁵ for uvs of a few units);
 //! - **any hit** = the CPU's any hit over the same range on every ray (the same edge exception;
 //!   measured: no difference), and = the GPU's own nearest hit.
 //!
@@ -43,17 +47,18 @@
 //! comparisons of rounded products, which a contracting driver cannot fuse; that part is not
 //! exercised here.
 //!
-//! Uses the libtest-mimic harness: ignored without an adapter, a failure under
-//! `FRAY_REQUIRE_GPU=1` (the `edge_*` trial needs no adapter and always runs).
+//! The edge distance the acceptance rule uses is unit-tested without a GPU (the `edge::*` trials).
 
-mod common;
-
+use crate::backend::CaseRay;
+use crate::cpu::Cpu;
+use crate::gpu::gpu;
+use crate::meshes::MeshAnswer;
+use crate::meshes::MeshBackend;
 use fray_core::{Aabb, Interval, MemoryBudget, Ray};
 use fray_core::{Pinhole, Projector};
-use fray_gpu::GpuContext;
-use fray_gpu::testing::{GpuMeshHit, GpuRay, MeshBatch};
-use fray_mesh::{Instance, MeshBvh, MeshHit, TriangleMesh};
-use glam::{DAffine3, DQuat, DVec3};
+use fray_mesh::{Instance, MeshBvh, TriangleMesh};
+use fray_test_support::Rng;
+use glam::{DAffine3, DQuat, DVec2, DVec3};
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
@@ -77,6 +82,11 @@ const BARY_K: f64 = 4.0;
 const NORMAL_BOUND: f64 = 1e-4;
 /// ... and interpolated shading normals within this.
 const SHADING_NORMAL_BOUND: f64 = 5e-4;
+/// The GPU's uv is the CPU's interpolation at the GPU's own weights within
+/// `UV_K · ε_f32 · max |uv|` of the triangle's corners: its f32 corners, three f32 products and
+/// two sums, about 2 ε with weights in `[0, 1]` (the weights themselves are held by
+/// [`BARY_K`]). Measured 1.52 on the bunny with planar uvs.
+const UV_K: f64 = 4.0;
 
 fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -102,17 +112,8 @@ fn boeing() -> Arc<MeshBvh> {
         .clone()
 }
 
-fn gpu() -> &'static GpuContext {
-    static GPU: OnceLock<fray_gpu::GpuRenderer> = OnceLock::new();
-    GPU.get_or_init(|| common::gpu("mesh_parity")).context()
-}
-
-use fray_test_support::Rng;
-
 /// Meshes placed in the world, on both sides.
 struct World {
-    meshes: Vec<Arc<MeshBvh>>,
-    placements: Vec<(u32, DAffine3)>,
     instances: Vec<Instance>,
 }
 
@@ -122,17 +123,12 @@ impl World {
             .iter()
             .map(|&(m, to_world)| Instance::new(meshes[m as usize].clone(), to_world).unwrap())
             .collect();
-        Self {
-            meshes,
-            placements: placements.to_vec(),
-            instances,
-        }
+        Self { instances }
     }
 
-    fn pass(&self, reference: DVec3) -> MeshBatch {
-        let meshes: Vec<&MeshBvh> = self.meshes.iter().map(|m| m.as_ref()).collect();
-        MeshBatch::new(gpu(), &meshes, &self.placements, reference)
-            .unwrap_or_else(|e| panic!("{e}"))
+    /// The GPU's mesh kernel over the instances, relative to `reference`.
+    fn pass(&self, reference: DVec3) -> fray_gpu::testing::MeshBatch {
+        gpu().mesh_batch(&self.instances, reference)
     }
 
     /// The world box of instance `k`.
@@ -154,36 +150,15 @@ impl World {
         (0..self.instances.len()).fold(Aabb::EMPTY, |acc, k| acc.union(&self.instance_bounds(k)))
     }
 
-    /// The CPU's nearest hit over the instances (an earlier instance keeps a tie).
-    fn nearest(&self, ray: &Ray, range: Interval) -> Option<(u32, MeshHit)> {
-        let mut best: Option<(u32, MeshHit)> = None;
-        for (k, inst) in self.instances.iter().enumerate() {
-            let hi = best.map_or(range.hi, |(_, h)| h.t);
-            if let Some(h) = inst.nearest_hit(ray, Interval::new(range.lo, hi)) {
-                best = Some((k as u32, h));
-            }
-        }
-        best
-    }
-
-    fn any(&self, ray: &Ray, range: Interval) -> bool {
-        self.instances.iter().any(|i| i.any_hit(ray, range))
-    }
-
     /// Triangle `tri` of instance `k` in the world.
     fn corners(&self, k: u32, tri: u32) -> [DVec3; 3] {
-        let inst = &self.instances[k as usize];
-        let m = inst.to_world();
-        inst.mesh
-            .mesh()
-            .corners(tri as usize)
-            .map(|p| m.transform_point3(p))
+        self.instances[k as usize].world_corners(tri as usize)
     }
 
     /// The rounding scale of a hit on instance `k` at `t`: the lengths f32 positions are
     /// rounded relative to — the ray's origin from the reference, the reference from the
     /// instance, the point along the ray, the instance's size.
-    fn scale(&self, k: u32, q: &Query, t: f64, reference: DVec3) -> f64 {
+    fn scale(&self, k: u32, q: &CaseRay, t: f64, reference: DVec3) -> f64 {
         let b = self.instance_bounds(k as usize);
         (q.ray.origin - reference).length()
             + (reference - b.center()).length()
@@ -214,27 +189,6 @@ fn edge_distance(ray: &Ray, corners: [DVec3; 3]) -> f64 {
     (0..3)
         .map(|i| line_segment_distance(ray.origin, ray.dir, corners[i], corners[(i + 1) % 3]))
         .fold(f64::INFINITY, f64::min)
-}
-
-/// A query: a world ray (any non-zero direction) over an open range.
-#[derive(Clone, Copy, Debug)]
-struct Query {
-    ray: Ray,
-    range: Interval,
-}
-
-fn gpu_ray(q: &Query, reference: DVec3) -> GpuRay {
-    let o = q.ray.origin - reference;
-    let d = q.ray.dir;
-    [
-        [o.x as f32, o.y as f32, o.z as f32, q.range.lo as f32],
-        [
-            d.x as f32,
-            d.y as f32,
-            d.z as f32,
-            q.range.hi.min(1e30) as f32,
-        ],
-    ]
 }
 
 /// What a comparison measured.
@@ -272,39 +226,38 @@ struct Figures {
     any_unexplained: usize,
     /// Every GPU miss (for the rays from inside a closed mesh: none may escape).
     gpu_misses: usize,
+    /// Same triangle, on a mesh with uvs: how many, the largest `|Δuv|` from the CPU's, and the
+    /// largest difference from the CPU's interpolation at the GPU's own weights, over
+    /// `ε_f32 · max |uv|` of the triangle's corners.
+    uvs: usize,
+    worst_uv: f64,
+    worst_uv_arithmetic: f64,
 }
 
-fn dv(v: [f32; 3]) -> DVec3 {
-    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
-}
-
-/// Casts `queries` on the GPU relative to `reference` and compares them with the CPU.
+/// The GPU's answers to `queries` (`cast`, timed) against the CPU's.
 fn measure(
     what: &str,
     world: &World,
-    pass: &MeshBatch,
-    queries: &[Query],
+    queries: &[CaseRay],
     reference: DVec3,
+    cast: impl FnOnce() -> Vec<MeshAnswer>,
 ) -> Figures {
-    let rays: Vec<GpuRay> = queries.iter().map(|q| gpu_ray(q, reference)).collect();
     let start = std::time::Instant::now();
-    let hits = pass
-        .cast(gpu(), &rays)
-        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let hits = cast();
     let gpu_time = start.elapsed();
+    let cpu = Cpu.meshes(&world.instances, reference, queries);
     let mut f = Figures {
         rays: queries.len(),
         ..Figures::default()
     };
-    for (q, g) in queries.iter().zip(&hits) {
-        let cpu = world.nearest(&q.ray, q.range);
-        compare_one(world, q, cpu, g, reference, &mut f);
+    for ((q, c), g) in queries.iter().zip(&cpu).zip(&hits) {
+        compare_one(world, q, c, g, reference, &mut f);
     }
     eprintln!(
         "{what}: {} rays ({:.0} krays/s on the GPU), {} both hit; max |Δt|/t {:.2e}, max |Δt|/(t + |o − ref|) \
          {:.2e} ({} over {DEPTH_REL:.0e}; grazing: {} hits, max {:.2e}), max |Δt| |cos θ|/(ε scale) {:.2}; hit/miss flips {} ({} \
          unexplained), other triangle {} (same depth {}, unexplained {}), worst edge distance {:.1} ε scale; \
-         max |Δbary| {:.2e} (|Δp| |cos θ|/(ε scale) {:.2}), max |Δn| {:.2e} (shading {:.2e}; grazing: |Δbary| {:.2e}, shading |Δn| {:.2e}); any-hit differs {} ({} unexplained); GPU misses {}",
+         max |Δbary| {:.2e} (|Δp| |cos θ|/(ε scale) {:.2}), max |Δn| {:.2e} (shading {:.2e}; grazing: |Δbary| {:.2e}, shading |Δn| {:.2e}); uvs {} (max |Δuv| {:.2e}, at the GPU's weights {:.2} ε max|uv|); any-hit differs {} ({} unexplained); GPU misses {}",
         f.rays,
         f.rays as f64 / gpu_time.as_secs_f64() / 1e3,
         f.both,
@@ -326,6 +279,9 @@ fn measure(
         f.worst_shading_normal,
         f.worst_grazing_bary,
         f.worst_grazing_shading_normal,
+        f.uvs,
+        f.worst_uv,
+        f.worst_uv_arithmetic,
         f.any_differ,
         f.any_unexplained,
         f.gpu_misses,
@@ -335,13 +291,16 @@ fn measure(
 
 fn compare_one(
     world: &World,
-    q: &Query,
-    cpu: Option<(u32, MeshHit)>,
-    g: &GpuMeshHit,
+    q: &CaseRay,
+    c: &MeshAnswer,
+    g: &MeshAnswer,
     reference: DVec3,
     f: &mut Figures,
 ) {
-    f.gpu_misses += usize::from(!g.is_hit());
+    // The CPU's hit: (instance, its triangle, t, weights).
+    let cpu = c.t.map(|t| (c.instance, c.triangle, t, c.barycentric));
+    let gpu_hit = g.t.is_some();
+    f.gpu_misses += usize::from(!gpu_hit);
     // Within the edge tolerance of triangle `tri` of instance `k` at `t`?
     let edge_ratio = |k: u32, tri: u32, t: f64| {
         edge_distance(&q.ray, world.corners(k, tri)) / (F32_EPS * world.scale(k, q, t, reference))
@@ -355,52 +314,51 @@ fn compare_one(
         }
         near
     };
-    let t_gpu = f64::from(g.t);
+    let t_gpu = g.t.unwrap_or(0.0);
     // Any hit: the CPU's over the same range; a difference is explained where the nearest
     // hits differ explainably (checked below) or a hit lies at the range's end.
-    let cpu_any = world.any(&q.ray, q.range);
-    if cpu_any != g.any_hit {
+    if c.any != g.any {
         f.any_differ += 1;
-        let explained = match (cpu, g.is_hit()) {
-            (Some((k, h)), _) if near_edge(k, h.triangle, h.t, f) => true,
+        let explained = match (cpu, gpu_hit) {
+            (Some((k, tri, t, _)), _) if near_edge(k, tri, t, f) => true,
             (_, true) if near_edge(g.instance, g.triangle, t_gpu, f) => true,
             _ => false,
         };
         f.any_unexplained += usize::from(!explained);
-    } else if g.any_hit != g.is_hit() {
+    } else if g.any != gpu_hit {
         // The GPU's own two queries disagree: never explained.
         f.any_differ += 1;
         f.any_unexplained += 1;
     }
-    match (cpu, g.is_hit()) {
+    match (cpu, gpu_hit) {
         (None, false) => {}
-        (Some((k, h)), false) => {
+        (Some((k, tri, t, _)), false) => {
             f.flips += 1;
-            f.flips_unexplained += usize::from(!near_edge(k, h.triangle, h.t, f));
+            f.flips_unexplained += usize::from(!near_edge(k, tri, t, f));
         }
         (None, true) => {
             f.flips += 1;
             f.flips_unexplained += usize::from(!near_edge(g.instance, g.triangle, t_gpu, f));
         }
-        (Some((k, h)), true) => {
+        (Some((k, tri, t_cpu, weights)), true) => {
             f.both += 1;
-            if (k, h.triangle) != (g.instance, g.triangle) {
+            if (k, tri) != (g.instance, g.triangle) {
                 f.others += 1;
-                let scale = world.scale(k, q, h.t, reference);
-                let same_depth = same_depth_elsewhere(world, q, g, h.t, scale);
+                let scale = world.scale(k, q, t_cpu, reference);
+                let same_depth = same_depth_elsewhere(world, q, g, t_cpu, scale);
                 f.others_same_depth += usize::from(same_depth);
                 let explained = same_depth
-                    || near_edge(k, h.triangle, h.t, f)
+                    || near_edge(k, tri, t_cpu, f)
                     || near_edge(g.instance, g.triangle, t_gpu, f);
                 f.others_unexplained += usize::from(!explained);
                 return;
             }
-            let dt = (t_gpu - h.t).abs();
-            f.worst_rel_t = f.worst_rel_t.max(dt / h.t.abs().max(1e-300));
+            let dt = (t_gpu - t_cpu).abs();
+            f.worst_rel_t = f.worst_rel_t.max(dt / t_cpu.abs().max(1e-300));
             let len = q.ray.dir.length();
-            let rel = dt * len / (h.t.abs() * len + (q.ray.origin - reference).length());
-            let [a, b, c] = world.corners(k, h.triangle);
-            let n = (b - a).cross(c - a).normalize();
+            let rel = dt * len / (t_cpu.abs() * len + (q.ray.origin - reference).length());
+            let [a, b, c3] = world.corners(k, tri);
+            let n = (b - a).cross(c3 - a).normalize();
             let cos = n.dot(q.ray.dir.normalize()).abs();
             if cos >= GRAZING_COS {
                 f.worst_rel = f.worst_rel.max(rel);
@@ -409,7 +367,7 @@ fn compare_one(
                 f.worst_rel_grazing = f.worst_rel_grazing.max(rel);
                 f.grazing += 1;
             }
-            let scale = world.scale(k, q, h.t, reference);
+            let scale = world.scale(k, q, t_cpu, reference);
             f.worst_cos_scaled = f
                 .worst_cos_scaled
                 .max(dt * q.ray.dir.length() * cos / (F32_EPS * scale));
@@ -418,28 +376,35 @@ fn compare_one(
             // |Δt| (up to 1/|cos θ| of the rounding), so only reported there.
             let grazing = cos < GRAZING_COS;
             let db = (0..3)
-                .map(|i| (f64::from(g.barycentric[i]) - h.barycentric[i]).abs())
+                .map(|i| (g.barycentric[i] - weights[i]).abs())
                 .fold(0.0, f64::max);
             // The points the two sets of weights name on the (f64, world) triangle.
             // (relative to corner a: weights that do not sum to 1 exactly must not count
             // the triangle's distance from the origin).
-            let at = |w: [f64; 3]| (b - a) * w[1] + (c - a) * w[2];
-            let gw = g.barycentric.map(f64::from);
-            let dp = (at(gw) - at(h.barycentric)).length();
+            let at = |w: [f64; 3]| (b - a) * w[1] + (c3 - a) * w[2];
+            let dp = (at(g.barycentric) - at(weights)).length();
             f.worst_bary_point = f.worst_bary_point.max(dp * cos / (F32_EPS * scale));
             // Normals: the CPU instance's world normals of the face and of the interpolated
             // vertex normals.
-            let inst = &world.instances[k as usize];
-            let mesh = inst.mesh.mesh();
-            let face = inst.world_normal(mesh_face_normal(mesh, h.triangle));
-            let vs = mesh.triangles[h.triangle as usize];
-            let shading = inst.world_normal(
-                (0..3)
-                    .map(|i| mesh.normals[vs[i] as usize] * h.barycentric[i])
-                    .fold(DVec3::ZERO, |s, x| s + x),
-            );
-            f.worst_normal = f.worst_normal.max((dv(g.normal) - face).length());
-            let dn = (dv(g.shading_normal) - shading).length();
+            f.worst_normal = f.worst_normal.max((g.normal - c.normal).length());
+            let dn = (g.shading_normal - c.shading_normal).length();
+            // The uvs: the CPU's interpolation (f64) at the GPU's own weights, against the GPU's
+            // (f32 corners, f32 sums); the weights themselves are held by the bound above.
+            let mesh = world.instances[k as usize].mesh.mesh();
+            if let Some(uvs) = &mesh.uvs {
+                let corners = mesh.triangles[tri as usize].map(|v| uvs[v as usize]);
+                let uv_at = |w: [f64; 3]| (0..3).fold(DVec2::ZERO, |s, i| s + corners[i] * w[i]);
+                let size = corners
+                    .iter()
+                    .map(|u| u.abs().max_element())
+                    .fold(0.0, f64::max);
+                f.uvs += 1;
+                f.worst_uv = f.worst_uv.max((g.uv - c.uv).abs().max_element());
+                let off = (g.uv - uv_at(g.barycentric)).abs().max_element();
+                f.worst_uv_arithmetic = f
+                    .worst_uv_arithmetic
+                    .max(off / (F32_EPS * size.max(f64::MIN_POSITIVE)));
+            }
             if grazing {
                 f.worst_grazing_bary = f.worst_grazing_bary.max(db);
                 f.worst_grazing_shading_normal = f.worst_grazing_shading_normal.max(dn);
@@ -451,15 +416,15 @@ fn compare_one(
     }
 }
 
-/// The mesh-space face normal of `tri` (by its winding).
-fn mesh_face_normal(mesh: &TriangleMesh, tri: u32) -> DVec3 {
-    let [a, b, c] = mesh.corners(tri as usize);
-    (b - a).cross(c - a)
-}
-
 /// Whether the GPU's triangle is hit by the f64 test at (nearly) the CPU's depth: coincident or
 /// touching triangles, where which one wins is a tie.
-fn same_depth_elsewhere(world: &World, q: &Query, g: &GpuMeshHit, t_cpu: f64, scale: f64) -> bool {
+fn same_depth_elsewhere(
+    world: &World,
+    q: &CaseRay,
+    g: &MeshAnswer,
+    t_cpu: f64,
+    scale: f64,
+) -> bool {
     let inst = &world.instances[g.instance as usize];
     let local = Ray {
         origin: inst.to_world().inverse().transform_point3(q.ray.origin),
@@ -521,6 +486,11 @@ fn check_within(what: &str, f: &Figures, disagreeing: f64) {
         f.worst_normal,
         f.worst_shading_normal
     );
+    assert!(
+        f.worst_uv_arithmetic <= UV_K,
+        "{what}: uvs off the CPU's interpolation at the GPU's weights by {} ε max|uv|",
+        f.worst_uv_arithmetic
+    );
     assert_eq!(
         f.any_unexplained, 0,
         "{what}: any-hit differs away from edges"
@@ -536,14 +506,14 @@ fn check_within(what: &str, f: &Figures, disagreeing: f64) {
 }
 
 /// Every pixel's camera ray of a `size × size` pinhole view from `eye` toward `at`.
-fn camera_queries(eye: DVec3, at: DVec3, fov_deg: f64, size: u32) -> Vec<Query> {
+fn camera_queries(eye: DVec3, at: DVec3, fov_deg: f64, size: u32) -> Vec<CaseRay> {
     let camera =
         Projector::Pinhole(Pinhole::new(eye, at, DVec3::Y, fov_deg.to_radians(), 1e-3).unwrap());
     let mut out = Vec::with_capacity((size * size) as usize);
     for y in 0..size {
         for x in 0..size {
             let c = camera.pixel_ray(x, y, size, size).expect("camera ray");
-            out.push(Query {
+            out.push(CaseRay {
                 ray: c.ray,
                 range: Interval::new(c.t_near, f64::INFINITY),
             });
@@ -553,13 +523,13 @@ fn camera_queries(eye: DVec3, at: DVec3, fov_deg: f64, size: u32) -> Vec<Query> 
 }
 
 /// `n` rays from a sphere around `b` (1.5 to 3 half-diagonals out) toward random points of it.
-fn random_queries(rng: &mut Rng, b: &Aabb, n: usize) -> Vec<Query> {
+fn random_queries(rng: &mut Rng, b: &Aabb, n: usize) -> Vec<CaseRay> {
     let r = b.diagonal() * 0.5;
     (0..n)
         .map(|_| {
             let o = b.center() + rng.direction() * r * (1.5 + 1.5 * rng.unit());
             let ray = Ray::new(o, rng.in_box(b.min, b.max) - o).unwrap();
-            Query {
+            CaseRay {
                 ray,
                 range: Interval::new(0.0, f64::INFINITY),
             }
@@ -569,30 +539,32 @@ fn random_queries(rng: &mut Rng, b: &Aabb, n: usize) -> Vec<Query> {
 
 /// Shadow-ray and next-hit segments around the CPU's hits of `queries`: `(lo, t(1 − 1e-3))`
 /// (nothing), `(lo, t(1 + 1e-3))` (the hit) and `(t(1 + 1e-3), ∞)` (what lies behind it).
-fn segments(world: &World, queries: &[Query]) -> Vec<Query> {
+fn segments(world: &World, queries: &[CaseRay]) -> Vec<CaseRay> {
     let mut out = Vec::new();
-    for q in queries {
-        if let Some((_, h)) = world.nearest(&q.ray, q.range) {
+    let hits = Cpu.meshes(&world.instances, DVec3::ZERO, queries);
+    for (q, h) in queries.iter().zip(&hits) {
+        if let Some(t) = h.t {
             for range in [
-                Interval::new(q.range.lo, h.t * (1.0 - 1e-3)),
-                Interval::new(q.range.lo, h.t * (1.0 + 1e-3)),
-                Interval::new(h.t * (1.0 + 1e-3), f64::INFINITY),
+                Interval::new(q.range.lo, t * (1.0 - 1e-3)),
+                Interval::new(q.range.lo, t * (1.0 + 1e-3)),
+                Interval::new(t * (1.0 + 1e-3), f64::INFINITY),
             ] {
-                out.push(Query { ray: q.ray, range });
+                out.push(CaseRay { ray: q.ray, range });
             }
         }
     }
     out
 }
 
-fn run_case(what: &str, world: &World, queries: &[Query], reference: DVec3) -> Figures {
-    let pass = world.pass(reference);
-    let f = measure(what, world, &pass, queries, reference);
+fn run_case(what: &str, world: &World, queries: &[CaseRay], reference: DVec3) -> Figures {
+    let f = measure(what, world, queries, reference, || {
+        gpu().meshes(&world.instances, reference, queries)
+    });
     check(what, &f);
     f
 }
 
-fn bunny_camera_and_random_rays() {
+pub fn bunny_camera_and_random_rays() {
     let world = World::new(vec![bunny()], &[(0, DAffine3::IDENTITY)]);
     let b = world.bounds();
     let eye = DVec3::new(0.4, 0.5, 2.2);
@@ -610,7 +582,7 @@ fn bunny_camera_and_random_rays() {
     run_case("bunny, segments around the camera hits", &world, &segs, eye);
 }
 
-fn boeing_camera_and_random_rays() {
+pub fn boeing_camera_and_random_rays() {
     let world = World::new(vec![boeing()], &[(0, DAffine3::IDENTITY)]);
     let b = world.bounds();
     let eye = DVec3::new(20.0, 14.0, 30.0);
@@ -647,7 +619,7 @@ fn inside(bvh: &MeshBvh, p: DVec3) -> bool {
 /// aimed exactly at every f32 vertex as uploaded (the origin is 0 in the mesh's f32 frame and the
 /// direction the vertex itself, so the f32 ray passes through it exactly), at an edge midpoint
 /// of every triangle, and in random directions from eight inside points.
-fn no_ray_escapes_the_closed_bunny() {
+pub fn no_ray_escapes_the_closed_bunny() {
     let bvh = bunny();
     let world = World::new(vec![bvh.clone()], &[(0, DAffine3::IDENTITY)]);
     let anchor = {
@@ -658,12 +630,12 @@ fn no_ray_escapes_the_closed_bunny() {
     let mut pass = world.pass(anchor);
     let mesh = bvh.mesh();
     // Vertex-aimed, exactly in f32.
-    let vertex_queries: Vec<Query> = mesh
+    let vertex_queries: Vec<CaseRay> = mesh
         .positions
         .iter()
         .map(|p| {
             let d = (*p - anchor).as_vec3().as_dvec3();
-            Query {
+            CaseRay {
                 ray: Ray {
                     origin: anchor,
                     dir: d,
@@ -675,9 +647,9 @@ fn no_ray_escapes_the_closed_bunny() {
     let f = measure(
         "bunny from inside, aimed at every f32 vertex",
         &world,
-        &pass,
         &vertex_queries,
         anchor,
+        || gpu().mesh_answers(&pass, anchor, &vertex_queries),
     );
     assert_eq!(f.gpu_misses, 0, "rays escaped the bunny through a vertex");
     check_within("bunny from inside, vertices", &f, 1.0);
@@ -693,8 +665,8 @@ fn no_ray_escapes_the_closed_bunny() {
         }
     }
     for (k, &o) in origins.iter().enumerate() {
-        pass.rebase(gpu(), o).unwrap();
-        let mut queries: Vec<Query> = mesh
+        pass.rebase(gpu().context(), o).unwrap();
+        let mut queries: Vec<CaseRay> = mesh
             .triangles
             .iter()
             .enumerate()
@@ -707,21 +679,21 @@ fn no_ray_escapes_the_closed_bunny() {
                     (p[(t + 1) % 3] + p[(t + 2) % 3]) * 0.5,
                 ]
             })
-            .map(|target| Query {
+            .map(|target| CaseRay {
                 ray: Ray::new(o, target - o).unwrap(),
                 range: Interval::new(0.0, f64::INFINITY),
             })
             .collect();
-        queries.extend((0..6_000).map(|_| Query {
+        queries.extend((0..6_000).map(|_| CaseRay {
             ray: Ray::new(o, rng.direction()).unwrap(),
             range: Interval::new(0.0, f64::INFINITY),
         }));
         let f = measure(
             &format!("bunny from inside point {k}, edge midpoints and random"),
             &world,
-            &pass,
             &queries,
             o,
+            || gpu().mesh_answers(&pass, o, &queries),
         );
         check_within("bunny from inside", &f, 1.0);
         escaped += f.gpu_misses;
@@ -737,7 +709,7 @@ fn no_ray_escapes_the_closed_bunny() {
 
 /// Several meshes and instances share one set of buffers: the boeing three times (rotated,
 /// scaled non-uniformly, translated; one mirrored) and the bunny scaled up among them.
-fn instances_rotated_scaled_translated() {
+pub fn instances_rotated_scaled_translated() {
     let placements = [
         (0, DAffine3::IDENTITY),
         (
@@ -774,13 +746,60 @@ fn instances_rotated_scaled_translated() {
     let random = random_queries(&mut rng, &b, 40_000);
     run_case("instances, random rays", &world, &random, b.center());
     // Which instance is hit: every one of them is seen.
-    let pass = world.pass(eye);
-    let rays: Vec<GpuRay> = camera.iter().map(|q| gpu_ray(q, eye)).collect();
-    let hits = pass.cast(gpu(), &rays).unwrap();
+    let hits = gpu().meshes(&world.instances, eye, &camera);
     for k in 0..placements.len() as u32 {
         assert!(
-            hits.iter().any(|h| h.instance == k),
+            hits.iter().any(|h| h.t.is_some() && h.instance == k),
             "instance {k} never hit"
+        );
+    }
+}
+
+/// The bunny with planar uvs, `(4x + 1, 4z − 2)`: a few units, not centred on 0.
+fn uv_bunny() -> MeshBvh {
+    let m = bunny().mesh().clone();
+    let uvs = m
+        .positions
+        .iter()
+        .map(|p| DVec2::new(4.0 * p.x + 1.0, 4.0 * p.z - 2.0))
+        .collect();
+    let mesh = TriangleMesh::with_attributes(m.positions, m.triangles, Some(m.normals), Some(uvs))
+        .unwrap();
+    MeshBvh::build(mesh)
+}
+
+/// Uvs: the bunny with planar uvs, as it is and mirrored, scaled and turned by a second
+/// instance, on camera and random rays — the GPU's uv on every ray both hit on the same triangle
+/// is the CPU's interpolation at the GPU's own weights within [`UV_K`] (and every other bound
+/// holds).
+pub fn uvs_are_interpolated_like_the_cpu() {
+    let placements = [
+        (0, DAffine3::IDENTITY),
+        (
+            0,
+            DAffine3::from_scale_rotation_translation(
+                DVec3::new(-2.0, 2.0, 2.0),
+                DQuat::from_rotation_y(0.8),
+                DVec3::new(0.6, 0.0, 0.0),
+            ),
+        ),
+    ];
+    let world = World::new(vec![Arc::new(uv_bunny())], &placements);
+    let b = world.bounds();
+    let eye = b.center() + DVec3::new(0.4, 0.5, 2.2);
+    let camera = camera_queries(eye, b.center(), 40.0, 192);
+    let mut rng = Rng(11);
+    let random = random_queries(&mut rng, &b, 20_000);
+    for (what, queries, reference) in [
+        ("bunny with uvs, camera 192²", camera, eye),
+        ("bunny with uvs, random rays", random, b.center()),
+    ] {
+        let f = run_case(what, &world, &queries, reference);
+        assert!(
+            f.uvs * 10 > f.both * 9,
+            "{what}: {} uvs of {} hits",
+            f.uvs,
+            f.both
         );
     }
 }
@@ -807,12 +826,17 @@ fn moved_bunny(offset: DVec3) -> MeshBvh {
 /// Further out the stack policy answers: `MeshBvh::build` takes its topology from the f32
 /// triangles, which at 4·10⁵ collapse onto a few f32 points, and the BVH it builds is ~200
 /// deep — refused as `TooLarge` (more stack entries than `MESH_STACK`), not traversed wrongly.
-fn a_mesh_far_from_the_origin() {
+pub fn a_mesh_far_from_the_origin() {
     let deep = moved_bunny(DVec3::new(0.68, -0.32, 1.0) * 4e5);
     let depth = deep.max_depth();
     if depth + 1 > fray_mesh::gpu_layout::MESH_STACK {
-        let e =
-            MeshBatch::new(gpu(), &[&deep], &[(0, DAffine3::IDENTITY)], DVec3::ZERO).unwrap_err();
+        let e = fray_gpu::testing::MeshBatch::new(
+            gpu().context(),
+            &[&deep],
+            &[(0, DAffine3::IDENTITY)],
+            DVec3::ZERO,
+        )
+        .unwrap_err();
         assert!(
             matches!(e, fray_gpu::GpuError::TooLarge { needed, .. } if needed == u64::from(depth) + 1),
             "{e}"
@@ -846,35 +870,25 @@ fn a_mesh_far_from_the_origin() {
 
 /// A moved camera rewrites only the instance blocks (`MeshBatch::rebase`): the same world rays,
 /// relative to the new reference, hit the same triangles.
-fn rebased_instances_hit_the_same() {
+pub fn rebased_instances_hit_the_same() {
     let world = World::new(vec![boeing()], &[(0, DAffine3::from_rotation_y(0.4))]);
     let b = world.bounds();
     let eye = DVec3::new(20.0, 14.0, 30.0);
     let camera = camera_queries(eye, b.center(), 40.0, 128);
     let mut pass = world.pass(eye);
-    let first = pass
-        .cast(
-            gpu(),
-            &camera.iter().map(|q| gpu_ray(q, eye)).collect::<Vec<_>>(),
-        )
-        .unwrap();
+    let first = gpu().mesh_answers(&pass, eye, &camera);
     let moved = eye + DVec3::new(3.0, -1.0, 2.0);
-    let written = pass.rebase(gpu(), moved).unwrap();
+    let written = pass.rebase(gpu().context(), moved).unwrap();
     assert_eq!(written, 64, "one instance block rewritten");
     let f = measure(
         "boeing, rebased to a moved reference",
         &world,
-        &pass,
         &camera,
         moved,
+        || gpu().mesh_answers(&pass, moved, &camera),
     );
     check("boeing, rebased", &f);
-    let second = pass
-        .cast(
-            gpu(),
-            &camera.iter().map(|q| gpu_ray(q, moved)).collect::<Vec<_>>(),
-        )
-        .unwrap();
+    let second = gpu().mesh_answers(&pass, moved, &camera);
     let same = first
         .iter()
         .zip(&second)
@@ -888,7 +902,7 @@ fn rebased_instances_hit_the_same() {
 }
 
 /// The edge distance the acceptance rule uses: from the ray's line to the nearest edge segment.
-fn edge_distance_is_from_the_line_to_the_nearest_segment() {
+pub fn edge_distance_is_from_the_line_to_the_nearest_segment() {
     let tri = [DVec3::ZERO, DVec3::X, DVec3::Y];
     // A ray down the z axis through (0.5, 0.1): 0.1 from the edge on the x axis.
     let ray = Ray::new(DVec3::new(0.5, 0.1, 5.0), -DVec3::Z).unwrap();
@@ -900,33 +914,4 @@ fn edge_distance_is_from_the_line_to_the_nearest_segment() {
     let ray = Ray::new(DVec3::new(0.0, -0.2, 1.0), DVec3::X).unwrap();
     let want = (0.2f64 * 0.2 + 1.0).sqrt();
     assert!((edge_distance(&ray, tri) - want).abs() < 1e-12);
-}
-
-fn main() {
-    common::run(
-        &[
-            ("bunny_camera_and_random_rays", bunny_camera_and_random_rays),
-            (
-                "boeing_camera_and_random_rays",
-                boeing_camera_and_random_rays,
-            ),
-            (
-                "no_ray_escapes_the_closed_bunny",
-                no_ray_escapes_the_closed_bunny,
-            ),
-            (
-                "instances_rotated_scaled_translated",
-                instances_rotated_scaled_translated,
-            ),
-            ("a_mesh_far_from_the_origin", a_mesh_far_from_the_origin),
-            (
-                "rebased_instances_hit_the_same",
-                rebased_instances_hit_the_same,
-            ),
-        ],
-        &[(
-            "edge_distance_is_from_the_line_to_the_nearest_segment",
-            edge_distance_is_from_the_line_to_the_nearest_segment,
-        )],
-    );
 }

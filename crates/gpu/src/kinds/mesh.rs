@@ -1,18 +1,163 @@
-//! The meshes as they stay on the GPU: `fray_mesh::gpu_layout::GpuMeshes` ([`mesh_layout`]: its
-//! refusals as [`GpuError`]s) uploaded by [`mesh_buffers`] — one texture of 16-byte texels and a
-//! uniform saying where each array starts in it ([`MeshBuffers`]), checked against the device's
-//! limits and charged to the render's budget first. The frame's mesh intersection and shade passes
-//! and the batch kernel (`crate::testing`) bind the same resources; a camera that moves rewrites
-//! only the instance blocks ([`MeshBuffers::write_instances`]).
+//! Triangle meshes on the GPU: what stays resident — every distinct mesh's BVH, triangles and
+//! vertices with the instance blocks in one data texture (the blocks rewritten from f64 for a
+//! moved camera, nothing else) — and their intersection pass: one workgroup per work item of
+//! the band, each pixel's camera
+//! rays cast against the item's mesh candidates — one instance each, its BVH nearest child
+//! first and the watertight triangle test in f32 (`shaders/mesh.wgsl`, the f32 twin of
+//! `fray_mesh::Instance::nearest_hit`) — over `(t_near, nearest hit so far)`, narrowing the
+//! paths' hits after the free forms and the terrains (a tie keeps the earlier kind's hit) and
+//! recording the instance, the triangle and its barycentrics for the shade pass. Built only
+//! for scenes with meshes.
 
-use crate::bindings::{self, MESHES};
+use super::{GpuKind, ResidentKind, Upload};
+use crate::DeviceCharges;
+use crate::View;
+use crate::bindings::{self, MESHES, write_texels};
+use crate::counters::Counter;
+use crate::passes::spec::{PassSpec, Role, Workload};
 use crate::{GpuContext, GpuError};
 use fray_core::MemoryBudget;
 use fray_mesh::MeshBvh;
 use fray_mesh::gpu_layout::{
     GpuMeshInstance, GpuMeshNode, GpuMeshTriangle, GpuMeshVertex, GpuMeshes, MeshLayoutError,
 };
+use fray_scene::{PrimitiveKind, Scene};
 use glam::{DAffine3, DVec3};
+
+/// The mesh kind on the GPU.
+#[derive(Clone, Copy, Debug)]
+pub struct Meshes;
+
+impl GpuKind for Meshes {
+    fn kind(&self) -> PrimitiveKind {
+        PrimitiveKind::Mesh
+    }
+
+    fn upload(
+        &self,
+        at: Upload<'_>,
+        charges: &mut DeviceCharges,
+    ) -> Result<Option<Box<dyn ResidentKind>>, GpuError> {
+        Ok(Some(Box::new(upload_meshes(at, charges)?)))
+    }
+
+    fn intersection(&self) -> PassSpec {
+        INTERSECTION
+    }
+
+    fn read_stats(&self, words: &[u32], stats: &mut fray_core::RenderStats) {
+        stats.mesh_rays = Counter::MeshRays.read(words);
+    }
+}
+
+impl ResidentKind for ResidentMeshes {
+    fn resources(&self) -> Vec<wgpu::BindingResource<'_>> {
+        vec![
+            self.buffers.info.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&self.view),
+        ]
+    }
+
+    fn write_view(
+        &mut self,
+        ctx: &GpuContext,
+        _scene: &Scene,
+        view: &View,
+    ) -> Result<u64, GpuError> {
+        // The instance blocks relative to this camera, from f64 (nothing else of the meshes
+        // moves).
+        self.move_to(ctx, crate::params::reference_point(&view.camera))
+    }
+
+    fn bytes(&self) -> u64 {
+        self.buffers.bytes
+    }
+}
+
+/// Its intersection pass.
+const INTERSECTION: PassSpec = PassSpec {
+    label: "meshes",
+    entry: "intersect_mesh.wgsl",
+    roles: &[Role::Frame, Role::Work, Role::Kind(PrimitiveKind::Mesh)],
+    workload: Workload::Items,
+};
+
+/// The meshes on the GPU.
+#[derive(Debug)]
+pub struct ResidentMeshes {
+    /// The layout uploaded (each distinct mesh once, one instance per mesh object in scene
+    /// order, with its material and smooth flag), kept for the instance blocks of a moved
+    /// camera.
+    pub layout: GpuMeshes,
+    pub buffers: MeshBuffers,
+    /// The view of its texture the groups bind.
+    pub view: wgpu::TextureView,
+    /// The point (world, f64) the instance blocks on the GPU are relative to.
+    pub reference: DVec3,
+}
+
+impl ResidentMeshes {
+    /// Rewrites the instance blocks relative to `reference` (a camera's eye, f64), unless they
+    /// already are; nothing else of the meshes moves. Returns the bytes written.
+    pub fn move_to(&mut self, ctx: &GpuContext, reference: DVec3) -> Result<u64, GpuError> {
+        if reference == self.reference {
+            return Ok(0);
+        }
+        let blocks = self.layout.instances_at(reference).map_err(layout_error)?;
+        let bytes = self.buffers.write_instances(ctx, &blocks);
+        self.layout.instances = blocks;
+        self.reference = reference;
+        Ok(bytes)
+    }
+}
+
+/// The scene's meshes laid out relative to `anchor` (`fray_mesh::gpu_layout::GpuMeshes`: each
+/// distinct mesh — objects naming one file share its BVH — once, one instance per mesh object
+/// in scene order with its material, the default where it has none, and its smooth flag) and
+/// uploaded (`meshes::mesh_buffers`).
+fn upload_meshes(at: Upload<'_>, charges: &mut DeviceCharges) -> Result<ResidentMeshes, GpuError> {
+    let Upload {
+        ctx,
+        scene,
+        anchor,
+        budget,
+        ..
+    } = at;
+    let mut distinct: Vec<&std::sync::Arc<fray_mesh::MeshBvh>> = Vec::new();
+    let mut placements = Vec::with_capacity(scene.meshes.len());
+    for object in &scene.meshes {
+        let mesh = &object.instance.mesh;
+        let index = match distinct
+            .iter()
+            .position(|m| std::sync::Arc::ptr_eq(m, mesh))
+        {
+            Some(i) => i,
+            None => {
+                distinct.push(mesh);
+                distinct.len() - 1
+            }
+        };
+        placements.push((index as u32, object.instance.to_world()));
+    }
+    let bvhs: Vec<&fray_mesh::MeshBvh> = distinct.iter().map(|m| m.as_ref()).collect();
+    let material_count = scene.materials.len() as u32;
+    let materials: Vec<u32> = scene
+        .meshes
+        .iter()
+        .map(|m| m.material.min(material_count))
+        .collect();
+    let smooth: Vec<bool> = scene.meshes.iter().map(|m| m.smooth).collect();
+    let layout = mesh_layout(&bvhs, &placements, anchor, budget)?
+        .with_materials(&materials)
+        .with_smooth(&smooth);
+    let buffers = mesh_buffers(ctx, charges, &layout)?;
+    Ok(ResidentMeshes {
+        layout,
+        view: buffers.view(),
+        buffers,
+        reference: anchor,
+    })
+}
 
 /// A layout refusal as the backend reports it: a BVH too deep for the traversal's stack or
 /// arrays past `u32` indices as [`GpuError::TooLarge`], a budget as [`GpuError::Budget`], bad
@@ -94,63 +239,6 @@ impl MeshBuffers {
     pub fn write_instances(&self, ctx: &GpuContext, blocks: &[GpuMeshInstance]) -> u64 {
         write_texels(ctx, &self.texture, 0, bytemuck::cast_slice(blocks))
     }
-}
-
-/// Writes `data` (16-byte texels) into `texture` from texel `first` on, row-major with
-/// [`MESH_TEXTURE_WIDTH`] per row: a partial first row, whole rows, a partial last row — no
-/// texel outside the range is touched. Returns the bytes written.
-pub(crate) fn write_texels(
-    ctx: &GpuContext,
-    texture: &wgpu::Texture,
-    first: u64,
-    data: &[[u32; 4]],
-) -> u64 {
-    let w = u64::from(MESH_TEXTURE_WIDTH);
-    let mut at = first;
-    let mut rest = data;
-    let write = |x: u64, y: u64, width: u64, rows: u64, texels: &[[u32; 4]]| {
-        ctx.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: x as u32,
-                    y: y as u32,
-                    z: 0,
-                },
-                aspect: wgpu::TextureAspect::All,
-            },
-            bytemuck::cast_slice(texels),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some((width * 16) as u32),
-                rows_per_image: Some(rows as u32),
-            },
-            wgpu::Extent3d {
-                width: width as u32,
-                height: rows as u32,
-                depth_or_array_layers: 1,
-            },
-        );
-    };
-    let x = at % w;
-    if x != 0 && !rest.is_empty() {
-        let n = (w - x).min(rest.len() as u64);
-        write(x, at / w, n, 1, &rest[..n as usize]);
-        at += n;
-        rest = &rest[n as usize..];
-    }
-    let rows = rest.len() as u64 / w;
-    if rows > 0 {
-        let n = (rows * w) as usize;
-        write(0, at / w, w, rows, &rest[..n]);
-        at += rows * w;
-        rest = &rest[n..];
-    }
-    if !rest.is_empty() {
-        write(0, at / w, rest.len() as u64, 1, rest);
-    }
-    std::mem::size_of_val(data) as u64
 }
 
 /// Uploads `layout`'s arrays into one texture ([`MeshBuffers`]), its rows checked against the

@@ -1,15 +1,198 @@
-//! The terrains as they stay on the GPU: their parameter blocks (relative to a reference point,
-//! with each terrain's material, footprint and offsets into the concatenated arrays), and their
-//! max pyramids (rectangular levels) and samples concatenated into two storage buffers written
-//! straight from the terrains while mapped — every size checked against the device's limits and
-//! charged to the render's budget before anything is allocated. `terrain.wgsl`'s `cast_terrain`
-//! reads them in the frame's terrain passes and in the batch kernel (`crate::testing`).
+//! Terrains on the GPU: what stays resident — their parameter blocks (rebased to each camera),
+//! their max pyramids and samples concatenated into two storage buffers written straight from
+//! the terrains while mapped, each view's level-of-detail parameters — and their intersection
+//! pass: one workgroup per work item of the band, each pixel's camera
+//! rays cast against the item's terrain candidates at their pixel level of detail
+//! (`shaders/terrain.wgsl`, the f32 twin of `fray_terrain::Terrain::cast_footprint`) over
+//! `[t_near, nearest hit so far]`, narrowing the paths' hits after the free forms. Built only
+//! for scenes with terrains.
 
+use super::{GpuKind, ResidentKind, Upload};
+use crate::DeviceCharges;
+use crate::View;
+use crate::counters::Counter;
+use crate::passes::rebase::{RebaseLayout, Rebased};
+use crate::passes::spec::{PassSpec, Role, Workload};
 use crate::{GpuContext, GpuError};
 use fray_core::PixelFootprint;
+use fray_scene::{PrimitiveKind, Scene};
 use fray_terrain::Terrain;
 use fray_terrain::gpu_layout::{self, GpuTerrainParams};
 use glam::DVec3;
+use std::mem::offset_of;
+use wgpu::BufferUsages as U;
+
+/// The terrain kind on the GPU.
+#[derive(Clone, Copy, Debug)]
+pub struct Terrains;
+
+impl GpuKind for Terrains {
+    fn kind(&self) -> PrimitiveKind {
+        PrimitiveKind::Terrain
+    }
+
+    fn upload(
+        &self,
+        at: Upload<'_>,
+        charges: &mut DeviceCharges,
+    ) -> Result<Option<Box<dyn ResidentKind>>, GpuError> {
+        Ok(Some(Box::new(upload_terrains(at, charges)?)))
+    }
+
+    fn intersection(&self) -> PassSpec {
+        INTERSECTION
+    }
+
+    fn read_stats(&self, words: &[u32], stats: &mut fray_core::RenderStats) {
+        stats.terrain_rays = Counter::TerrainRays.read(words);
+        stats.terrain_segments = Counter::TerrainSegments.read(words);
+        stats.terrain_cells = Counter::TerrainCells.read(words);
+        stats.terrain_stops = Counter::TerrainStops.read(words);
+        stats.terrain_stop_levels = Counter::TerrainStopLevels.read(words);
+    }
+}
+
+impl ResidentKind for ResidentTerrains {
+    fn resources(&self) -> Vec<wgpu::BindingResource<'_>> {
+        vec![
+            self.table.as_entire_binding(),
+            self.lods.as_entire_binding(),
+            self.pyramid.as_entire_binding(),
+            self.samples.as_entire_binding(),
+        ]
+    }
+
+    fn rebased(&self) -> Vec<&Rebased> {
+        vec![&self.params]
+    }
+
+    fn copy_tables(&self, encoder: &mut wgpu::CommandEncoder) {
+        let t = self;
+        encoder.copy_buffer_to_buffer(&t.params.target, 0, &t.table, 0, t.table.size());
+    }
+
+    fn write_view(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        view: &View,
+    ) -> Result<u64, GpuError> {
+        // Each terrain's level of detail at this view's pixel footprint.
+        let footprint = view.camera.pixel_footprint(view.width, view.height);
+        let lods = terrain_lods(scene, footprint);
+        ctx.queue
+            .write_buffer(&self.lods, 0, bytemuck::cast_slice(&lods));
+        Ok((lods.len() * 16) as u64)
+    }
+
+    fn bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+/// Its intersection pass.
+const INTERSECTION: PassSpec = PassSpec {
+    label: "terrains",
+    entry: "intersect_terrain.wgsl",
+    roles: &[Role::Frame, Role::Work, Role::Kind(PrimitiveKind::Terrain)],
+    workload: Workload::Items,
+};
+
+/// Where the terrain parameters' positions are (the rebase pass moves them).
+pub const TERRAIN_LAYOUT: RebaseLayout = RebaseLayout::new(
+    size_of::<GpuTerrainParams>(),
+    &[offset_of!(GpuTerrainParams, origin)],
+    &[],
+    &[],
+);
+
+/// The terrains on the GPU.
+#[derive(Debug)]
+pub struct ResidentTerrains {
+    /// The parameters (anchor-relative source, camera-relative copy).
+    pub params: Rebased,
+    /// The camera-relative parameters as the uniform table the passes read (copied from
+    /// `params.target` each frame the camera moves).
+    pub table: wgpu::Buffer,
+    /// This view's level-of-detail parameters, one vec4 per terrain (camera data, written per
+    /// frame).
+    pub lods: wgpu::Buffer,
+    pub pyramid: wgpu::Buffer,
+    pub samples: wgpu::Buffer,
+    /// The bytes uploaded.
+    pub bytes: u64,
+}
+
+/// The terrains' parameters (their pyramids and samples at offsets in the concatenated arrays,
+/// their materials) anchor-relative, and the concatenated arrays, written straight into mapped
+/// GPU buffers (`terrains::terrain_arrays`); returns them.
+fn upload_terrains(
+    at: Upload<'_>,
+    charges: &mut DeviceCharges,
+) -> Result<ResidentTerrains, GpuError> {
+    let Upload {
+        ctx,
+        cache,
+        scene,
+        anchor,
+        ..
+    } = at;
+    let material_count = scene.materials.len() as u32;
+    let uploads: Vec<TerrainUpload<'_>> = scene
+        .terrains
+        .iter()
+        .map(|t| TerrainUpload {
+            terrain: &t.terrain,
+            material: t.material.min(material_count),
+            // The level of detail is the view's: `terrain_lods`, per frame.
+            footprint: fray_core::PixelFootprint::ZERO,
+        })
+        .collect();
+    let (params, pyramid, samples) = terrain_arrays(ctx, charges, &uploads, anchor)?;
+    let (params_rebased, params_bytes) = Rebased::new(
+        ctx,
+        charges,
+        cache,
+        "terrain params",
+        &params,
+        TERRAIN_LAYOUT,
+    )?;
+    let table_bytes = (params.len() * size_of::<GpuTerrainParams>()) as u64;
+    let table = charges.empty(ctx, "terrain table", table_bytes, U::UNIFORM | U::COPY_DST)?;
+    let lods = charges.empty(
+        ctx,
+        "terrain lods",
+        16 * params.len() as u64,
+        U::UNIFORM | U::COPY_DST,
+    )?;
+    let bytes = params_bytes + pyramid.size() + samples.size();
+    Ok(ResidentTerrains {
+        params: params_rebased,
+        table,
+        lods,
+        pyramid,
+        samples,
+        bytes,
+    })
+}
+
+/// This view's level-of-detail parameters of each terrain of `scene` (camera rays at the
+/// terrain's `lod`; `GpuTerrainParams::with_pixel_lod`, exactly as the CPU casts them).
+pub fn terrain_lods(scene: &Scene, footprint: fray_core::PixelFootprint) -> Vec<[f32; 4]> {
+    scene
+        .terrains
+        .iter()
+        .map(|t| {
+            let fp = match t.lod {
+                fray_scene::TerrainLod::Pixel => footprint.coarser(t.terrain.options().lod_bias),
+                fray_scene::TerrainLod::Exact => fray_core::PixelFootprint::ZERO,
+            };
+            GpuTerrainParams::new(&t.terrain, DVec3::ZERO)
+                .with_pixel_lod(&t.terrain, fp)
+                .lod
+        })
+        .collect()
+}
 
 const PASS: &str = "terrain";
 

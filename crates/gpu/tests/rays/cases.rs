@@ -1,0 +1,90 @@
+//! The suite's shared scaffolding: data scenes, camera rays, far views and fans of rays.
+
+use crate::backend::CaseRay;
+use fray_core::{Interval, Ray};
+use fray_scene::Scene;
+use glam::DVec3;
+use std::path::Path;
+
+/// Where `f` changes sign in `[a, b]` (it does at the ends), to 1e-12 relative.
+pub fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let inside_a = f(a) >= 0.0;
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b || (b - a) <= 1e-12 * b.abs().max(1.0) {
+            break;
+        }
+        if (f(m) >= 0.0) == inside_a {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    // The first inside point of the pair.
+    if inside_a { a } else { b }
+}
+
+/// The camera rays of `scene` through the pixel centres of a `width × height` grid.
+pub fn camera_rays(scene: &Scene, width: u32, height: u32) -> Vec<CaseRay> {
+    let mut rays = Vec::new();
+    for py in 0..height {
+        for px in 0..width {
+            if let Some(c) = scene.camera.pixel_ray(px, py, width, height) {
+                rays.push(CaseRay {
+                    ray: c.ray,
+                    range: Interval::new(c.t_near, f64::INFINITY),
+                });
+            }
+        }
+    }
+    rays
+}
+
+/// A camera `back` behind `reference` along the mean of `camera`'s directions, and its rays
+/// through the points `at` along each of them (a view of the same things from far away:
+/// positions relative to that camera, long `t`).
+pub fn far_rays(camera: &[CaseRay], reference: DVec3, back: f64, at: f64) -> (DVec3, Vec<CaseRay>) {
+    let forward = camera.iter().map(|r| r.ray.dir).sum::<DVec3>().normalize();
+    let eye = reference - forward * back;
+    let rays = camera
+        .iter()
+        .filter_map(|r| {
+            Some(CaseRay {
+                ray: Ray::new(eye, r.ray.at(at) - eye)?,
+                range: Interval::new(0.0, f64::INFINITY),
+            })
+        })
+        .collect();
+    (eye, rays)
+}
+
+/// Rays from `eye` at every `elevations` × `azimuths` (degrees, Y up) to each of `ends`.
+pub fn fan(eye: DVec3, elevations: &[f64], azimuths: &[f64], ends: &[f64]) -> Vec<CaseRay> {
+    let mut rays = Vec::new();
+    for elevation in elevations {
+        for azimuth in azimuths {
+            let dir = direction(*elevation, *azimuth);
+            for &end in ends {
+                rays.push(CaseRay {
+                    ray: Ray::new(eye, dir).expect("a unit direction"),
+                    range: Interval::new(0.0, end),
+                });
+            }
+        }
+    }
+    rays
+}
+
+/// The data scene `name` (`data/scenes/`), loaded.
+pub fn data_scene(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/scenes")
+        .join(name);
+    fray_scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// The unit vector at `elevation` and `azimuth` (degrees), Y up.
+pub fn direction(elevation: f64, azimuth: f64) -> DVec3 {
+    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
+    DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin())
+}
