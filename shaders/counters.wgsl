@@ -6,6 +6,29 @@
 
 var<workgroup> group_counts: array<atomic<u32>, GROUP_COUNTERS>;
 
+// The invocation of a queue kernel (shade, media, Whitted's intersection): one ray slot per
+// invocation, 64 a workgroup, the workgroups in a 2D grid.
+struct QueueInvocation {
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+}
+
+// Opens a queue kernel: zeroes the workgroup's sums before any invocation adds to them, and
+// returns the invocation's index in the dispatch. Call first, in uniform control flow.
+fn begin_queue_kernel(at: QueueInvocation) -> u32 {
+    zero_counts(at.local_index);
+    workgroupBarrier();
+    return at.id.x + at.id.y * at.groups.x * 64u;
+}
+
+// Closes a queue kernel: the workgroup's sums go to the frame's counters once every invocation
+// has added to them. Call last, in uniform control flow.
+fn end_queue_kernel(at: QueueInvocation) {
+    workgroupBarrier();
+    flush_counts(at.local_index);
+}
+
 // Zeroes the workgroup's sums (the pipelines skip wgpu's workgroup zero-fill); call with the
 // local index before the first barrier.
 fn zero_counts(local_index: u32) {

@@ -33,13 +33,7 @@ fn freeform_counts_end() {
     count(COUNT_POINT_EVALUATIONS, point_evals);
 }
 
-fn freeform_candidate(
-    c: u32,
-    o: vec3<f32>,
-    d: vec3<f32>,
-    t_near: f32,
-    hi: f32,
-) -> CandidateHit {
+fn freeform_candidate(c: u32, o: vec3<f32>, d: vec3<f32>, t_near: f32, hi: f32) -> CandidateHit {
     let t = cast_solid(candidates[c].object, candidate_parts(c), o, d, t_near, hi, frame.epsilon);
     return CandidateHit(t, vec3<f32>(0.0), candidates[c].object, 0u);
 }

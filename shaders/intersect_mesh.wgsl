@@ -22,13 +22,7 @@ fn mesh_counts_end() {
     count(COUNT_MESH_RAYS, mesh_rays);
 }
 
-fn mesh_candidate(
-    c: u32,
-    o: vec3<f32>,
-    d: vec3<f32>,
-    t_near: f32,
-    hi: f32,
-) -> CandidateHit {
+fn mesh_candidate(c: u32, o: vec3<f32>, d: vec3<f32>, t_near: f32, hi: f32) -> CandidateHit {
     mesh_rays++;
     var h = mesh_no_hit();
     mesh_instance_nearest(candidates[c].object, o, d, t_near, hi, &h);

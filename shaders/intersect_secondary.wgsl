@@ -15,14 +15,8 @@
 override HAS_FREE_FORMS: bool = true;
 
 @compute @workgroup_size(64)
-fn main(
-    @builtin(global_invocation_id) id: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local_index: u32,
-) {
-    zero_counts(local_index);
-    workgroupBarrier();
-    let k = id.x + id.y * groups.x * 64u;
+fn main(at: QueueInvocation) {
+    let k = begin_queue_kernel(at);
     bound_evals = 0u;
     point_evals = 0u;
     let level = queue_current();
@@ -40,6 +34,5 @@ fn main(
     }
     count(COUNT_BOUND_EVALUATIONS, bound_evals);
     count(COUNT_POINT_EVALUATIONS, point_evals);
-    workgroupBarrier();
-    flush_counts(local_index);
+    end_queue_kernel(at);
 }

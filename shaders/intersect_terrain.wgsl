@@ -26,13 +26,7 @@ fn terrain_counts_end() {
     count(COUNT_TERRAIN_STOP_LEVELS, terrain_stop_levels);
 }
 
-fn terrain_candidate(
-    c: u32,
-    o: vec3<f32>,
-    d: vec3<f32>,
-    t_near: f32,
-    hi: f32,
-) -> CandidateHit {
+fn terrain_candidate(c: u32, o: vec3<f32>, d: vec3<f32>, t_near: f32, hi: f32) -> CandidateHit {
     let object = candidates[c].object;
     let h = cast_terrain(object, o, d, t_near, hi, frame.epsilon, true);
     if h.t < 0.0 {

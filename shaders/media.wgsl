@@ -50,14 +50,8 @@ fn media_atmosphere_with(fog: FogMedia, air: MediaTerms) -> MediaTerms {
 var<private> cloud_samples: u32;
 
 @compute @workgroup_size(64)
-fn main(
-    @builtin(global_invocation_id) id: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local_index: u32,
-) {
-    zero_counts(local_index);
-    workgroupBarrier();
-    let k = id.x + id.y * groups.x * 64u;
+fn main(at: QueueInvocation) {
+    let k = begin_queue_kernel(at);
     cloud_samples = 0u;
     let range = media_range();
     let slot = range.x + k;
@@ -78,6 +72,5 @@ fn main(
         }
     }
     count(COUNT_CLOUD_SAMPLES, cloud_samples);
-    workgroupBarrier();
-    flush_counts(local_index);
+    end_queue_kernel(at);
 }

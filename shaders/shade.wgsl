@@ -109,14 +109,8 @@ fn radiance(p: vec3<f32>, n: vec3<f32>, to_viewer: vec3<f32>, m: GpuMaterial, ep
 }
 
 @compute @workgroup_size(64)
-fn main(
-    @builtin(global_invocation_id) id: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local_index: u32,
-) {
-    zero_counts(local_index);
-    workgroupBarrier();
-    let k = id.x + id.y * groups.x * 64u;
+fn main(at: QueueInvocation) {
+    let k = begin_queue_kernel(at);
     shadow_rays = 0u;
     let range = shade_range();
     if k < range.y {
@@ -166,6 +160,5 @@ fn main(
         }
     }
     count(COUNT_SHADOW_RAYS, shadow_rays);
-    workgroupBarrier();
-    flush_counts(local_index);
+    end_queue_kernel(at);
 }
