@@ -69,7 +69,8 @@ impl GpuWork {
         for item in &list.items {
             let candidate_start = listed.len() as u32;
             for c in list.candidates_of(item) {
-                if c.kind == PrimitiveKind::Terrain.code() || c.kind == PrimitiveKind::Mesh.code() {
+                // Kinds other than free forms have no program: their passes cast the candidate.
+                if c.kind != PrimitiveKind::FreeForm.code() {
                     listed.push(Listed {
                         candidate: *c,
                         leaves: Vec::new(),
@@ -141,12 +142,11 @@ impl GpuWork {
                 program: Program::Whole(flat.first_word, flat.word_count),
             });
         }
-        let others = [
-            (PrimitiveKind::Terrain, scene.terrains.len()),
-            (PrimitiveKind::Mesh, scene.meshes.len()),
-        ];
-        for (kind, count) in others {
-            for k in 0..count {
+        let others = PrimitiveKind::ALL
+            .into_iter()
+            .filter(|k| *k != PrimitiveKind::FreeForm);
+        for kind in others {
+            for k in 0..scene.count(kind) {
                 listed.push(Listed {
                     candidate: Candidate::new(kind.code(), k as u32, 0, 0, 0.0, f64::INFINITY),
                     leaves: Vec::new(),

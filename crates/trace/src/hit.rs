@@ -101,6 +101,14 @@ impl Primitive for AnyPrimitive<'_> {
             Self::Mesh(p) => p.surface(ray, hit),
         }
     }
+
+    fn uv_per_world(&self, part: u32) -> f64 {
+        match self {
+            Self::FreeForm(p) => p.uv_per_world(part),
+            Self::Terrain(p) => p.uv_per_world(part),
+            Self::Mesh(p) => p.uv_per_world(part),
+        }
+    }
 }
 
 /// The nearest hit in `range` over every primitive of `scene`, exactly (terrains at their

@@ -7,6 +7,7 @@
 use crate::hit::TileShape;
 use crate::primitive::{KindHit, Primitive, Surface, TraceContext};
 use fray_core::{Aabb, CameraRay, Interval, Ray, Rgb};
+use fray_mesh::texture::triangle_uv_per_world;
 use fray_scene::MeshObject;
 use glam::{DVec2, DVec3};
 
@@ -43,6 +44,16 @@ impl Primitive for MeshPrimitive<'_> {
         } else {
             Rgb::ONE
         }
+    }
+
+    fn uv_per_world(&self, part: u32) -> f64 {
+        let instance = &self.object.instance;
+        let mesh = instance.mesh.mesh();
+        let (Some(uvs), Some(&[a, b, c])) = (&mesh.uvs, mesh.triangles.get(part as usize)) else {
+            return 0.0;
+        };
+        let corners = instance.world_corners(part as usize);
+        triangle_uv_per_world(corners, [a, b, c].map(|v| uvs[v as usize]))
     }
 
     fn surface(&self, ray: &Ray, hit: &KindHit) -> Surface {

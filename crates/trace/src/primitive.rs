@@ -138,4 +138,11 @@ pub trait Primitive {
 
     /// The surface at `hit`, a hit of this primitive on `ray`.
     fn surface(&self, ray: &Ray, hit: &KindHit) -> Surface;
+
+    /// The uv per world unit of the surface's own coordinates ([`Surface::uv`]) on `part`: how
+    /// far a texture lookup's footprint stretches there (0 where the kind has no uv). Asked only
+    /// for textured hits, so kinds compute it here rather than in every [`Primitive::surface`].
+    fn uv_per_world(&self, _part: u32) -> f64 {
+        0.0
+    }
 }

@@ -90,6 +90,10 @@ impl Primitive for TerrainPrimitive<'_> {
             uv: Some(drape_uv(terrain, q.x, q.y)),
         }
     }
+
+    fn uv_per_world(&self, _part: u32) -> f64 {
+        drape_uv_per_world(&self.terrain.terrain)
+    }
 }
 
 /// The texture coordinates of map point `(u, v)` (column, row) for an image draped over the
@@ -104,7 +108,7 @@ pub(crate) fn drape_uv(terrain: &fray_terrain::Terrain, u: f64, v: f64) -> DVec2
 }
 
 /// The drape's uv per world unit: the larger of the two axes' (one image per map).
-pub(crate) fn drape_uv_per_world(terrain: &fray_terrain::Terrain) -> f64 {
+fn drape_uv_per_world(terrain: &fray_terrain::Terrain) -> f64 {
     let map = terrain.map();
     let spacing = terrain.placement().spacing();
     (1.0 / (map.width().max(1) as f64 * spacing.x))

@@ -4,10 +4,12 @@
 //! the uv per world unit there (`fray_mesh::texture::Footprint`: the ellipse's longer axis,
 //! stretch capped), read with the material's wrap and filter.
 
+use crate::hit::AnyPrimitive;
 use crate::interaction::SurfaceInteraction;
+use crate::primitive::Primitive;
 use fray_core::PixelFootprint;
-use fray_mesh::texture::{Filter, Footprint, triangle_uv_per_world};
-use fray_scene::{Material, PrimitiveKind, Scene, TextureSlot};
+use fray_mesh::texture::{Filter, Footprint};
+use fray_scene::{Material, Scene, TextureSlot};
 use glam::{DVec2, DVec3, Vec4};
 
 /// The colour `C` that multiplies `material`'s ambient and diffuse reflectance at `si`, seen
@@ -69,27 +71,9 @@ fn lookup(
     }
 }
 
-/// The uv per world unit of the surface's own coordinates at `si`: a mesh triangle's (the
-/// largest stretch of its plane-to-uv map), a terrain's drape.
+/// The uv per world unit of the surface's own coordinates at `si`, as its kind gives it
+/// (`Primitive::uv_per_world`).
 fn uv_per_world(scene: &Scene, si: &SurfaceInteraction) -> f64 {
-    let index = si.primitive.index as usize;
-    match si.primitive.kind {
-        PrimitiveKind::Mesh => {
-            let Some(m) = scene.meshes.get(index) else {
-                return 0.0;
-            };
-            let mesh = m.instance.mesh.mesh();
-            let (Some(uvs), Some(&[a, b, c])) = (&mesh.uvs, mesh.triangles.get(si.part as usize))
-            else {
-                return 0.0;
-            };
-            let corners = m.instance.world_corners(si.part as usize);
-            triangle_uv_per_world(corners, [a, b, c].map(|v| uvs[v as usize]))
-        }
-        PrimitiveKind::Terrain => scene
-            .terrains
-            .get(index)
-            .map_or(0.0, |t| crate::terrain::drape_uv_per_world(&t.terrain)),
-        PrimitiveKind::FreeForm => 0.0,
-    }
+    AnyPrimitive::of(scene, si.primitive, None, PixelFootprint::ZERO)
+        .map_or(0.0, |p| p.uv_per_world(si.part))
 }

@@ -2,18 +2,14 @@
 //! case's reference point (the camera), at the GPU's ε.
 
 use crate::backend::CaseRay;
-use crate::meshes::MeshAnswer;
 use fray_gpu::GpuContext;
-use fray_gpu::testing::{GpuRay, MeshBatch, SkyBatch};
-use fray_mesh::{Instance, MeshBvh};
-use glam::{DVec2, DVec3};
+use fray_gpu::testing::GpuRay;
+use glam::DVec3;
 use std::sync::OnceLock;
 
 /// The GPU backend on the machine's adapter.
 pub struct Gpu {
     renderer: fray_gpu::GpuRenderer,
-    /// The sky's kernel (any sky, any eye): built once.
-    pub sky: OnceLock<SkyBatch>,
 }
 
 /// The one GPU backend of the run, opened by the first trial that needs it (a failure when it
@@ -22,57 +18,12 @@ pub fn gpu() -> &'static Gpu {
     static GPU: OnceLock<Gpu> = OnceLock::new();
     GPU.get_or_init(|| Gpu {
         renderer: crate::common::gpu("rays"),
-        sky: OnceLock::new(),
     })
 }
 
 impl Gpu {
     pub fn context(&self) -> &GpuContext {
         self.renderer.context()
-    }
-
-    /// The mesh kernel over `instances`, each distinct mesh once (as the resident scene uploads
-    /// them), positions relative to `reference`.
-    pub fn mesh_batch(&self, instances: &[Instance], reference: DVec3) -> MeshBatch {
-        let mut distinct: Vec<&MeshBvh> = Vec::new();
-        let mut placements = Vec::new();
-        for instance in instances {
-            let index = distinct
-                .iter()
-                .position(|m| std::ptr::eq(*m, instance.mesh.as_ref()))
-                .unwrap_or_else(|| {
-                    distinct.push(instance.mesh.as_ref());
-                    distinct.len() - 1
-                });
-            placements.push((index as u32, instance.to_world()));
-        }
-        MeshBatch::new(self.context(), &distinct, &placements, reference)
-            .unwrap_or_else(|e| panic!("{e}"))
-    }
-
-    /// `batch`'s answers to `rays` (relative to the reference point it was built or rebased at).
-    pub fn mesh_answers(
-        &self,
-        batch: &MeshBatch,
-        reference: DVec3,
-        rays: &[CaseRay],
-    ) -> Vec<MeshAnswer> {
-        let v = |a: [f32; 3]| DVec3::from(a.map(f64::from));
-        batch
-            .cast(self.context(), &relative_rays(rays, reference))
-            .unwrap_or_else(|e| panic!("{e}"))
-            .iter()
-            .map(|h| MeshAnswer {
-                t: h.is_hit().then_some(f64::from(h.t)),
-                instance: h.instance,
-                triangle: h.triangle,
-                barycentric: h.barycentric.map(f64::from),
-                normal: v(h.normal),
-                shading_normal: v(h.shading_normal),
-                uv: DVec2::new(f64::from(h.uv[0]), f64::from(h.uv[1])),
-                any: h.any_hit,
-            })
-            .collect()
     }
 }
 

@@ -5,7 +5,7 @@
 //! - **reference** checks (`free_forms`, `meshes`, `terrains`, `fog`, `sky`, `clouds`; trials
 //!   `cpu::*` and `gpu::*`): each backend's answer against an **independent reference**, not
 //!   against the other backend;
-//! - **parity** checks (`*_parity`; trials `parity::*`): the CPU and the GPU on the same rays,
+//! - **parity** checks (each module's `parity`; trials `parity::*`): the CPU and the GPU on the same rays,
 //!   compared with GPU-vs-CPU bounds — the f32 arithmetic's, tighter than any independent
 //!   reference allows (stated as such in each module) — on the harder cases: rays from inside
 //!   the closed bunny, mirrored and far instances, barycentrics, shading normals and uvs, walls,
@@ -41,7 +41,7 @@
 //! (`mesh_bunny_freeform.ron`, `mesh_aircraft_pair.ron`) and from a camera 10³ back: the depth
 //! across the triangle's plane within `depth · scale`, the normal within `normal`, a hit/miss or
 //! triangle difference only within `edge · scale` of an edge (`scale`: the lengths f32 positions
-//! are rounded relative to — [`mesh_parity`]'s bounds on the GPU).
+//! are rounded relative to — [`meshes::parity`]'s bounds on the GPU).
 //!
 //! Terrains: each backend's exact hit and normal on the DEM scenes (`terrain_low.ron`,
 //! `terrain_high.ron`: from 1.25 km and from 66 km up) and from a camera 10⁴ back, against the
@@ -81,17 +81,12 @@ mod common;
 mod backend;
 mod cases;
 mod clouds;
-mod clouds_parity;
 mod cpu;
 mod fog;
-mod fog_parity;
 mod free_forms;
 mod gpu;
-mod mesh_parity;
 mod meshes;
 mod sky;
-mod sky_parity;
-mod terrain_parity;
 mod terrains;
 
 /// A backend of the suite: its name and what it answers for every kind and medium (each
@@ -127,84 +122,84 @@ const REFERENCE: [(&str, Suite); 6] = [
 const PARITY: [(&str, fn()); 16] = [
     (
         "parity::mesh::no_ray_escapes_the_closed_bunny",
-        mesh_parity::no_ray_escapes_the_closed_bunny,
+        meshes::parity::no_ray_escapes_the_closed_bunny,
     ),
     (
         "parity::mesh::bunny_camera_and_random_rays",
-        mesh_parity::bunny_camera_and_random_rays,
+        meshes::parity::bunny_camera_and_random_rays,
     ),
     (
         "parity::mesh::boeing_camera_and_random_rays",
-        mesh_parity::boeing_camera_and_random_rays,
+        meshes::parity::boeing_camera_and_random_rays,
     ),
     (
         "parity::mesh::instances_rotated_scaled_translated",
-        mesh_parity::instances_rotated_scaled_translated,
+        meshes::parity::instances_rotated_scaled_translated,
     ),
     (
         "parity::mesh::a_mesh_far_from_the_origin",
-        mesh_parity::a_mesh_far_from_the_origin,
+        meshes::parity::a_mesh_far_from_the_origin,
     ),
     (
         "parity::mesh::uvs_are_interpolated_like_the_cpu",
-        mesh_parity::uvs_are_interpolated_like_the_cpu,
+        meshes::parity::uvs_are_interpolated_like_the_cpu,
     ),
     (
         "parity::mesh::rebased_instances_hit_the_same",
-        mesh_parity::rebased_instances_hit_the_same,
+        meshes::parity::rebased_instances_hit_the_same,
     ),
     (
         "parity::terrain::pixel_lod_views",
-        terrain_parity::pixel_lod_views,
+        terrains::parity::pixel_lod_views,
     ),
     (
         "parity::terrain::walls_and_starts_match_the_cpu",
-        terrain_parity::walls_and_starts_match_the_cpu,
+        terrains::parity::walls_and_starts_match_the_cpu,
     ),
     (
         "parity::terrain::a_long_thin_map_on_the_gpu",
-        terrain_parity::a_long_thin_map_on_the_gpu,
+        terrains::parity::a_long_thin_map_on_the_gpu,
     ),
     (
         "parity::terrain::low_view_bilinear_and_bicubic",
-        terrain_parity::low_view_bilinear_and_bicubic,
+        terrains::parity::low_view_bilinear_and_bicubic,
     ),
     (
         "parity::terrain::high_view_bilinear_and_lod",
-        terrain_parity::high_view_bilinear_and_lod,
+        terrains::parity::high_view_bilinear_and_lod,
     ),
     (
         "parity::terrain::high_view_bicubic",
-        terrain_parity::high_view_bicubic,
+        terrains::parity::high_view_bicubic,
     ),
-    ("parity::fog", fog_parity::fog_matches_the_cpu),
-    ("parity::sky", sky_parity::sky_matches_the_cpu),
-    ("parity::clouds", clouds_parity::clouds_match_the_cpu),
+    ("parity::fog", fog::parity::fog_matches_the_cpu),
+    ("parity::sky", sky::parity::sky_matches_the_cpu),
+    ("parity::clouds", clouds::parity::clouds_match_the_cpu),
 ];
 
 /// GPU checks of the batch kernels themselves.
 const GPU_ONLY: [(&str, fn()); 1] = [(
     "gpu::clouds_grids_past_the_device_limit_are_refused",
-    clouds_parity::grids_past_the_device_limit_are_refused,
+    clouds::parity::grids_past_the_device_limit_are_refused,
 )];
 
 /// The acceptance rules' unit tests: no adapter needed.
 const EDGE: [(&str, fn()); 4] = [
     (
         "edge::terrain_neighbour_normal_accepted_only_within_tolerance",
-        terrain_parity::edge_neighbour_normal_accepted_only_within_tolerance,
+        terrains::parity::edge_neighbour_normal_accepted_only_within_tolerance,
     ),
     (
         "edge::terrain_corner_and_cut_out_cells",
-        terrain_parity::edge_corner_and_cut_out_cells,
+        terrains::parity::edge_corner_and_cut_out_cells,
     ),
     (
         "edge::terrain_on_the_dem_from_terrain_high",
-        terrain_parity::edge_on_the_dem_from_terrain_high,
+        terrains::parity::edge_on_the_dem_from_terrain_high,
     ),
     (
         "edge::mesh_distance_is_from_the_line_to_the_nearest_segment",
-        mesh_parity::edge_distance_is_from_the_line_to_the_nearest_segment,
+        meshes::parity::edge_distance_is_from_the_line_to_the_nearest_segment,
     ),
 ];
 

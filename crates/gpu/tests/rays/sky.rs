@@ -137,9 +137,9 @@ impl SkyBackend for Gpu {
             sun_light: Some(0),
         };
         let block = GpuSky::new(sky, eye.y, gpu_options);
-        let batch = self
-            .sky
-            .get_or_init(|| SkyBatch::new(ctx).unwrap_or_else(|e| panic!("{e}")));
+        // The sky's kernel (any sky, any eye): built once for the run.
+        static BATCH: std::sync::OnceLock<SkyBatch> = std::sync::OnceLock::new();
+        let batch = BATCH.get_or_init(|| SkyBatch::new(ctx).unwrap_or_else(|e| panic!("{e}")));
         let seen = SkySeen {
             block: &block,
             transmittance: sky.transmittance_table(),
@@ -264,3 +264,236 @@ const SKY_IN_SCATTER: f64 = 5e-2;
 /// The transmittance to the sun against the reference, absolute: the transmittance table's
 /// interpolation — measured 4.1e-4 on both backends.
 const SKY_TO_SUN: f64 = 1e-3;
+
+pub mod parity {
+    //! Sky parity: the GPU's sky (`shaders/sky.wgsl`) against the f64 CPU (`fray_atmosphere::sky`:
+    //! `SkyView::{lookup, background}`, `Sky::{aerial_perspective, transmittance_to_sun}`,
+    //! `TransmittanceTable::lookup`) on the same queries — a GPU-vs-CPU bound, the f32
+    //! arithmetic's. Two models (Earth; hazy air — four times the aerosols, no ozone — over a
+    //! ground at −1300 m), eyes on the ground (2 m up), at 1 km, 66 km and above the atmosphere at
+    //! 120 km, suns at −2°, 0°, 2°, 10°, 45° and 90°, view directions from the nadir to the zenith
+    //! (the dipped horizon ± 0.05° included) at five azimuths from the sun's and into the sun's
+    //! disc, surfaces 100 m to 150 km away and the whole ray, ray origins at the eye and off it (a
+    //! parallel projector's), the transmittance table on a grid of altitudes and cosines (the
+    //! horizon ± 10⁻⁴ included).
+    //!
+    //! Both backends get the same inputs, rounded to f32 (the eye stays f64: the GPU's block is made
+    //! from it), so the check measures the shader's arithmetic. Measures: for radiances (the table,
+    //! the background, the in-scatter) the largest channel difference relative to the brightest
+    //! channel of the CPU's value (dim channels at sunset are 1/600 of the red: relative to
+    //! themselves they measure the f32 rounding of nothing); for transmittances the largest absolute
+    //! difference. Bounds: [`BOUNDS`], with the measured figures.
+
+    use crate::cases::direction;
+    use crate::cpu::Cpu;
+    use crate::gpu::gpu;
+    use crate::sky::SkyBackend;
+    use crate::sky::{SKY_NAMES, SkyOptions, SkyQuery};
+    use fray_atmosphere::sky::{Sky, SkyModel, SkySun, SkyTables};
+    use fray_core::MemoryBudget;
+    use glam::DVec3;
+
+    /// The allowed difference per quantity (in [`SKY_NAMES`]' order; radiances relative to their
+    /// brightest channel, transmittances absolute). Measured on lavapipe over the 25 872 queries
+    /// (worst / mean): the sky-view table 5.6e-6 / 1.5e-7 and the background 5.6e-6 / 1.5e-7 (a
+    /// dim sky 2° up, away from a sun 2° below the horizon: the f32 bilinear weights); the
+    /// aerial in-scatter 7.5e-6 / 2.6e-7 and transmittance 8.2e-6 / 5.4e-7 (a ray 0.05° under
+    /// the dipped horizon from 1 km at sunset, 82 km of hazy air to the ground: 16 steps' sums of
+    /// f32 exponentials); the transmittance to the
+    /// sun 4.1e-7 / 5.7e-8 and the table 2.1e-7 / 5.2e-8 (the f32 rounding of e^{−τ}). The bounds
+    /// leave about 4× for other drivers' `exp`, `pow` and `sqrt` (Vulkan allows several ulps);
+    /// angles are the shader's own (sky.wgsl's atan2), since a driver's may be 4096 ulps off.
+    const BOUNDS: [f64; 6] = [2.5e-5, 2.5e-5, 3e-5, 3e-5, 2e-6, 1e-6];
+    /// Radiances below this (W/(m² sr)) count as dark: differences are measured against it.
+    const DARK: f64 = 1e-9;
+    /// Aerial-perspective steps (the scenes' default).
+    const STEPS: u32 = 16;
+
+    fn models() -> Vec<(&'static str, SkyModel)> {
+        let earth = SkyModel::earth();
+        vec![
+            ("Earth", earth),
+            (
+                "hazy, no ozone, ground at −1300 m",
+                SkyModel {
+                    ground_elevation: -1300.0,
+                    mie_scattering: 4.0 * earth.mie_scattering,
+                    mie_absorption: 4.0 * earth.mie_absorption,
+                    ozone_absorption: DVec3::ZERO,
+                    ..earth
+                },
+            ),
+        ]
+    }
+
+    /// Whether quantity `q` is a radiance (else a transmittance).
+    fn radiance(q: usize) -> bool {
+        q < 3
+    }
+
+    /// The queries of one sky seen from `eye` (world), with their names: every input rounded to f32.
+    fn queries(label: &str, sky: &Sky, eye: DVec3) -> Vec<(String, SkyQuery)> {
+        let model = sky.model();
+        let r = model.observer_radius(eye.y);
+        // The dipped horizon's elevation (degrees): −acos(R_g / r).
+        let dip = -(model.ground_radius / r).min(1.0).acos().to_degrees();
+        let mut elevations = vec![
+            -90.0, -45.0, -10.0, -3.0, -0.5, 0.0, 0.3, 2.0, 10.0, 30.0, 60.0, 89.0, 90.0,
+        ];
+        elevations.extend([dip - 0.05, dip + 0.05]);
+        let sun = sky.sun().direction;
+        let sun_elevation = sun.y.asin().to_degrees();
+        let sun_azimuth = sun.z.atan2(sun.x).to_degrees();
+        let mut directions: Vec<(String, DVec3)> = Vec::new();
+        for &e in &elevations {
+            for az in [0.0, 30.0, 90.0, 150.0, 180.0] {
+                directions.push((
+                    format!("elevation {e:.3}°, azimuth {az}°"),
+                    direction(e, sun_azimuth + az),
+                ));
+            }
+        }
+        // Into the sun's disc: its centre and halfway to its edge.
+        directions.push(("the sun's centre".to_owned(), sun));
+        directions.push((
+            "half a disc radius off the sun".to_owned(),
+            direction(
+                sun_elevation + 0.5 * SkySun::ANGULAR_RADIUS.to_degrees(),
+                sun_azimuth,
+            ),
+        ));
+        let depths = [100.0, 1e3, 1e4, 3e4, 6.6e4, 1.5e5, f64::INFINITY];
+        let altitudes = [0.0, 10.0, 500.0, 2e3, 1e4, 2.5e4, 5e4, 9.99e4];
+        let mut out = Vec::new();
+        let mut n = 0usize;
+        for (dir_name, d) in &directions {
+            for &t in &depths {
+                // Every third ray starts off the eye (a parallel projector's origin).
+                let o = if n % 3 == 2 {
+                    DVec3::new(5.0, 25.0, -7.0)
+                } else {
+                    DVec3::ZERO
+                };
+                // A surface point along the ray, kept above the ground (where the scenes' are).
+                let reach = if t.is_finite() { t.min(1e5) } else { 5e4 };
+                let p = *d * reach.min(above_ground(model, eye, *d));
+                let h = altitudes[n % altitudes.len()];
+                let mu = [-1.0, -0.3, -0.02, -1e-4, 0.0, 1e-4, 0.01, 0.1, 0.5, 1.0][n % 10];
+                // The direction, origin, point, table altitude and cosine rounded to f32, for both
+                // backends. A degenerate ray — here, looking at right angles to a sun on the
+                // horizon, where the planet's shadow edge runs along the ray — may change the
+                // march's steps between a direction and its f32 rounding; that is the ray's, not
+                // the shader's.
+                let f = |v: DVec3| v.as_vec3().as_dvec3();
+                let f1 = |x: f64| f64::from(x as f32);
+                out.push((
+                    format!("{label}: {dir_name}, t {t}, origin {o}, table ({h}, {mu})"),
+                    SkyQuery {
+                        origin: f(o),
+                        dir: f(*d),
+                        t: if t.is_finite() { f1(t) } else { t },
+                        point: f(p),
+                        table: (f1(h), f1(mu)),
+                    },
+                ));
+                n += 1;
+            }
+        }
+        out
+    }
+
+    /// How far along `d` from `eye` a point stays at least 1 m above the planet's ground.
+    fn above_ground(model: &SkyModel, eye: DVec3, d: DVec3) -> f64 {
+        let r = model.observer_radius(eye.y);
+        let (rg, mu) = (model.ground_radius + 1.0, d.y);
+        let disc = (r * mu) * (r * mu) - (r - rg) * (r + rg);
+        if mu >= 0.0 || disc < 0.0 {
+            f64::INFINITY
+        } else {
+            0.999 * (-r * mu - disc.sqrt()).max(0.0)
+        }
+    }
+
+    /// The difference measure of quantity `q`: relative to the brightest channel (radiances) or
+    /// absolute (transmittances).
+    fn difference(q: usize, cpu: DVec3, gpu: DVec3) -> f64 {
+        if !gpu.is_finite() {
+            return f64::INFINITY;
+        }
+        let d = (gpu - cpu).abs().max_element();
+        if radiance(q) {
+            d / cpu.abs().max_element().max(DARK)
+        } else {
+            d
+        }
+    }
+
+    /// Every quantity of the GPU's sky within [`BOUNDS`] of the CPU's on every query.
+    pub fn sky_matches_the_cpu() {
+        let tables = SkyTables::default();
+        let mut worst: [(f64, String); 6] = std::array::from_fn(|_| (0.0, String::new()));
+        let mut sums = [0.0f64; 6];
+        let mut count = 0usize;
+        let mut bad = 0usize;
+        let options = SkyOptions {
+            steps: STEPS,
+            sun_disc: true,
+        };
+        for (model_name, model) in models() {
+            let first = SkySun::from_angles(0.0, 0.0, DVec3::splat(1.0));
+            let mut sky = Sky::new(model, first, tables, &MemoryBudget::default()).unwrap();
+            for elevation in [-2.0f64, 0.0, 2.0, 10.0, 45.0, 90.0] {
+                // The sun in the south-west, E = (20, 19, 18) W/m² at the top.
+                let sun =
+                    SkySun::from_angles(elevation.to_radians(), 0.7, DVec3::new(20.0, 19.0, 18.0));
+                sky.set_sun(sun).unwrap();
+                for altitude in [2.0, 1e3, 6.6e4, 1.2e5] {
+                    let eye = DVec3::new(-3.0e4, model.ground_elevation + altitude, 1.2e4);
+                    let label = format!("{model_name}, sun {elevation}°, eye {altitude} m");
+                    let all = queries(&label, &sky, eye);
+                    let qs: Vec<SkyQuery> = all.iter().map(|(_, q)| *q).collect();
+                    let view = sky.view(eye);
+                    let cpu = Cpu.sky(&sky, &view, options, eye, &qs);
+                    let got = gpu().sky(&sky, &view, options, eye, &qs);
+                    for (((name, _), c), g) in all.iter().zip(&cpu).zip(&got) {
+                        let (want, have) = (c.values(), g.values());
+                        count += 1;
+                        for q in 0..6 {
+                            let e = difference(q, want[q], have[q]);
+                            sums[q] += e;
+                            if e > BOUNDS[q] {
+                                bad += 1;
+                                if bad <= 20 {
+                                    eprintln!(
+                                        "{}: {name}: cpu {} gpu {} ({e:.3e})",
+                                        SKY_NAMES[q], want[q], have[q]
+                                    );
+                                }
+                            }
+                            if e > worst[q].0 {
+                                worst[q] = (e, format!("{name}: cpu {} gpu {}", want[q], have[q]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        for q in 0..6 {
+            let measure = if radiance(q) {
+                "of the brightest channel"
+            } else {
+                "absolute"
+            };
+            eprintln!(
+                "sky parity {:>22}: worst {:.3e} {measure} ({:.2} of the bound), mean {:.3e} ({})",
+                SKY_NAMES[q],
+                worst[q].0,
+                worst[q].0 / BOUNDS[q],
+                sums[q] / count.max(1) as f64,
+                worst[q].1
+            );
+        }
+        eprintln!("sky parity: {count} queries");
+        assert_eq!(bad, 0, "{bad} values beyond the bounds");
+    }
+}
