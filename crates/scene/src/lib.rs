@@ -12,18 +12,19 @@
 
 mod assets;
 mod atmosphere;
+mod checks;
 mod clouds;
 pub mod description;
 mod error;
 mod features;
+mod kinds;
 mod load;
 mod locate;
-mod mesh;
 mod path;
 mod primitive;
 mod resolve;
 mod scene;
-mod terrain;
+mod solid;
 mod texture;
 mod work;
 
