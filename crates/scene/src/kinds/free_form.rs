@@ -3,7 +3,7 @@
 //! — the solid's box, then which of its leaves and perturbations the bundle may meet, the
 //! candidate dropped where the active set is empty.
 
-use super::kind::{Culling, ObjectContext, SceneKind};
+use super::kind::{CellTest, Culling, ObjectContext, SceneKind};
 use crate::FeatureSet;
 use crate::checks::Result;
 use crate::description;
@@ -11,7 +11,7 @@ use crate::path::FieldPath;
 use crate::scene::{Object, Scene};
 use fray_core::Aabb;
 use fray_geometry::ActiveSet;
-use fray_quadtree::{Candidate, Candidates, RayBundle};
+use fray_quadtree::Candidates;
 
 /// The free-form kind.
 pub(crate) struct FreeForms;
@@ -123,9 +123,7 @@ impl Culling for FreeFormCulling<'_> {
         }
     }
 
-    fn cell_test(
-        &self,
-    ) -> Box<dyn FnMut(&RayBundle, &Candidate, &Candidates, &mut Candidates) + '_> {
+    fn cell_test(&self) -> CellTest<'_> {
         let mut active = ActiveSet::new();
         Box::new(move |bundle, c, parent, out| {
             let Some(b) = self.boxes.get(c.object as usize) else {

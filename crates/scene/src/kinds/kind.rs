@@ -75,10 +75,11 @@ pub(crate) trait Culling: Sync {
     /// Adds the kind's primitives to the root cell's candidates (scene order).
     fn roots(&self, root: &mut Candidates);
 
-    /// The test of one worker (with its own scratch): `c`, a candidate of this kind from
-    /// `parent`, goes to `out` — narrowed to what `bundle` may meet — if the bundle may meet it.
-    #[allow(clippy::type_complexity)]
-    fn cell_test(
-        &self,
-    ) -> Box<dyn FnMut(&RayBundle, &Candidate, &Candidates, &mut Candidates) + '_>;
+    /// The test of one worker (with its own scratch).
+    fn cell_test(&self) -> CellTest<'_>;
 }
+
+/// A kind's cell test for one worker: `c`, a candidate of the kind from `parent`, goes to `out`
+/// — narrowed to what `bundle` may meet — if the bundle may meet it.
+pub(crate) type CellTest<'a> =
+    Box<dyn FnMut(&RayBundle, &Candidate, &Candidates, &mut Candidates) + 'a>;

@@ -9,7 +9,7 @@
 //! over the memory budget. A file is loaded once per load (`crate::assets`). The cell test keeps
 //! an instance where the bundle meets its world box.
 
-use super::kind::{Culling, ObjectContext, SceneKind};
+use super::kind::{CellTest, Culling, ObjectContext, SceneKind};
 use crate::FeatureSet;
 use crate::assets::LoadedAssets;
 use crate::checks::{Invalid, Result, invalid, transform};
@@ -18,7 +18,7 @@ use crate::path::FieldPath;
 use crate::scene::{MeshObject, Scene};
 use fray_core::{Aabb, MemoryBudget};
 use fray_mesh::{Instance, MeshBvh, PacketBvh, TriangleMesh};
-use fray_quadtree::{Candidate, Candidates, RayBundle};
+use fray_quadtree::Candidates;
 use std::path::Path;
 
 /// The instance `m` describes (`path` is the shape's field path): its mesh loaded and its BVH
@@ -141,9 +141,7 @@ impl Culling for MeshCulling {
         }
     }
 
-    fn cell_test(
-        &self,
-    ) -> Box<dyn FnMut(&RayBundle, &Candidate, &Candidates, &mut Candidates) + '_> {
+    fn cell_test(&self) -> CellTest<'_> {
         Box::new(|bundle, c, _parent, out| {
             if let Some(range) = self
                 .0

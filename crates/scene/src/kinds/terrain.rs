@@ -6,14 +6,14 @@
 //! over the memory budget (what, how much, the limit). The cell test keeps a terrain where the
 //! bundle meets its box and one of its coarse max columns.
 
-use super::kind::{Culling, ObjectContext, SceneKind};
+use super::kind::{CellTest, Culling, ObjectContext, SceneKind};
 use crate::FeatureSet;
 use crate::checks::{Invalid, Result, finite, invalid, point, positive};
 use crate::description::{self, TerrainInterpolation};
 use crate::path::FieldPath;
 use crate::scene::{Scene, TerrainObject};
 use fray_core::{Aabb, MemoryBudget};
-use fray_quadtree::{Candidate, Candidates, RayBundle};
+use fray_quadtree::Candidates;
 use fray_terrain::{Heightmap, Interpolation, Placement, Terrain, TerrainOptions};
 use glam::{DMat3, DVec2};
 use std::path::Path;
@@ -180,9 +180,7 @@ impl Culling for TerrainCulling {
         }
     }
 
-    fn cell_test(
-        &self,
-    ) -> Box<dyn FnMut(&RayBundle, &Candidate, &Candidates, &mut Candidates) + '_> {
+    fn cell_test(&self) -> CellTest<'_> {
         Box::new(|bundle, c, _parent, out| {
             let Some(t) = self.0.get(c.object as usize) else {
                 return;
