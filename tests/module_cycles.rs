@@ -13,17 +13,6 @@ const KNOWN: &[(&str, &[&str])] = &[
     ("clouds", &["bake", "cost", "march"]),
     ("geometry", &["cast::finish", "cast::program"]),
     ("mesh", &["bvh", "bvh_build"]),
-    (
-        "scene",
-        &[
-            "atmosphere",
-            "clouds",
-            "mesh",
-            "resolve",
-            "terrain",
-            "texture",
-        ],
-    ),
     ("trace", &["hit", "mesh", "secondary"]),
 ];
 

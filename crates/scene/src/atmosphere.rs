@@ -3,9 +3,9 @@
 //! terms are evaluated — and its resolution with located errors.
 
 use crate::Light;
+use crate::checks::{Result, finite, invalid};
 use crate::description;
 use crate::path::FieldPath;
-use crate::resolve::{Result, finite, invalid};
 use fray_atmosphere::sky::{SkyModel, SkySun, SkyTables};
 use fray_atmosphere::{FogLayer, FogModel, Phase};
 use fray_core::MemoryBudget;
@@ -151,7 +151,7 @@ fn sky(
     };
     let built =
         fray_atmosphere::sky::Sky::new(model, sun, SkyTables::default(), budget).map_err(|e| {
-            crate::resolve::Invalid {
+            crate::checks::Invalid {
                 path: path.clone(),
                 message: e.to_string(),
             }

@@ -3,9 +3,10 @@
 //! a file), its max grid for empty-space skipping, the droplets' optics and the march's knobs —
 //! built once here and shared by the backends; errors name file, line and field.
 
+use crate::checks::{Result, bounds, invalid, non_negative, positive};
 use crate::description::{self, CloudDensity, CloudProfile};
 use crate::path::FieldPath;
-use crate::resolve::{Result, bounding_solid, bounds, invalid, non_negative, positive};
+use crate::solid::bounding_solid;
 use fray_clouds::bake::Region;
 use fray_clouds::fractal::Fractal;
 use fray_clouds::march::{DualLobe, GridVolume, MarchSettings};
@@ -224,7 +225,7 @@ pub(crate) fn resolve(
         } => {
             let at = density_path.clone();
             let scale = non_negative(&at.field("scale"), *scale)?;
-            let threshold = crate::resolve::finite(&at.field("threshold"), *threshold)?;
+            let threshold = crate::checks::finite(&at.field("threshold"), *threshold)?;
             let full = base.join(file);
             let volume = fray_clouds::inr::load(&full, budget)
                 .or_else(|e| invalid(&at.field("path"), e.to_string()))?;

@@ -420,6 +420,43 @@ pub enum Shape {
     Mesh(Mesh),
 }
 
+impl Shape {
+    /// The kind of primitive an object of this shape is (everything but a whole-shape kind is a
+    /// free form's CSG tree).
+    pub(crate) fn kind(&self) -> crate::PrimitiveKind {
+        match self {
+            Shape::Terrain(_) => crate::PrimitiveKind::Terrain,
+            Shape::Mesh(_) => crate::PrimitiveKind::Mesh,
+            _ => crate::PrimitiveKind::FreeForm,
+        }
+    }
+
+    /// Why this shape cannot be part of a CSG tree or a `Transformed` shape (the kinds other
+    /// than free forms are only ever an object's whole shape).
+    pub(crate) fn whole_shape_only(&self) -> &'static str {
+        match self {
+            Shape::Terrain(_) => {
+                "a Terrain can only be an object's whole shape, not part of a CSG tree or a \
+                 Transformed shape (place it with its `origin` and `rotate`)"
+            }
+            Shape::Mesh(_) => {
+                "a Mesh can only be an object's whole shape, not part of a CSG tree or a \
+                 Transformed shape (place it with its `transform`)"
+            }
+            _ => "a free form is part of a CSG tree",
+        }
+    }
+
+    /// The file this shape reads, relative to the scene file (`None`: it reads none).
+    pub(crate) fn asset_path_mut(&mut self) -> Option<&mut String> {
+        match self {
+            Shape::Terrain(t) => Some(&mut t.path),
+            Shape::Mesh(m) => Some(&mut m.path),
+            _ => None,
+        }
+    }
+}
+
 /// A triangle mesh: the OBJ file and its placement. Objects naming the same file share one
 /// loaded mesh and BVH (instances).
 #[derive(Clone, Debug, PartialEq)]

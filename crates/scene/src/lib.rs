@@ -12,18 +12,19 @@
 
 mod assets;
 mod atmosphere;
+mod checks;
 mod clouds;
 pub mod description;
 mod error;
 mod features;
+mod kinds;
 mod load;
 mod locate;
-mod mesh;
 mod path;
 mod primitive;
 mod resolve;
 mod scene;
-mod terrain;
+mod solid;
 mod texture;
 mod work;
 
@@ -41,8 +42,8 @@ pub use load::{
 };
 pub use primitive::{PrimitiveId, PrimitiveKind};
 pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR, MAX_SECONDARY_RAYS};
-pub use scene::{
-    DEFAULT_MAX_SECONDARY_RAYS, Light, Material, MeshObject, Object, Scene, Settings, TerrainObject,
-};
+// Everything public of the resolved scene, a kind's object type (`TerrainObject`, …) included,
+// so that adding a kind's storage to `scene.rs` needs no line here.
+pub use scene::*;
 pub use texture::TextureSlot;
 pub use work::{work_list, work_list_view, work_list_within};

@@ -262,16 +262,18 @@ fn parse_at_depth(
 fn rebase_assets(d: &mut description::Scene, folder: &Path) {
     fn shape(s: &mut description::Shape, folder: &Path) {
         use description::Shape;
+        if let Some(path) = s.asset_path_mut() {
+            *path = folder.join(&*path).display().to_string();
+            return;
+        }
         match s {
-            Shape::Terrain(t) => t.path = folder.join(&t.path).display().to_string(),
-            Shape::Mesh(m) => m.path = folder.join(&m.path).display().to_string(),
             Shape::Union(v) | Shape::Intersection(v) => v.iter_mut().for_each(|s| shape(s, folder)),
             Shape::Difference(a, b) => {
                 shape(a, folder);
                 shape(b, folder);
             }
             Shape::Transformed { shape: s, .. } => shape(s, folder),
-            Shape::FreeForm(_) | Shape::Quadric(_) => {}
+            _ => {}
         }
     }
     for o in &mut d.objects {

@@ -2,35 +2,19 @@
 //! degrees to radians, the projector, solids with per-leaf materials, the feature set. Every
 //! failure names the path of the offending field.
 
-use crate::description::{self, Vec3};
-use crate::path::FieldPath;
-use crate::{FeatureSet, Light, Material, MeshObject, Object, Scene, Settings, TerrainObject};
-use fray_core::{
-    Aabb, Parallel, Pinhole, PixelSamples, Projector, ProjectorError, Rgb, SphereSurface,
+use crate::checks::{
+    Invalid, Result, angle, direction, finite, invalid, non_negative, point, positive, show,
 };
-use fray_geometry::{FreeForm, GeometryError, Perturbation, Quadric, Shape, Sheets, Solid};
-use glam::{DAffine3, DMat3, DVec3};
+use crate::description::{self, Vec3};
+use crate::kinds::{self, ObjectContext};
+use crate::path::FieldPath;
+use crate::{FeatureSet, Light, Material, PrimitiveKind, Scene, Settings};
+use fray_core::{Parallel, Pinhole, PixelSamples, Projector, ProjectorError, Rgb, SphereSurface};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
-
-/// A resolution failure: the offending field and what is wrong with it.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Invalid {
-    pub(crate) path: FieldPath,
-    pub(crate) message: String,
-}
-
-pub(crate) type Result<T> = std::result::Result<T, Invalid>;
-
-pub(crate) fn invalid<T>(path: &FieldPath, message: impl Into<String>) -> Result<T> {
-    Err(Invalid {
-        path: path.clone(),
-        message: message.into(),
-    })
-}
 
 /// Checks and resolves a whole description.
 /// The deepest Whitted recursion a scene may ask for.
@@ -100,90 +84,33 @@ pub(crate) fn resolve(
         materials.push(m);
     }
 
+    let mut scene = Scene::empty(
+        width,
+        height,
+        camera,
+        background,
+        ambient,
+        lights,
+        materials,
+        budget.clone(),
+    );
+    scene.features = features;
+    let mut cx = ObjectContext {
+        materials: &material_index,
+        base,
+        budget,
+        assets,
+    };
     let objects_path = root.field("objects");
-    let mut objects = Vec::with_capacity(d.objects.len());
-    let mut terrains = Vec::new();
-    let mut meshes = Vec::new();
     for (i, o) in d.objects.iter().enumerate() {
         let path = objects_path.index(i);
-        let name = || o.name.clone().unwrap_or_else(|| format!("object{i}"));
-        if let description::Shape::Terrain(t) = &o.shape {
-            let material = match &o.material {
-                Some(m) => ShapeContext {
-                    materials: &material_index,
-                    leaf_materials: Vec::new(),
-                    features: &mut features,
-                }
-                .material(&path.field("material"), m)?,
-                None => 0,
-            };
-            let file = base.join(&t.path);
-            let key = (
-                std::fs::canonicalize(&file).unwrap_or(file),
-                format!("{t:?}"),
-            );
-            let terrain = assets.terrains.get_or_build(
-                key,
-                budget,
-                || format!("the terrain {}", t.path),
-                || crate::terrain::terrain(&path.field("shape"), t, base, budget),
-                |e| Invalid {
-                    path: path.field("shape").field("path"),
-                    message: e.to_string(),
-                },
-            )?;
-            features.terrain = true;
-            terrains.push(TerrainObject {
-                name: name(),
-                terrain,
-                material,
-                lod: t.lod,
-            });
-            continue;
+        let name = o.name.clone().unwrap_or_else(|| format!("object{i}"));
+        kinds::of(o.shape.kind()).resolve(&mut cx, &mut scene, &path, o, name)?;
+    }
+    for kind in PrimitiveKind::ALL {
+        if scene.count(kind) > 0 {
+            kinds::of(kind).mark(&mut scene.features);
         }
-        if let description::Shape::Mesh(m) = &o.shape {
-            let material = match &o.material {
-                Some(name) => ShapeContext {
-                    materials: &material_index,
-                    leaf_materials: Vec::new(),
-                    features: &mut features,
-                }
-                .material(&path.field("material"), name)?,
-                None => 0,
-            };
-            let instance = crate::mesh::instance(&path.field("shape"), m, base, budget, assets)?;
-            features.meshes = true;
-            meshes.push(MeshObject {
-                name: name(),
-                instance,
-                material,
-                smooth: m.smooth,
-            });
-            continue;
-        }
-        let mut ctx = ShapeContext {
-            materials: &material_index,
-            leaf_materials: Vec::new(),
-            features: &mut features,
-        };
-        let object_material = match &o.material {
-            Some(name) => ctx.material(&path.field("material"), name)?,
-            None => 0,
-        };
-        let shape = ctx.shape(
-            &path.field("shape"),
-            &o.shape,
-            DAffine3::IDENTITY,
-            object_material,
-        )?;
-        let leaf_materials = ctx.leaf_materials;
-        let solid = Solid::new(shape).or_else(|e| invalid(&path.field("shape"), e.to_string()))?;
-        features.free_forms = true;
-        objects.push(Object {
-            name: name(),
-            solid,
-            leaf_materials,
-        });
     }
 
     let settings_path = root.field("settings");
@@ -249,21 +176,21 @@ pub(crate) fn resolve(
     };
     // Secondary rays only where a primitive's material sends them (an unused material costs
     // nothing).
-    let used = objects
-        .iter()
-        .flat_map(|o: &Object| o.leaf_materials.iter().copied())
-        .chain(terrains.iter().map(|t: &TerrainObject| t.material))
-        .chain(meshes.iter().map(|m: &MeshObject| m.material));
-    for m in used {
-        if let Some(m) = materials.get(m as usize) {
+    let mut features = scene.features;
+    for m in scene.used_materials() {
+        if let Some(m) = scene.materials.get(m as usize) {
             features.reflection |= m.reflects();
             features.transmission |= m.transmits();
             features.textures |= m.texture.is_some() || m.ramp.is_some();
         }
     }
-    features.shadows = settings.shadows && !lights.is_empty();
-    let atmosphere =
-        crate::atmosphere::resolve(&root.field("atmosphere"), &d.atmosphere, &lights, budget)?;
+    features.shadows = settings.shadows && !scene.lights.is_empty();
+    let atmosphere = crate::atmosphere::resolve(
+        &root.field("atmosphere"),
+        &d.atmosphere,
+        &scene.lights,
+        budget,
+    )?;
     features.fog = atmosphere.fog.is_some();
     features.sky = atmosphere.sky.is_some();
     let clouds = match &d.clouds {
@@ -277,23 +204,11 @@ pub(crate) fn resolve(
     };
     features.clouds = clouds.is_some();
 
-    Ok(Scene {
-        width,
-        height,
-        camera,
-        background,
-        ambient,
-        lights,
-        materials,
-        objects,
-        terrains,
-        meshes,
-        atmosphere,
-        clouds,
-        settings,
-        features,
-        budget: budget.clone(),
-    })
+    scene.atmosphere = atmosphere;
+    scene.clouds = clouds;
+    scene.settings = settings;
+    scene.features = features;
+    Ok(scene)
 }
 
 fn image_side(path: &FieldPath, v: u32) -> Result<u32> {
@@ -303,68 +218,6 @@ fn image_side(path: &FieldPath, v: u32) -> Result<u32> {
         invalid(
             path,
             format!("must be in 1..={MAX_IMAGE_SIDE} pixels, got {v}"),
-        )
-    }
-}
-
-fn show(v: Vec3) -> String {
-    format!("({}, {}, {})", v[0], v[1], v[2])
-}
-
-pub(crate) fn finite(path: &FieldPath, x: f64) -> Result<f64> {
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        invalid(path, format!("must be a finite number, got {x}"))
-    }
-}
-
-pub(crate) fn point(path: &FieldPath, v: Vec3) -> Result<DVec3> {
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(DVec3::from_array(v))
-    } else {
-        invalid(path, format!("must be finite, got {}", show(v)))
-    }
-}
-
-fn direction(path: &FieldPath, v: Vec3) -> Result<DVec3> {
-    let d = point(path, v)?;
-    let len = d.length();
-    if len > 0.0 && len.is_finite() {
-        Ok(d)
-    } else {
-        invalid(path, format!("must be a non-zero vector, got {}", show(v)))
-    }
-}
-
-pub(crate) fn positive(path: &FieldPath, x: f64) -> Result<f64> {
-    if !x.is_finite() {
-        invalid(path, format!("must be a finite number > 0, got {x}"))
-    } else if x > 0.0 {
-        Ok(x)
-    } else {
-        invalid(path, format!("must be > 0, got {x}"))
-    }
-}
-
-pub(crate) fn non_negative(path: &FieldPath, x: f64) -> Result<f64> {
-    if x >= 0.0 && x.is_finite() {
-        Ok(x)
-    } else {
-        invalid(path, format!("must be ≥ 0, got {x}"))
-    }
-}
-
-/// An angle in degrees, checked against `(lo, hi)` (or `(lo, hi]` when `hi_closed`), in radians.
-fn angle(path: &FieldPath, degrees: f64, lo: f64, hi: f64, hi_closed: bool) -> Result<f64> {
-    let ok = degrees > lo && (degrees < hi || (hi_closed && degrees == hi));
-    if ok {
-        Ok(degrees.to_radians())
-    } else {
-        let close = if hi_closed { ']' } else { ')' };
-        invalid(
-            path,
-            format!("must be in ({lo}, {hi}{close} degrees, got {degrees}"),
         )
     }
 }
@@ -538,310 +391,5 @@ fn material(path: &FieldPath, name: &str, m: &description::Material) -> Result<M
         fresnel: m.fresnel,
         texture: None,
         ramp: None,
-    })
-}
-
-/// An affine map from its description: scale, then rotate about x, y, z (degrees), then translate.
-pub(crate) fn transform(path: &FieldPath, t: &description::Transform) -> Result<DAffine3> {
-    let translate = point(&path.field("translate"), t.translate)?;
-    let rotate = point(&path.field("rotate"), t.rotate)?;
-    let scale = point(&path.field("scale"), t.scale)?;
-    if scale.abs().min_element() == 0.0 {
-        return invalid(
-            &path.field("scale"),
-            format!("must be non-zero on every axis, got {}", show(t.scale)),
-        );
-    }
-    let r = DMat3::from_rotation_z(rotate.z.to_radians())
-        * DMat3::from_rotation_y(rotate.y.to_radians())
-        * DMat3::from_rotation_x(rotate.x.to_radians());
-    Ok(DAffine3::from_mat3_translation(
-        r * DMat3::from_diagonal(scale),
-        translate,
-    ))
-}
-
-/// Per-object state while a shape tree is resolved.
-struct ShapeContext<'a> {
-    materials: &'a BTreeMap<&'a str, u32>,
-    /// One material per leaf, in leaf order (depth first, left to right).
-    leaf_materials: Vec<u32>,
-    features: &'a mut FeatureSet,
-}
-
-impl ShapeContext<'_> {
-    fn material(&self, path: &FieldPath, name: &str) -> Result<u32> {
-        if name == "default" {
-            return Ok(0);
-        }
-        match self.materials.get(name) {
-            Some(&i) => Ok(i),
-            None => {
-                let known: Vec<String> = self.materials.keys().map(|k| format!("`{k}`")).collect();
-                let known = if known.is_empty() {
-                    "none are defined".to_owned()
-                } else {
-                    known.join(", ")
-                };
-                invalid(
-                    path,
-                    format!("unknown material `{name}` (defined: {known})"),
-                )
-            }
-        }
-    }
-
-    /// Resolves `s`, with `outer` the transform of the enclosing `Transformed` shapes and
-    /// `material` the material its leaves inherit.
-    fn shape(
-        &mut self,
-        path: &FieldPath,
-        s: &description::Shape,
-        outer: DAffine3,
-        material: u32,
-    ) -> Result<Shape> {
-        use description::Shape as S;
-        match s {
-            S::Quadric(q) => self.free_form(path, path, q, &[], None, outer, material),
-            S::FreeForm(f) => {
-                let material = match &f.material {
-                    Some(name) => self.material(&path.field("material"), name)?,
-                    None => material,
-                };
-                let t = match &f.transform {
-                    Some(t) => outer * transform(&path.field("transform"), t)?,
-                    None => outer,
-                };
-                let bounds = match &f.bounds {
-                    Some(b) => Some(bounds(&path.field("bounds"), b)?),
-                    None => None,
-                };
-                self.free_form(
-                    path,
-                    &path.field("base"),
-                    &f.base,
-                    &f.perturbations,
-                    bounds,
-                    t,
-                    material,
-                )
-            }
-            S::Union(children) | S::Intersection(children) => {
-                let op = if matches!(s, S::Union(_)) {
-                    "Union"
-                } else {
-                    "Intersection"
-                };
-                if children.len() < 2 {
-                    return invalid(
-                        path,
-                        format!("a {op} needs at least 2 shapes, got {}", children.len()),
-                    );
-                }
-                self.features.csg = true;
-                let mut out = Vec::with_capacity(children.len());
-                for (i, c) in children.iter().enumerate() {
-                    out.push(self.shape(&path.index(i), c, outer, material)?);
-                }
-                Ok(if op == "Union" {
-                    Shape::Union(out)
-                } else {
-                    Shape::Intersection(out)
-                })
-            }
-            S::Difference(a, b) => {
-                self.features.csg = true;
-                let a = self.shape(&path.index(0), a, outer, material)?;
-                let b = self.shape(&path.index(1), b, outer, material)?;
-                Ok(Shape::Difference(Box::new(a), Box::new(b)))
-            }
-            S::Transformed {
-                shape,
-                transform: t,
-            } => {
-                let inner = outer * transform(&path.field("transform"), t)?;
-                self.shape(&path.field("shape"), shape, inner, material)
-            }
-            S::Terrain(_) => invalid(
-                path,
-                "a Terrain can only be an object's whole shape, not part of a CSG tree or a \
-                 Transformed shape (place it with its `origin` and `rotate`)",
-            ),
-            S::Mesh(_) => invalid(
-                path,
-                "a Mesh can only be an object's whole shape, not part of a CSG tree or a \
-                 Transformed shape (place it with its `transform`)",
-            ),
-        }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn free_form(
-        &mut self,
-        path: &FieldPath,
-        base_path: &FieldPath,
-        base: &description::Quadric,
-        perturbations: &[description::Perturbation],
-        bounds: Option<Aabb>,
-        t: DAffine3,
-        material: u32,
-    ) -> Result<Shape> {
-        let base = placed(path, quadric(base_path, base)?, t)?;
-        let perts_path = path.field("perturbations");
-        let mut perts = Vec::with_capacity(perturbations.len());
-        for (i, p) in perturbations.iter().enumerate() {
-            let pp = perts_path.index(i);
-            let form_factor = finite(&pp.field("form_factor"), p.form_factor)?;
-            if form_factor != 0.0 {
-                self.features.perturbations = true;
-            }
-            let own = match &p.transform {
-                Some(own) => transform(&pp.field("transform"), own)?,
-                None => DAffine3::IDENTITY,
-            };
-            let q = placed(&pp, quadric(&pp.field("quadric"), &p.quadric)?, t * own)?;
-            perts.push(Perturbation::new(form_factor, q));
-        }
-        let f = FreeForm::new(base, perts, bounds).map_err(|e| {
-            let at = match e {
-                GeometryError::InvalidBounds => path.field("bounds"),
-                _ => path.clone(),
-            };
-            Invalid {
-                path: at,
-                message: e.to_string(),
-            }
-        })?;
-        self.leaf_materials.push(material);
-        Ok(Shape::FreeForm(f))
-    }
-}
-
-/// A shape that is not drawn but bounds something (a cloud's envelope): its CSG solid, with no
-/// materials and no effect on the scene's features.
-pub(crate) fn bounding_solid(path: &FieldPath, shape: &description::Shape) -> Result<Solid> {
-    let materials = BTreeMap::new();
-    let mut features = FeatureSet::default();
-    let mut ctx = ShapeContext {
-        materials: &materials,
-        leaf_materials: Vec::new(),
-        features: &mut features,
-    };
-    let shape = ctx.shape(path, shape, DAffine3::IDENTITY, 0)?;
-    Solid::new(shape).or_else(|e| invalid(path, e.to_string()))
-}
-
-/// `q` moved by `t` (skipped for the identity, so plain quadrics keep their exact coefficients).
-fn placed(path: &FieldPath, q: Quadric, t: DAffine3) -> Result<Quadric> {
-    if t == DAffine3::IDENTITY {
-        return Ok(q);
-    }
-    match q.transformed(&t) {
-        Some(q) if q.is_finite() => Ok(q),
-        _ => invalid(
-            path,
-            "the accumulated transform is singular or too large for this shape",
-        ),
-    }
-}
-
-pub(crate) fn bounds(path: &FieldPath, b: &description::Bounds) -> Result<Aabb> {
-    let min = point(&path.field("min"), b.min)?;
-    let max = point(&path.field("max"), b.max)?;
-    if min.cmple(max).all() {
-        Ok(Aabb::new(min, max))
-    } else {
-        invalid(
-            path,
-            format!(
-                "`min` must be ≤ `max` on every axis, got min {} and max {}",
-                show(b.min),
-                show(b.max)
-            ),
-        )
-    }
-}
-
-fn quadric(path: &FieldPath, q: &description::Quadric) -> Result<Quadric> {
-    use description::Quadric as Q;
-    Ok(match *q {
-        Q::Sphere { center, radius } => Quadric::sphere(
-            point(&path.field("center"), center)?,
-            positive(&path.field("radius"), radius)?,
-        ),
-        Q::Ellipsoid { center, radii } => {
-            let center = point(&path.field("center"), center)?;
-            if !radii.iter().all(|r| r.is_finite() && *r > 0.0) {
-                return invalid(
-                    &path.field("radii"),
-                    format!("must be > 0 on every axis, got {}", show(radii)),
-                );
-            }
-            Quadric::ellipsoid(center, DVec3::from_array(radii))
-        }
-        Q::HalfSpace { point: p, normal } => Quadric::half_space(
-            point(&path.field("point"), p)?,
-            direction(&path.field("normal"), normal)?,
-        ),
-        Q::Cylinder {
-            point: p,
-            axis,
-            radius,
-        } => Quadric::cylinder(
-            point(&path.field("point"), p)?,
-            direction(&path.field("axis"), axis)?,
-            positive(&path.field("radius"), radius)?,
-        ),
-        Q::Cone {
-            apex,
-            axis,
-            half_angle,
-        } => Quadric::cone(
-            point(&path.field("apex"), apex)?,
-            direction(&path.field("axis"), axis)?,
-            angle(&path.field("half_angle"), half_angle, 0.0, 90.0, false)?,
-        ),
-        Q::Paraboloid {
-            vertex,
-            axis,
-            focal_length,
-        } => Quadric::paraboloid(
-            point(&path.field("vertex"), vertex)?,
-            direction(&path.field("axis"), axis)?,
-            positive(&path.field("focal_length"), focal_length)?,
-        ),
-        Q::Hyperboloid {
-            center,
-            axis,
-            radius,
-            height,
-            sheets,
-        } => Quadric::hyperboloid(
-            point(&path.field("center"), center)?,
-            direction(&path.field("axis"), axis)?,
-            positive(&path.field("radius"), radius)?,
-            positive(&path.field("height"), height)?,
-            match sheets {
-                description::Sheets::One => Sheets::One,
-                description::Sheets::Two => Sheets::Two,
-            },
-        ),
-        Q::General {
-            origin,
-            coefficients,
-        } => {
-            let origin = point(&path.field("origin"), origin)?;
-            let cpath = path.field("coefficients");
-            if let Some(i) = coefficients.iter().position(|c| !c.is_finite()) {
-                return invalid(
-                    &cpath.index(i),
-                    format!("must be a finite number, got {}", coefficients[i]),
-                );
-            }
-            if coefficients.iter().all(|c| *c == 0.0) {
-                return invalid(&cpath, "must not all be zero");
-            }
-            Quadric::new(origin, coefficients)
-        }
     })
 }

@@ -1,7 +1,7 @@
 //! The resolved scene: what a scene file means once parsed and validated, ready for a backend.
 
+use crate::FeatureSet;
 use crate::description::TerrainLod;
-use crate::{FeatureSet, PrimitiveId, PrimitiveKind};
 use fray_core::{MemoryBudget, PixelSamples, Projector, Rgb};
 use fray_geometry::Solid;
 use fray_mesh::Instance;
@@ -195,67 +195,39 @@ pub struct MeshObject {
     pub smooth: bool,
 }
 
+// What a scene answers per primitive kind (`count`, `primitive_bounds`, `material_of`, …) is
+// in `kinds/mod.rs`, which asks each kind.
 impl Scene {
-    /// The box around all objects, terrains and meshes (empty if there are none).
-    pub fn bounds(&self) -> fray_core::Aabb {
-        let objects = self
-            .objects
-            .iter()
-            .fold(fray_core::Aabb::EMPTY, |b, o| b.union(&o.solid.bounds()));
-        let terrains = self
-            .terrains
-            .iter()
-            .fold(objects, |b, t| b.union(&t.terrain.bounds()));
-        self.meshes
-            .iter()
-            .fold(terrains, |b, m| b.union(&m.instance.bounds()))
-    }
-
-    /// Every primitive, kind by kind in [`PrimitiveKind::ALL`] order.
-    pub fn primitives(&self) -> impl Iterator<Item = PrimitiveId> + '_ {
-        let free_forms = (0..self.objects.len() as u32).map(PrimitiveId::free_form);
-        let terrains = (0..self.terrains.len() as u32).map(PrimitiveId::terrain);
-        let meshes = (0..self.meshes.len() as u32).map(PrimitiveId::mesh);
-        free_forms.chain(terrains).chain(meshes)
-    }
-
-    /// How many primitives of `kind` the scene holds.
-    pub fn count(&self, kind: PrimitiveKind) -> usize {
-        match kind {
-            PrimitiveKind::FreeForm => self.objects.len(),
-            PrimitiveKind::Terrain => self.terrains.len(),
-            PrimitiveKind::Mesh => self.meshes.len(),
-        }
-    }
-
-    /// The box of primitive `id` (`None` if the scene has no such primitive).
-    pub fn primitive_bounds(&self, id: PrimitiveId) -> Option<fray_core::Aabb> {
-        match id.kind {
-            PrimitiveKind::FreeForm => self
-                .objects
-                .get(id.index as usize)
-                .map(|o| o.solid.bounds()),
-            PrimitiveKind::Terrain => self
-                .terrains
-                .get(id.index as usize)
-                .map(|t| t.terrain.bounds()),
-            PrimitiveKind::Mesh => self
-                .meshes
-                .get(id.index as usize)
-                .map(|m| m.instance.bounds()),
-        }
-    }
-
-    /// The material index of `part` of primitive `id` (a free form's leaf; terrains have one
-    /// part, 0), or `None` for a primitive or part the scene does not have.
-    pub fn material_of(&self, id: PrimitiveId, part: u32) -> Option<u32> {
-        match id.kind {
-            PrimitiveKind::FreeForm => self
-                .objects
-                .get(id.index as usize)
-                .and_then(|o| o.leaf_materials.get(part as usize).copied()),
-            PrimitiveKind::Terrain => self.terrains.get(id.index as usize).map(|t| t.material),
-            PrimitiveKind::Mesh => self.meshes.get(id.index as usize).map(|m| m.material),
+    /// A scene with no primitives yet (each kind's storage empty), default settings, no
+    /// atmosphere or clouds, and no features: what resolution starts from.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn empty(
+        width: u32,
+        height: u32,
+        camera: Projector,
+        background: Rgb,
+        ambient: Rgb,
+        lights: Vec<Light>,
+        materials: Vec<Material>,
+        budget: MemoryBudget,
+    ) -> Self {
+        Self {
+            width,
+            height,
+            camera,
+            background,
+            ambient,
+            lights,
+            materials,
+            // The kinds' storage: one line per kind.
+            objects: Vec::new(),
+            terrains: Vec::new(),
+            meshes: Vec::new(),
+            atmosphere: crate::Atmosphere::default(),
+            clouds: None,
+            settings: Settings::default(),
+            features: FeatureSet::default(),
+            budget,
         }
     }
 

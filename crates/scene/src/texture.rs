@@ -4,9 +4,9 @@
 //! parameter at its field.
 
 use crate::assets::LoadedAssets;
+use crate::checks::{Invalid, Result, invalid, point};
 use crate::description::{self, TextureFilter, TextureMapping, TextureWrap};
 use crate::path::FieldPath;
-use crate::resolve::{Invalid, Result, invalid, point};
 use fray_core::MemoryBudget;
 use fray_mesh::Texture;
 use fray_mesh::texture::{
