@@ -1,11 +1,20 @@
 //! The GPU's share of the numerical stress suite (issue 27; the CPU's is
-//! `crates/trace/tests/stress/`, `docs/stress.md`): ~10⁶ adversarial rays through the batch
+//! `crates/trace/tests/stress/`, `docs/stress.md`): ~2·10⁶ adversarial rays through the batch
 //! kernels of `fray_gpu::testing`, seeded (the same rays every run; `FRAY_STRESS_SEED` changes
 //! them, `FRAY_STRESS_SCALE` multiplies the cases), each answer checked for nonsense and against
 //! an f64 reference within the bounds the rays suite (`tests/rays/`) states for the GPU. One
 //! trial per kind or medium, each in its module, each printing its ray count, time and worst
 //! figures:
 //! - [`terrains`] (`TerrainBatch`), [`meshes`] (`MeshBatch`), [`fog`] (`FogBatch`);
+//! - [`free_forms`] (`FreeFormBatch`): perturbed ellipsoids, CSG trees, degenerate quadrics
+//!   clipped by boxes and extreme form factors, scaled `10^[−3, 6]`, a third `10⁵` from the
+//!   origin; cameras near, inside, `10²`–`10⁴` diagonals and `10⁵` away; grazing, tangent, axis,
+//!   seam and support rays — against `F` sampled and bisected in f64;
+//! - [`sky`] (`SkyBatch`): eyes from the ground to `10⁹` m, suns from under the horizon to the
+//!   zenith, grazing directions, ranges `0` to unbounded — against the adaptive-quadrature
+//!   reference;
+//! - [`clouds`] (`CloudsBatch`): rays from inside, along the base and top planes, grazing the
+//!   box, from far away — against the optical depth at a 64th of the step.
 //!
 //! Uses the libtest-mimic harness: ignored without an adapter, a failure under
 //! `FRAY_REQUIRE_GPU=1`.
@@ -13,8 +22,11 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod clouds;
 mod fog;
+mod free_forms;
 mod meshes;
+mod sky;
 mod terrains;
 
 use fray_core::{Interval, Ray};
@@ -117,12 +129,44 @@ fn fog_trial() {
     planned("fog", rays, cases(40), fog::FOG_RAYS);
 }
 
+fn free_forms_trial() {
+    let (rays, _) = trial("free forms", |ctx| {
+        let s = free_forms::free_forms(ctx);
+        (s.rays, s.to_string())
+    });
+    planned(
+        "free forms",
+        rays,
+        cases(free_forms::CASES),
+        free_forms::RAYS,
+    );
+}
+
+fn sky_trial() {
+    let (rays, _) = trial("sky", |ctx| {
+        let s = sky::skies(ctx);
+        (s.queries, s.to_string())
+    });
+    planned("sky", rays, cases(sky::CASES), sky::QUERIES);
+}
+
+fn clouds_trial() {
+    let (rays, _) = trial("clouds", |ctx| {
+        let s = clouds::clouds(ctx);
+        (s.rays, s.to_string())
+    });
+    planned("clouds", rays, cases(clouds::CASES), clouds::RAYS);
+}
+
 fn main() {
     common::run(
         &[
             ("terrains", terrains_trial),
             ("meshes", meshes_trial),
             ("fog", fog_trial),
+            ("free_forms", free_forms_trial),
+            ("sky", sky_trial),
+            ("clouds", clouds_trial),
         ],
         &[],
     );
