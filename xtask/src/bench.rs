@@ -348,10 +348,26 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
 /// The `size` rows as time against the map's side, one line per sweep and LOD rule.
 fn map_size_plot(rows: &[Row]) -> LinePlot {
     let series = [
-        ("size_frame", "pixel", format!("{FRAME}² frame, pixel LOD ({THREADS} threads)")),
-        ("size_frame", "exact", format!("{FRAME}² frame, exact ({THREADS} threads)")),
-        ("size_rays", "pixel", format!("{SCREEN}² rays, pixel LOD (one thread)")),
-        ("size_rays", "exact", format!("{SCREEN}² rays, exact (one thread)")),
+        (
+            "size_frame",
+            "pixel",
+            format!("{FRAME}² frame, pixel LOD ({THREADS} threads)"),
+        ),
+        (
+            "size_frame",
+            "exact",
+            format!("{FRAME}² frame, exact ({THREADS} threads)"),
+        ),
+        (
+            "size_rays",
+            "pixel",
+            format!("{SCREEN}² rays, pixel LOD (one thread)"),
+        ),
+        (
+            "size_rays",
+            "exact",
+            format!("{SCREEN}² rays, exact (one thread)"),
+        ),
     ]
     .into_iter()
     .map(|(sweep, variant, label)| Series {
@@ -361,6 +377,7 @@ fn map_size_plot(rows: &[Row]) -> LinePlot {
             .filter(|r| r.sweep == sweep && r.variant == variant)
             .filter_map(|r| Some((r.param.parse::<f64>().ok()?, r.median_ms)))
             .collect(),
+        point_labels: Vec::new(),
     })
     .collect();
     LinePlot {

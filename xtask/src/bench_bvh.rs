@@ -14,11 +14,13 @@
 //!   [`REFERENCE_STRIDE`]th ray, and against the default preset on every ray. All 0 by the
 //!   contract; `crates/mesh/tests/robust.rs` tests every preset against the brute force.
 //!
-//! Written as `target/bench/bvh.md` and one sweep per mesh `bvh_<mesh>.{csv,svg,png}`
-//! (`sweep_plot`; trace time on x, the error — 0 — on the floor), the default preset marked.
+//! Written as `target/bench/bvh.md`, the plot `bvh_presets.{csv,svg,png}` (build time against
+//! trace time, a line per mesh through its presets: the trade the presets make, at no error)
+//! and one sweep per mesh `bvh_<mesh>.{csv,svg,png}` (`sweep_plot`: trace time against the
+//! error — 0, on the floor —, the default marked; its summary row for `docs/accuracy.md`).
 
 use crate::sweep_frame::median;
-use crate::sweep_plot::{Setting, Sweep};
+use crate::sweep_plot::{LinePlot, Series, Setting, Sweep};
 use crate::workspace;
 use fray_core::{Interval, MemoryBudget, Pinhole, Projector, Ray};
 use fray_mesh::triangle::{RayFrame, intersect};
@@ -37,11 +39,11 @@ const MESHES: [&str; 4] = [
 /// Side of the primary view (and the incoherent rays are as many).
 const SIDE: u32 = 128;
 /// The brute-force reference checks every this-many-th ray.
-const REFERENCE_STRIDE: usize = 16;
+const REFERENCE_STRIDE: usize = 32;
 /// Threads of the brute force (the timed traversals run on one).
 const REFERENCE_THREADS: usize = 2;
 /// The fewest timed runs per setting (each is tens of milliseconds).
-const MIN_REPEATS: usize = 5;
+const MIN_REPEATS: usize = 3;
 
 const ALL: Interval = Interval {
     lo: 0.0,
@@ -81,11 +83,15 @@ impl SplitMix {
 fn rays(mesh: &TriangleMesh) -> Result<Vec<Ray>, String> {
     let b = mesh.bounds();
     let eye = b.center() + DVec3::new(0.3, 0.4, -2.2).normalize() * 2.2 * b.diagonal();
-    let camera =
-        Pinhole::new(eye, b.center(), DVec3::Y, 25f64.to_radians(), 0.01).map_err(|e| e.to_string())?;
+    let camera = Pinhole::new(eye, b.center(), DVec3::Y, 25f64.to_radians(), 0.01)
+        .map_err(|e| e.to_string())?;
     let projector = Projector::Pinhole(camera);
     let mut rays: Vec<Ray> = (0..SIDE * SIDE)
-        .filter_map(|i| projector.pixel_ray(i % SIDE, i / SIDE, SIDE, SIDE).map(|c| c.ray))
+        .filter_map(|i| {
+            projector
+                .pixel_ray(i % SIDE, i / SIDE, SIDE, SIDE)
+                .map(|c| c.ray)
+        })
         .collect();
     let mut rng = SplitMix(0x0b5e_55ed);
     let n = rays.len();
@@ -114,7 +120,13 @@ fn reference(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Option<(f64, u32)>> {
     std::thread::scope(|s| {
         let parts: Vec<_> = picked
             .chunks(chunk)
-            .map(|part| s.spawn(move || part.iter().map(|r| brute_force(mesh, r)).collect::<Vec<_>>()))
+            .map(|part| {
+                s.spawn(move || {
+                    part.iter()
+                        .map(|r| brute_force(mesh, r))
+                        .collect::<Vec<_>>()
+                })
+            })
             .collect();
         parts
             .into_iter()
@@ -160,8 +172,10 @@ fn trace(bvh: &MeshBvh, rays: &[Ray]) -> Vec<Option<(f64, u32)>> {
         .collect()
 }
 
-/// Runs the sweep; returns its markdown and a sweep per mesh.
-pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>), String> {
+/// Runs the sweep; returns its markdown, a sweep per mesh (trace time against error, all 0:
+/// the summary rows) and the presets' build time against trace time, a line per mesh (the plot
+/// `bvh_presets`).
+pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>, LinePlot), String> {
     let repeats = repeats.max(MIN_REPEATS);
     let mut md = format!(
         "# Mesh BVH: build presets (`cargo xtask bench bvh`)\n\n\
@@ -175,13 +189,23 @@ pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>), String> {
          |---|---:|---|---:|---:|---:|---:|---:|---|---|\n"
     );
     let mut sweeps = Vec::new();
+    let mut plot = LinePlot {
+        name: "bvh_presets".into(),
+        title: "mesh BVH presets: build time against trace time (same hits)".into(),
+        x_desc: "build ms (one thread)".into(),
+        y_desc: format!("trace ms, {} rays (one thread)", 2 * SIDE * SIDE),
+        series: Vec::new(),
+    };
     let mut all_zero = true;
     for file in MESHES {
         let path = workspace::root().join("data/meshes").join(file);
         let mesh = TriangleMesh::load_obj(&path, &MemoryBudget::default())
             .map_err(|e| format!("{}: {e}", path.display()))?;
         let rays = rays(&mesh)?;
-        eprintln!("bvh {file}: brute force on {} rays", rays.len() / REFERENCE_STRIDE);
+        eprintln!(
+            "bvh {file}: brute force on {} rays",
+            rays.len() / REFERENCE_STRIDE
+        );
         let truth = reference(&mesh, &rays);
         let default_answers = trace(&MeshBvh::build(mesh.clone()), &rays);
         let stem = file.trim_end_matches(".obj");
@@ -218,9 +242,11 @@ pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>), String> {
                 trace_ms[i].push(start.elapsed().as_secs_f64() * 1e3);
             }
         }
+        let mut build_times = Vec::new();
         for (i, preset) in BuildPreset::ALL.into_iter().enumerate() {
             let (bvh, got) = (&bvhs[i], &answers[i]);
             let build_ms = median(std::mem::take(&mut build_ms[i]));
+            build_times.push(build_ms);
             let trace_ms = median(std::mem::take(&mut trace_ms[i]));
             let sampled: Vec<_> = got.iter().step_by(REFERENCE_STRIDE).copied().collect();
             let vs_truth = HitDifference::of(&truth, &sampled);
@@ -253,6 +279,19 @@ pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>), String> {
                 vs_default.flips,
             );
         }
+        plot.series.push(Series {
+            label: format!("{stem} ({} triangles)", mesh.triangles.len()),
+            points: sweep
+                .settings
+                .iter()
+                .zip(&build_times)
+                .map(|(s, &b)| (b, s.time_ms))
+                .collect(),
+            point_labels: BuildPreset::ALL
+                .iter()
+                .map(|p| p.name().to_owned())
+                .collect(),
+        });
         eprintln!("bvh {file}: done");
         sweeps.push(sweep);
     }
@@ -264,7 +303,7 @@ pub fn run(repeats: usize) -> Result<(String, Vec<Sweep>), String> {
     md.push_str(
         "\nEvery preset answered every ray as the brute force and the default do (all 0).\n",
     );
-    Ok((md, sweeps))
+    Ok((md, sweeps, plot))
 }
 
 #[cfg(test)]

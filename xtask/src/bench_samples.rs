@@ -14,7 +14,7 @@
 //! Written as `target/bench/samples.md` and the sweep `samples.{csv,svg,png}` (`sweep_plot`), the
 //! scene's own count (1) the default.
 
-use crate::sweep_frame::{ImageError, brightest, render_once, timed};
+use crate::sweep_frame::{ImageError, brightest, render_once, timed_unless_slow};
 use crate::sweep_plot::{Setting, Sweep};
 use crate::workspace;
 use fray_core::PixelSamples;
@@ -49,7 +49,7 @@ pub fn run(repeats: usize) -> Result<(String, Sweep), String> {
     let mut rows = Vec::new();
     for n in SAMPLES {
         eprintln!("samples: {n} per pixel");
-        let (ms, frame) = timed(&with_samples(n)?, THREADS, repeats)?;
+        let (ms, frame) = timed_unless_slow(&with_samples(n)?, THREADS, repeats)?;
         rows.push((n, ms, ImageError::of(&reference, &frame)?.relative(bright)));
     }
     let sweep = Sweep {
@@ -95,7 +95,8 @@ pub fn run(repeats: usize) -> Result<(String, Sweep), String> {
     let orders: Vec<String> = rows
         .windows(2)
         .map(|w| {
-            let order = (w[0].2.rms / w[1].2.rms).ln() / (f64::from(w[1].0) / f64::from(w[0].0)).ln();
+            let order =
+                (w[0].2.rms / w[1].2.rms).ln() / (f64::from(w[1].0) / f64::from(w[0].0)).ln();
             format!("{}→{}: {order:.2}", w[0].0, w[1].0)
         })
         .collect();

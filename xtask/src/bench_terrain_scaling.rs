@@ -1,7 +1,8 @@
 //! `cargo xtask bench terrain-scaling`: how a terrain frame's cost grows with the screen and
 //! with the camera's distance, on the DEM upsampled to [`MAP`]² (`fray_terrain::sweep`, the
 //! same map and camera as `cargo xtask bench terrain`'s map-size sweep), CPU, [`THREADS`]
-//! threads, the default LOD (`Pixel`) and `Exact`, each frame the median of the repeats.
+//! threads, the default LOD (`Pixel`) and `Exact`, each frame the median of the repeats (once
+//! for a frame over `sweep_frame::SLOW_MS`).
 //!
 //! - Screen size: the fixed camera at [`SCREENS`]² pixels; time per frame and per pixel.
 //! - Distance: the eye moved along its line of sight to [`DISTANCES`] × its distance to the
@@ -13,7 +14,7 @@
 //! `terrain_distance.{csv,svg,png}`; the map-size plot is `cargo xtask bench terrain`'s
 //! `terrain_map_size`. The markdown is `target/bench/terrain_scaling.md`.
 
-use crate::sweep_frame::timed;
+use crate::sweep_frame::{SLOW_MS, timed_unless_slow};
 use crate::sweep_plot::{LinePlot, Series};
 use crate::workspace;
 use fray_core::{Pinhole, Projector, glam::DVec3};
@@ -33,7 +34,10 @@ const DISTANCES: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
 /// Screen side of the distance sweep.
 const DISTANCE_SCREEN: u32 = 256;
 /// The LOD rules compared.
-const LODS: [(TerrainLod, &str); 2] = [(TerrainLod::Pixel, "pixel LOD"), (TerrainLod::Exact, "exact")];
+const LODS: [(TerrainLod, &str); 2] = [
+    (TerrainLod::Pixel, "pixel LOD"),
+    (TerrainLod::Exact, "exact"),
+];
 
 /// The sweep's camera: the eye at `k` × its distance from the target on the same line, the
 /// field narrowed by `k`.
@@ -70,7 +74,8 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
     let mut md = format!(
         "# Terrain: cost against screen size and distance (`cargo xtask bench terrain-scaling`)\n\n\
          The DEM upsampled to {MAP}² over 30 km (`fray_terrain::sweep`), terrain_high's lights \
-         and material, CPU, {THREADS} threads, shaded with shadow rays, medians of {repeats}.\n\n\
+         and material, CPU, {THREADS} threads, shaded with shadow rays, medians of {repeats} \
+         (a frame over {SLOW_MS} ms: once).\n\n\
          ## Screen size\n\nThe fixed camera (`sweep::EYE` toward `sweep::TARGET`, \
          {}° field).\n\n\
          | side | pixel LOD ms | exact ms | pixel LOD µs / pixel | exact µs / pixel |\n\
@@ -83,6 +88,7 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         .map(|(_, name)| Series {
             label: (*name).into(),
             points: Vec::new(),
+            point_labels: Vec::new(),
         })
         .collect();
     for side in SCREENS {
@@ -90,7 +96,7 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         (scene.width, scene.height) = (side, side);
         let mut ms = Vec::new();
         for (i, (lod, _)) in LODS.iter().enumerate() {
-            let (t, _) = timed(&with_lod(&scene, *lod), THREADS, repeats)?;
+            let (t, _) = timed_unless_slow(&with_lod(&scene, *lod), THREADS, repeats)?;
             screen_series[i].points.push((f64::from(side), t));
             ms.push(t);
         }
@@ -119,6 +125,7 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         .map(|(_, name)| Series {
             label: (*name).into(),
             points: Vec::new(),
+            point_labels: Vec::new(),
         })
         .collect();
     for k in DISTANCES {
@@ -127,8 +134,11 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         let distance = (sweep::EYE - sweep::TARGET).length() * k / 1e3;
         let mut ms = Vec::new();
         for (i, (lod, _)) in LODS.iter().enumerate() {
-            let (t, _) = timed(&with_lod(&scene, *lod), THREADS, repeats)?;
-            distance_series[i].points.push((distance, t));
+            let (t, _) = timed_unless_slow(&with_lod(&scene, *lod), THREADS, repeats)?;
+            // Kilometres to 0.1 (the plot's ticks).
+            distance_series[i]
+                .points
+                .push(((distance * 10.0).round() / 10.0, t));
             ms.push(t);
         }
         let _ = writeln!(

@@ -38,6 +38,28 @@ pub fn timed(scene: &Scene, threads: usize, repeats: usize) -> Result<(f64, Fram
     Ok((median(times), frame))
 }
 
+/// A frame slower than this (ms) is timed once by [`timed_unless_slow`]: its median would add
+/// more to `cargo xtask bench all` than the machine's noise lets it tell.
+pub const SLOW_MS: f64 = 1000.0;
+
+/// [`timed`], but a frame whose first render takes over [`SLOW_MS`] is timed once.
+pub fn timed_unless_slow(
+    scene: &Scene,
+    threads: usize,
+    repeats: usize,
+) -> Result<(f64, Frame), String> {
+    let (ms, mut frame) = render_once(scene, threads)?;
+    let mut times = vec![ms];
+    if ms <= SLOW_MS {
+        for _ in 1..repeats {
+            let (ms, f) = render_once(scene, threads)?;
+            times.push(ms);
+            frame = f;
+        }
+    }
+    Ok((median(times), frame))
+}
+
 /// A frame's error against a reference: over pixels, the largest channel's `|Δ|` in linear
 /// colour.
 #[derive(Clone, Copy, Debug, PartialEq)]

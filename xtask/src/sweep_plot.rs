@@ -132,11 +132,13 @@ pub fn summary_header() -> String {
     )
 }
 
-/// One line of a [`LinePlot`]: its legend and its points `(x, y)`, x increasing.
+/// One line of a [`LinePlot`]: its legend and its points `(x, y)`, x increasing, each with a
+/// label beside it (none where `point_labels` is shorter).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    pub point_labels: Vec<String>,
 }
 
 /// A cost against a size: lines through each series' points on log axes.
@@ -360,13 +362,18 @@ fn draw_lines<DB: DrawingBackend>(
     let points = || plot.series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = span(points().map(|p| p.0), (1.2, 1.2));
     let (y0, y1) = span(points().map(|p| p.1), (1.5, 1.5));
+    // A few sizes swept (256² … 4096²): ticks at the sizes themselves.
+    let mut xs: Vec<f64> = points().map(|p| p.0).filter(|x| *x > 0.0).collect();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    let x_ticks = if xs.len() <= 8 { xs } else { log_ticks(x0, x1) };
     let mut chart = ChartBuilder::on(&root)
         .caption(&plot.title, (FONT, 20))
         .margin(16)
         .x_label_area_size(50)
         .y_label_area_size(80)
         .build_cartesian_2d(
-            (x0..x1).log_scale().with_key_points(log_ticks(x0, x1)),
+            (x0..x1).log_scale().with_key_points(x_ticks),
             (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
         )?;
     chart
@@ -389,11 +396,12 @@ fn draw_lines<DB: DrawingBackend>(
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
             });
-        chart.draw_series(
-            line.points
-                .iter()
-                .map(|&p| Circle::new(p, 4, colour.filled())),
-        )?;
+        chart.draw_series(line.points.iter().enumerate().map(|(k, &p)| {
+            let label = line.point_labels.get(k).cloned().unwrap_or_default();
+            EmptyElement::at(p)
+                + Circle::new((0, 0), 4, colour.filled())
+                + Text::new(label, (7, -14), (FONT, 12).into_font())
+        }))?;
     }
     chart
         .configure_series_labels()
@@ -526,10 +534,12 @@ mod tests {
                 Series {
                     label: "flat".into(),
                     points: vec![(256.0, 10.0), (1024.0, 11.0), (4096.0, 12.0)],
+                    point_labels: vec!["first".into()],
                 },
                 Series {
                     label: "linear".into(),
                     points: vec![(256.0, 10.0), (1024.0, 40.0), (4096.0, 160.0)],
+                    point_labels: Vec::new(),
                 },
             ],
         };
@@ -538,7 +548,7 @@ mod tests {
         assert_eq!(csv.lines().count(), 7);
         assert!(csv.contains("\"linear\",4096,160.0000"), "{csv}");
         let svg = std::fs::read_to_string(dir.join("l.svg")).unwrap();
-        for label in ["flat", "linear", "cost against size"] {
+        for label in ["flat", "linear", "cost against size", "first"] {
             assert!(svg.contains(label), "{label}");
         }
         let image = image::open(dir.join("l.png")).unwrap().to_rgb8();

@@ -8,9 +8,7 @@
 use fray_core::{Interval, MemoryBudget, Ray};
 use fray_mesh::gpu_layout::{GpuMeshes, MeshLayoutError};
 use fray_mesh::triangle::{RayFrame, intersect};
-use fray_mesh::{
-    BuildPreset, MAX_DEPTH, MAX_LEAF, MeshBvh, MeshError, PacketBvh, TriangleMesh,
-};
+use fray_mesh::{BuildPreset, MAX_DEPTH, MAX_LEAF, MeshBvh, MeshError, PacketBvh, TriangleMesh};
 use glam::{DAffine3, DVec3};
 use std::time::{Duration, Instant};
 
@@ -294,7 +292,8 @@ fn empty_and_degenerate_only_meshes_answer_without_a_panic() {
 /// median build's differs from the SAH's), never in a hit.
 #[test]
 fn every_build_preset_keeps_the_bounds_and_the_brute_forces_answers() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes/boeing.obj");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/meshes/boeing.obj");
     let boeing = TriangleMesh::load_obj(&path, &MemoryBudget::default()).unwrap();
     let copies = TriangleMesh::new(
         vec![DVec3::ZERO, DVec3::X, DVec3::Y],
@@ -323,7 +322,10 @@ fn every_build_preset_keeps_the_bounds_and_the_brute_forces_answers() {
         let hits = agrees_with_brute_force(name, bvh, &all_round);
         assert!(hits > 200, "{name}: {hits} of 1500 rays hit");
         let bvh = build_with_within_the_bounds(name, copies.clone(), preset);
-        assert!(agrees_with_brute_force(name, bvh, &down) > 20, "{name}: copies");
+        assert!(
+            agrees_with_brute_force(name, bvh, &down) > 20,
+            "{name}: copies"
+        );
         let bvh = build_with_within_the_bounds(name, nested.clone(), preset);
         agrees_with_brute_force(name, bvh, &down);
     }
