@@ -38,8 +38,8 @@ pub fn timed(scene: &Scene, threads: usize, repeats: usize) -> Result<(f64, Fram
     Ok((median(times), frame))
 }
 
-/// A frame slower than this (ms) is timed once by [`timed_unless_slow`]: its median would add
-/// more to `cargo xtask bench all` than the machine's noise lets it tell.
+/// A frame slower than this (ms) is timed once by [`timed_unless_slow`] (and a sky table build
+/// by `bench_sky`), to keep `cargo xtask bench all` within its few minutes.
 pub const SLOW_MS: f64 = 1000.0;
 
 /// [`timed`], but a frame whose first render takes over [`SLOW_MS`] is timed once.
