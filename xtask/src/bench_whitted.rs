@@ -6,7 +6,8 @@
 //!   secondary-ray budget is raised to its largest (`MAX_SECONDARY_RAYS`) in every frame, so the
 //!   depth alone cuts the tree (at the default 256 a depth-8 tree could be cut by the budget);
 //!   the minimum contribution stays the scene's, in every frame and the reference alike.
-//! - The reference: the same frame at depth [`REFERENCE_DEPTH`].
+//! - The reference: the same frame at depth [`REFERENCE_DEPTH`] (64, the largest a scene may
+//!   ask for; every chain on this frame has ended by depth 48).
 //! - Error: per pixel the largest channel's `|Δ|` of the linear colour against the reference,
 //!   its max (plotted) and mean over the frame, in units of the reference's brightest pixel.
 //!
@@ -25,9 +26,12 @@ const SIZE: (u32, u32) = (256, 160);
 /// Worker threads of the renders.
 const THREADS: usize = 2;
 /// The depths swept.
-const DEPTHS: [u32; 7] = [0, 1, 2, 3, 4, 6, 8];
-/// The reference's depth.
-const REFERENCE_DEPTH: u32 = 16;
+const DEPTHS: [u32; 8] = [0, 1, 2, 3, 4, 6, 8, 16];
+/// The reference's depth: the deepest a scene may ask for. A depth-16 reference was not enough
+/// (depth 16 against 64: max 2.0e-2 of the brightest pixel — chains the minimum contribution
+/// does not cut, presumably total internal reflection in the glass); depth 48 already gives the
+/// same bits as 64 on this frame.
+const REFERENCE_DEPTH: u32 = fray_scene::MAX_DEPTH;
 
 /// Runs the sweep; returns its markdown and the depth's time against error.
 pub fn run(repeats: usize) -> Result<(String, Sweep), String> {

@@ -54,7 +54,7 @@ enum Command {
     /// on and off, bake time against grid size; target/bench/clouds.md. `freeform`: the CPU
     /// free-form caster's time against depth error over ε on the csg and turboprop camera
     /// rays; target/bench/freeform.md. `whitted`: frame time against the Whitted depth with the
-    /// error against a depth-16 frame; target/bench/whitted.md. `samples`: frame time against
+    /// error against a depth-64 frame; target/bench/whitted.md. `samples`: frame time against
     /// samples per pixel with the error against a 1024-sample frame; target/bench/samples.md.
     /// `bvh`: the mesh BVH's build presets, build and trace time on the data meshes, hits
     /// against a brute force; target/bench/bvh.md. `terrain-scaling`: terrain frame time against
