@@ -17,9 +17,11 @@
 //!
 //! The `lod` and `march` rows (and the exact cast) are also a time-against-error sweep
 //! (`sweep_plot`): the largest relative depth error `|Δt| / t` against the exact hits, plotted
-//! as `terrain_lod.{svg,png}` with its CSV.
+//! as `terrain_lod.{svg,png}` with its CSV. The `size` rows are plotted as time against the map's
+//! side (`terrain_map_size.{csv,svg,png}`, a `LinePlot`): the pixel LOD's flat line is the cost
+//! independent of map size.
 
-use crate::sweep_plot::{self, Setting, Sweep};
+use crate::sweep_plot::{self, LinePlot, Series, Setting, Sweep};
 use crate::workspace;
 use fray_core::{Interval, Pinhole, PixelFootprint, Projector, Ray, glam::DVec3};
 use fray_render::{Backend, RenderOptions, Renderer};
@@ -72,7 +74,8 @@ fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     (median, last.expect("at least one run"))
 }
 
-fn dem(root: &Path) -> Result<Terrain, String> {
+/// The DEM (`data/terrain`) as a bicubic terrain at its own size: what the sweeps upsample.
+pub(crate) fn dem(root: &Path) -> Result<Terrain, String> {
     let path = root.join("data/terrain/jacksboro_fault_dem.png");
     let map = Heightmap::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let placement =
@@ -338,7 +341,52 @@ pub fn run(options: &BenchOptions) -> Result<String, String> {
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
     lod.write(&options.out)?;
+    map_size_plot(&rows).write(&options.out)?;
     Ok(md)
+}
+
+/// The `size` rows as time against the map's side, one line per sweep and LOD rule.
+fn map_size_plot(rows: &[Row]) -> LinePlot {
+    let series = [
+        (
+            "size_frame",
+            "pixel",
+            format!("{FRAME}² frame, pixel LOD ({THREADS} threads)"),
+        ),
+        (
+            "size_frame",
+            "exact",
+            format!("{FRAME}² frame, exact ({THREADS} threads)"),
+        ),
+        (
+            "size_rays",
+            "pixel",
+            format!("{SCREEN}² rays, pixel LOD (one thread)"),
+        ),
+        (
+            "size_rays",
+            "exact",
+            format!("{SCREEN}² rays, exact (one thread)"),
+        ),
+    ]
+    .into_iter()
+    .map(|(sweep, variant, label)| Series {
+        label,
+        points: rows
+            .iter()
+            .filter(|r| r.sweep == sweep && r.variant == variant)
+            .filter_map(|r| Some((r.param.parse::<f64>().ok()?, r.median_ms)))
+            .collect(),
+        point_labels: Vec::new(),
+    })
+    .collect();
+    LinePlot {
+        name: "terrain_map_size".into(),
+        title: "terrain: time against map size (same ground, same camera)".into(),
+        x_desc: "map side (samples)".into(),
+        y_desc: "ms".into(),
+        series,
+    }
 }
 
 /// The largest `|Δt| / t` over the rays both hit, and the rays one hits and the other misses.

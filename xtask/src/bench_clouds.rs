@@ -25,14 +25,24 @@
 //! The step and sun-step rows are also plotted (`sweep_plot`): `clouds_march.{csv,svg,png}`,
 //! frame time against the max error over the brightest pixel, the scene's march the default.
 
+use crate::sweep_frame::{ImageError, brightest, median};
 use crate::sweep_plot::{Setting, Sweep};
 use crate::workspace;
 use fray_core::Frame;
 use fray_scene::{CloudSource, Scene};
-use fray_trace::TraceSettings;
 use std::fmt::Write as _;
 use std::sync::Arc;
 use std::time::Instant;
+
+/// One CPU render with [`THREADS`] threads: its wall time (ms) and the frame.
+fn render_once(scene: &Scene) -> Result<(f64, Frame), String> {
+    crate::sweep_frame::render_once(scene, THREADS)
+}
+
+/// The median wall time of `repeats` renders (ms) and the last frame.
+fn timed(scene: &Scene, repeats: usize) -> Result<(f64, Frame), String> {
+    crate::sweep_frame::timed(scene, THREADS, repeats)
+}
 
 /// The scene the sweep renders.
 const SCENE: &str = "data/scenes/clouds_aircraft_inside.ron";
@@ -73,68 +83,6 @@ fn with_march(scene: &Scene, step: f64, sun_steps: u32, skip: bool) -> Result<Sc
     let mut s = scene.clone();
     s.clouds = Some(Arc::new(clouds));
     Ok(s)
-}
-
-/// One CPU render with [`THREADS`] threads: its wall time (ms) and the frame.
-fn render_once(scene: &Scene) -> Result<(f64, Frame), String> {
-    let settings = TraceSettings {
-        threads: Some(THREADS),
-        ..TraceSettings::for_scene(scene)
-    };
-    let start = Instant::now();
-    let frame = fray_trace::render(scene, &settings, None).map_err(|e| e.to_string())?;
-    Ok((start.elapsed().as_secs_f64() * 1e3, frame))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
-
-/// The median wall time of `repeats` renders (ms) and the last frame.
-fn timed(scene: &Scene, repeats: usize) -> Result<(f64, Frame), String> {
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..repeats.max(1) {
-        let (ms, frame) = render_once(scene)?;
-        times.push(ms);
-        last = Some(frame);
-    }
-    let frame = last.ok_or("no frame rendered")?;
-    Ok((median(times), frame))
-}
-
-/// A frame's error against the reference: over pixels, the largest channel's `|Δ|` in linear
-/// colour.
-struct ImageError {
-    max: f64,
-    rms: f64,
-}
-
-impl ImageError {
-    fn of(reference: &Frame, got: &Frame) -> Self {
-        let (a, b) = (reference.colour.pixels(), got.colour.pixels());
-        let (mut max, mut sum) = (0.0f64, 0.0f64);
-        for (r, g) in a.iter().zip(b) {
-            let d = f64::from((*r - *g).abs().max_element());
-            max = max.max(d);
-            sum += d * d;
-        }
-        Self {
-            max,
-            rms: (sum / a.len().max(1) as f64).sqrt(),
-        }
-    }
-}
-
-/// The largest channel of the frame's brightest pixel.
-fn brightest(frame: &Frame) -> f64 {
-    frame
-        .colour
-        .pixels()
-        .iter()
-        .map(|c| f64::from(c.max_element()))
-        .fold(0.0, f64::max)
 }
 
 /// Density samples per camera ray.
@@ -251,8 +199,8 @@ pub fn run(repeats: usize) -> Result<(String, Sweep), String> {
             sun: sun_steps,
             ms,
             samples: samples_per_ray(&frame),
-            error: ImageError::of(&reference, &frame),
-            alone: ImageError::of(alone, &frame),
+            error: ImageError::of(&reference, &frame)?,
+            alone: ImageError::of(alone, &frame)?,
         });
     }
     let scene_ms = rows
@@ -452,7 +400,7 @@ fn storage() -> Result<String, String> {
             let mut s = scene.clone();
             s.clouds = Some(Arc::new(c));
             let (_, frame) = render_once(&s)?;
-            let e = ImageError::of(&reference, &frame);
+            let e = ImageError::of(&reference, &frame)?;
             cells.push(format!("{:.1e} / {:.1e}", e.max / top, e.rms / top));
         }
         let [x, y, z] = grid.size();
@@ -514,7 +462,7 @@ fn skipping(repeats: usize) -> Result<String, String> {
             }
         );
         if !identical {
-            let e = ImageError::of(&off, &on);
+            let e = ImageError::of(&off, &on)?;
             return Err(format!(
                 "{out}\n{name}: empty-space skipping changed the image (max |Δ| {:.2e}); it must be lossless",
                 e.max

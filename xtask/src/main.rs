@@ -2,10 +2,15 @@
 
 mod bench;
 mod bench_atmosphere;
+mod bench_bvh;
 mod bench_clouds;
 mod bench_freeform;
 mod bench_gpu;
 mod bench_gpu_table;
+mod bench_samples;
+mod bench_sky;
+mod bench_terrain_scaling;
+mod bench_whitted;
 mod bless;
 mod compare;
 mod datasize;
@@ -17,6 +22,7 @@ mod polygonise;
 mod regress;
 mod render;
 mod report;
+mod sweep_frame;
 mod sweep_plot;
 mod thresholds;
 mod triangle_grid;
@@ -47,9 +53,15 @@ enum Command {
     /// step and sun steps with the error against a fine-step reference, empty-space skipping
     /// on and off, bake time against grid size; target/bench/clouds.md. `freeform`: the CPU
     /// free-form caster's time against depth error over ε on the csg and turboprop camera
-    /// rays; target/bench/freeform.md. Each of these also writes its time-against-error
-    /// sweeps as <name>.{csv,svg,png}, the Pareto front and the default marked. Default: all
-    /// (these four). `gpu`: every scene's frames on the GPU at 1280×720 and 1920×1080, each pass's
+    /// rays; target/bench/freeform.md. `whitted`: frame time against the Whitted depth with the
+    /// error against a depth-64 frame; target/bench/whitted.md. `samples`: frame time against
+    /// samples per pixel with the error against a 1024-sample frame; target/bench/samples.md.
+    /// `bvh`: the mesh BVH's build presets, build and trace time on the data meshes, hits
+    /// against a brute force; target/bench/bvh.md. `terrain-scaling`: terrain frame time against
+    /// screen size and camera distance (time plots); target/bench/terrain_scaling.md. `sky`: the
+    /// sky's table sizes, build time against the error to the quadrature; target/bench/sky.md.
+    /// Each of these also writes its time-against-error sweeps as <name>.{csv,svg,png}, the
+    /// Pareto front and the default marked. Default: all (these). `gpu`: every scene's frames on the GPU at 1280×720 and 1920×1080, each pass's
     /// median time; target/bench/gpu.{csv,md} (not part of `all`).
     Bench(BenchArgs),
     /// A scene's free forms as one closed triangle mesh (OBJ): marching tetrahedra with vertices
@@ -172,6 +184,11 @@ enum Sweeps {
     Atmosphere,
     Clouds,
     Freeform,
+    Whitted,
+    Samples,
+    Bvh,
+    TerrainScaling,
+    Sky,
     Gpu,
     All,
 }
@@ -221,6 +238,14 @@ struct BlessArgs {
     /// Scenes to bless, by file stem; all when none are given
     #[arg(value_name = "SCENE_STEMS")]
     stems: Vec<String>,
+}
+
+/// Writes `md` as `out/file`.
+fn write_md(out: &std::path::Path, file: &str, md: &str) -> Result<(), String> {
+    let path = out.join(file);
+    std::fs::create_dir_all(out)
+        .and_then(|()| std::fs::write(&path, md))
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// Writes each sweep's CSV and plots under `out`; returns `md` with their summary table.
@@ -374,6 +399,48 @@ fn main() -> ExitCode {
                     std::fs::create_dir_all(&out)
                         .and_then(|()| std::fs::write(&path, &md))
                         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                    summary.push_str(&md);
+                    Ok(())
+                });
+            }
+            // The sweeps that write one markdown file with their summary table.
+            type Run = fn(usize) -> Result<(String, Vec<sweep_plot::Sweep>), String>;
+            let sets: [(Sweeps, &str, Run); 3] = [
+                (Sweeps::Whitted, "whitted.md", |r| {
+                    bench_whitted::run(r).map(|(md, s)| (md, vec![s]))
+                }),
+                (Sweeps::Samples, "samples.md", |r| {
+                    bench_samples::run(r).map(|(md, s)| (md, vec![s]))
+                }),
+                (Sweeps::Sky, "sky.md", |r| {
+                    bench_sky::run(r).map(|(md, s)| (md, vec![s]))
+                }),
+            ];
+            for (which, file, run) in sets {
+                if result.is_ok() && (args.sweeps == which || args.sweeps == Sweeps::All) {
+                    result = run(repeats).and_then(|(md, sweeps)| {
+                        let md = with_sweeps(md, &sweeps, &out)?;
+                        write_md(&out, file, &md)?;
+                        summary.push_str(&md);
+                        Ok(())
+                    });
+                }
+            }
+            if result.is_ok() && matches!(args.sweeps, Sweeps::Bvh | Sweeps::All) {
+                result = bench_bvh::run(repeats).and_then(|(md, sweeps, plot)| {
+                    let md = with_sweeps(md, &sweeps, &out)?;
+                    plot.write(&out)?;
+                    write_md(&out, "bvh.md", &md)?;
+                    summary.push_str(&md);
+                    Ok(())
+                });
+            }
+            if result.is_ok() && matches!(args.sweeps, Sweeps::TerrainScaling | Sweeps::All) {
+                result = bench_terrain_scaling::run(repeats).and_then(|(md, plots)| {
+                    for p in &plots {
+                        p.write(&out)?;
+                    }
+                    write_md(&out, "terrain_scaling.md", &md)?;
                     summary.push_str(&md);
                     Ok(())
                 });

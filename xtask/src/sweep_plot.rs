@@ -1,6 +1,8 @@
 //! Time against error for one sweep of a method's knob: the settings as labelled points on log
 //! axes with the Pareto front drawn and the default setting marked (SVG and PNG, the font in
 //! `xtask/fonts`), the same rows as CSV, and the Markdown summary row `docs/accuracy.md` tables.
+//! Besides, [`LinePlot`]: a cost against a size (time against map size, screen size, distance)
+//! as lines on the same log axes, for the sweeps whose knob changes no error.
 
 use crate::plot_font::{FONT, register_font};
 use plotters::prelude::*;
@@ -130,17 +132,87 @@ pub fn summary_header() -> String {
     )
 }
 
+/// One line of a [`LinePlot`]: its legend and its points `(x, y)`, x increasing, each with a
+/// label beside it (none where `point_labels` is shorter).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub point_labels: Vec<String>,
+}
+
+/// A cost against a size: lines through each series' points on log axes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinePlot {
+    /// File stem of its CSV and plots (`<name>.{csv,svg,png}`).
+    pub name: String,
+    pub title: String,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub series: Vec<Series>,
+}
+
+impl LinePlot {
+    /// The CSV: one row per point, `series,x,y`.
+    pub fn csv(&self) -> String {
+        let mut s = String::from("series,x,y\n");
+        for line in &self.series {
+            for (x, y) in &line.points {
+                let _ = writeln!(s, "\"{}\",{x},{y:.4}", line.label.replace('"', "'"));
+            }
+        }
+        s
+    }
+
+    /// Writes `<name>.csv`, `<name>.svg` and `<name>.png` under `dir`; returns the paths.
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, String> {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        let [csv, svg, png] = ["csv", "svg", "png"].map(|e| dir.join(format!("{}.{e}", self.name)));
+        std::fs::write(&csv, self.csv())
+            .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+        write_plot(self, &svg, &png)?;
+        Ok(vec![csv, svg, png])
+    }
+}
+
 const SIZE: (u32, u32) = (900, 600);
-fn write_plot(sweep: &Sweep, svg: &Path, png: &Path) -> Result<(), String> {
+
+/// A chart drawn alike on the SVG and the bitmap backend.
+trait Chart {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>;
+}
+
+impl Chart for Sweep {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        draw(self, root)
+    }
+}
+
+impl Chart for LinePlot {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        draw_lines(self, root)
+    }
+}
+
+fn write_plot(chart: &impl Chart, svg: &Path, png: &Path) -> Result<(), String> {
     register_font()?;
-    draw(sweep, SVGBackend::new(svg, SIZE).into_drawing_area())
+    chart
+        .draw(SVGBackend::new(svg, SIZE).into_drawing_area())
         .map_err(|e| format!("cannot draw {}: {e}", svg.display()))?;
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    draw(
-        sweep,
-        BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
-    )
-    .map_err(|e| format!("cannot draw {}: {e}", png.display()))?;
+    chart
+        .draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())
+        .map_err(|e| format!("cannot draw {}: {e}", png.display()))?;
     image::save_buffer(png, &rgb, SIZE.0, SIZE.1, image::ExtendedColorType::Rgb8)
         .map_err(|e| format!("cannot write {}: {e}", png.display()))
 }
@@ -273,6 +345,74 @@ fn draw<DB: DrawingBackend>(
     root.present()
 }
 
+/// Colours of a [`LinePlot`]'s series, in order (then again).
+const PALETTE: [RGBColor; 5] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+fn draw_lines<DB: DrawingBackend>(
+    plot: &LinePlot,
+    root: DrawingArea<DB, plotters::coord::Shift>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let points = || plot.series.iter().flat_map(|s| s.points.iter());
+    let (x0, x1) = span(points().map(|p| p.0), (1.2, 1.2));
+    let (y0, y1) = span(points().map(|p| p.1), (1.5, 1.5));
+    // A few sizes swept (256² … 4096²): ticks at the sizes themselves.
+    let mut xs: Vec<f64> = points().map(|p| p.0).filter(|x| *x > 0.0).collect();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    let x_ticks = if xs.len() <= 8 { xs } else { log_ticks(x0, x1) };
+    let mut chart = ChartBuilder::on(&root)
+        .caption(&plot.title, (FONT, 20))
+        .margin(16)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(x_ticks),
+            (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc(&plot.x_desc)
+        .y_desc(&plot.y_desc)
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 15))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()?;
+    for (i, line) in plot.series.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        chart
+            .draw_series(LineSeries::new(
+                line.points.iter().copied(),
+                colour.stroke_width(2),
+            ))?
+            .label(&line.label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        chart.draw_series(line.points.iter().enumerate().map(|(k, &p)| {
+            let label = line.point_labels.get(k).cloned().unwrap_or_default();
+            EmptyElement::at(p)
+                + Circle::new((0, 0), 4, colour.filled())
+                + Text::new(label, (7, -14), (FONT, 12).into_font())
+        }))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -377,6 +517,46 @@ mod tests {
                 .summary()
                 .contains("| s2 | 4.000 | 1.0e-5 | s2 | 4.000 | 1.0e-5 |")
         );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The line plot writes its points as CSV rows and draws every series' legend; its PNG has
+    /// the lines' colours in it.
+    #[test]
+    fn the_line_plot_writes_csv_svg_and_png() {
+        let dir = std::env::temp_dir().join(format!("fray-line-plot-{}", std::process::id()));
+        let plot = LinePlot {
+            name: "l".into(),
+            title: "cost against size".into(),
+            x_desc: "size".into(),
+            y_desc: "ms".into(),
+            series: vec![
+                Series {
+                    label: "flat".into(),
+                    points: vec![(256.0, 10.0), (1024.0, 11.0), (4096.0, 12.0)],
+                    point_labels: vec!["first".into()],
+                },
+                Series {
+                    label: "linear".into(),
+                    points: vec![(256.0, 10.0), (1024.0, 40.0), (4096.0, 160.0)],
+                    point_labels: Vec::new(),
+                },
+            ],
+        };
+        plot.write(&dir).unwrap();
+        let csv = std::fs::read_to_string(dir.join("l.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 7);
+        assert!(csv.contains("\"linear\",4096,160.0000"), "{csv}");
+        let svg = std::fs::read_to_string(dir.join("l.svg")).unwrap();
+        for label in ["flat", "linear", "cost against size", "first"] {
+            assert!(svg.contains(label), "{label}");
+        }
+        let image = image::open(dir.join("l.png")).unwrap().to_rgb8();
+        assert_eq!(image.dimensions(), SIZE);
+        for c in &PALETTE[..2] {
+            let n = image.pixels().filter(|p| p.0 == [c.0, c.1, c.2]).count();
+            assert!(n > 100, "{c:?}: {n} pixels");
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -7,7 +7,7 @@
 //! rays.
 
 use crate::TriangleMesh;
-use crate::bvh_build::{self, PrimBox};
+use crate::bvh_build::{self, BuildPreset, PrimBox};
 use crate::triangle::{RayFrame, intersect};
 use fray_core::{Aabb, Interval, Ray};
 use glam::DVec3;
@@ -59,12 +59,21 @@ impl MeshBvh {
     /// mesh whose fields were filled by hand can have: [`TriangleMesh::new`] and the OBJ loader
     /// refuse it.
     pub fn build(mesh: TriangleMesh) -> Self {
+        Self::build_with(mesh, BuildPreset::default())
+    }
+
+    /// [`MeshBvh::build`] with the build's effort chosen: the same guarantees and the same hits
+    /// for every preset, a different tree (build time against traversal speed).
+    ///
+    /// # Panics
+    /// As [`MeshBvh::build`].
+    pub fn build_with(mesh: TriangleMesh, preset: BuildPreset) -> Self {
         let anchor = topology_anchor(&mesh);
         let boxes: Vec<PrimBox> = (0..mesh.triangles.len())
             .map(|i| PrimBox::around(i as u32, mesh.corners(i).map(|p| p - anchor)))
             .collect();
         let start = std::time::Instant::now();
-        let (mut nodes, order) = bvh_build::build(boxes);
+        let (mut nodes, order) = bvh_build::build(boxes, preset);
         let build_time = start.elapsed();
         if !nodes.is_empty() {
             refit(&mut nodes, &order, &mesh, 0);

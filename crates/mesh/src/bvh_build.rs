@@ -25,9 +25,52 @@ pub const MAX_LEAF: usize = 8;
 /// far shallower).
 pub const MAX_DEPTH: u32 = crate::gpu_layout::MESH_STACK - 1;
 
-/// Candidate planes per axis are `BINS − 1`: 16 bins cost the bunny's tree no measurable
-/// traversal speed against 32 and build faster.
-const BINS: usize = 16;
+/// The most bins a preset bins into (the bin arrays' size).
+const MAX_BINS: usize = 64;
+
+/// How much work the build spends on the tree's quality: the SAH over more candidate planes, or
+/// none at all. Every preset builds a tree with the same guarantees (leaves of at most
+/// [`MAX_LEAF`], at most [`MAX_DEPTH`] deep, `O(n · MAX_DEPTH)` work) and every traversal of any
+/// of them returns the same hits (the answer is defined by the triangles, not the tree); they
+/// differ only in build time and traversal speed (`cargo xtask bench bvh`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BuildPreset {
+    /// Object-median splits along the centres' longest axis, no SAH: the cheapest build.
+    Median,
+    /// The SAH over 4 bins per axis (3 candidate planes).
+    Fast,
+    /// The SAH over 16 bins per axis: the bunny's tree traverses no measurably slower than with
+    /// 32, and builds faster. The default.
+    #[default]
+    Medium,
+    /// The SAH over [`MAX_BINS`] (64) bins per axis.
+    Slow,
+}
+
+impl BuildPreset {
+    /// Every preset, cheapest build first.
+    pub const ALL: [Self; 4] = [Self::Median, Self::Fast, Self::Medium, Self::Slow];
+
+    /// Bins per axis of the SAH (`None`: median splits only).
+    fn bins(self) -> Option<usize> {
+        match self {
+            Self::Median => None,
+            Self::Fast => Some(4),
+            Self::Medium => Some(16),
+            Self::Slow => Some(MAX_BINS),
+        }
+    }
+
+    /// The preset's name in lower case (`median`, `fast`, `medium`, `slow`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Median => "median",
+            Self::Fast => "fast",
+            Self::Medium => "medium",
+            Self::Slow => "slow",
+        }
+    }
+}
 
 /// The SAH's cost of visiting a node, in units of one ray–triangle test: a leaf is kept when
 /// splitting it would not save this much. 3, as obvhs's medium build collapsed its leaves with,
@@ -153,7 +196,7 @@ pub(crate) fn tree_bytes(triangles: usize) -> u64 {
 /// # Panics
 /// If there are more than [`MAX_TRIANGLES`] boxes (the loaders and [`crate::TriangleMesh`]'s
 /// constructors refuse such meshes).
-pub(crate) fn build(mut boxes: Vec<PrimBox>) -> (Vec<Node>, Vec<u32>) {
+pub(crate) fn build(mut boxes: Vec<PrimBox>, preset: BuildPreset) -> (Vec<Node>, Vec<u32>) {
     let n = boxes.len();
     assert!(
         n <= MAX_TRIANGLES,
@@ -170,10 +213,11 @@ pub(crate) fn build(mut boxes: Vec<PrimBox>) -> (Vec<Node>, Vec<u32>) {
         count: count as u32,
     };
     nodes.push(leaf(0, n));
+    let bin_count = preset.bins();
     let mut bins = [[Bin {
         bounds: Bounds::EMPTY,
         count: 0,
-    }; BINS]; 3];
+    }; MAX_BINS]; 3];
     // (node, first triangle, triangles, depth)
     let mut pending: Vec<(usize, usize, usize, u32)> = vec![(0, 0, n, 0)];
     while let Some((index, start, count, depth)) = pending.pop() {
@@ -190,11 +234,10 @@ pub(crate) fn build(mut boxes: Vec<PrimBox>) -> (Vec<Node>, Vec<u32>) {
         // Room for the SAH's own choice: after this split, medians must still reach the leaves
         // within MAX_DEPTH (`depth + median_levels(count) ≤ MAX_DEPTH` holds here).
         let sah_allowed = depth + 1 + median_levels(count) <= MAX_DEPTH;
-        let axes = Axes::of(centres);
-        let split = if sah_allowed {
-            best_split(range, &axes, &mut bins)
-        } else {
-            None
+        let axes = Axes::of(centres, bin_count.unwrap_or(1));
+        let split = match bin_count {
+            Some(_) if sah_allowed => best_split(range, &axes, &mut bins),
+            _ => None,
         };
         let parent_area = bounds.half_area();
         let left_count = match split {
@@ -222,11 +265,12 @@ pub(crate) fn build(mut boxes: Vec<PrimBox>) -> (Vec<Node>, Vec<u32>) {
     (nodes, order)
 }
 
-/// A node's centres, binned: [`BINS`] equal bins per axis over their extent.
+/// A node's centres, binned: `bins` equal bins per axis over their extent.
 #[derive(Clone, Copy, Debug)]
 struct Axes {
+    bins: usize,
     lo: Vec3,
-    /// `BINS / extent` per axis (from f64: no overflow), 0 for an axis along which every
+    /// `bins / extent` per axis (from f64: no overflow), 0 for an axis along which every
     /// centre is the same.
     scale: Vec3,
     /// The extent, to choose the median's axis.
@@ -234,10 +278,11 @@ struct Axes {
 }
 
 impl Axes {
-    fn of(centres: Bounds) -> Self {
+    fn of(centres: Bounds, bins: usize) -> Self {
         let extent = centres.hi.as_dvec3() - centres.lo.as_dvec3();
-        let scale = extent.map(|e| if e > 0.0 { BINS as f64 / e } else { 0.0 });
+        let scale = extent.map(|e| if e > 0.0 { bins as f64 / e } else { 0.0 });
         Self {
+            bins,
             lo: centres.lo,
             scale: scale.as_vec3(),
             extent,
@@ -249,16 +294,16 @@ impl Axes {
     fn bin(&self, b: &PrimBox, axis: usize) -> usize {
         // `as` saturates (an overflow to ∞ lands in the last bin, NaN in the first); the
         // clamp catches the top edge.
-        (((b.centre()[axis] - self.lo[axis]) * self.scale[axis]) as usize).min(BINS - 1)
+        (((b.centre()[axis] - self.lo[axis]) * self.scale[axis]) as usize).min(self.bins - 1)
     }
 }
 
 /// The cheapest SAH split of `range` over every axis's bin boundaries (`None` when no boundary
 /// has triangles on both sides: every centre in one bin on every axis).
-fn best_split(range: &[PrimBox], axes: &Axes, bins: &mut [[Bin; BINS]; 3]) -> Option<Split> {
-    let scale = axes.scale;
+fn best_split(range: &[PrimBox], axes: &Axes, bins: &mut [[Bin; MAX_BINS]; 3]) -> Option<Split> {
+    let (scale, count) = (axes.scale, axes.bins);
     for axis_bins in bins.iter_mut() {
-        axis_bins.fill(Bin {
+        axis_bins[..count].fill(Bin {
             bounds: Bounds::EMPTY,
             count: 0,
         });
@@ -278,15 +323,15 @@ fn best_split(range: &[PrimBox], axes: &Axes, bins: &mut [[Bin; BINS]; 3]) -> Op
             continue;
         }
         // Right-to-left: the count and cost of the right side of each boundary.
-        let mut right = [(0u64, 0.0f64); BINS];
+        let mut right = [(0u64, 0.0f64); MAX_BINS];
         let (mut acc, mut n) = (Bounds::EMPTY, 0u64);
-        for k in (1..BINS).rev() {
+        for k in (1..count).rev() {
             acc = acc.union(axis_bins[k].bounds);
             n += u64::from(axis_bins[k].count);
             right[k] = (n, acc.half_area() * n as f64);
         }
         let (mut acc, mut n) = (Bounds::EMPTY, 0u64);
-        for k in 1..BINS {
+        for k in 1..count {
             acc = acc.union(axis_bins[k - 1].bounds);
             n += u64::from(axis_bins[k - 1].count);
             let (n_right, right_cost) = right[k];

@@ -33,7 +33,7 @@ pub mod texture;
 pub mod triangle;
 
 pub use bvh::{MeshBvh, MeshHit};
-pub use bvh_build::{MAX_DEPTH, MAX_LEAF, MAX_TRIANGLES};
+pub use bvh_build::{BuildPreset, MAX_DEPTH, MAX_LEAF, MAX_TRIANGLES};
 pub use bvh_node::BvhNode;
 pub use error::MeshError;
 pub use instance::Instance;
