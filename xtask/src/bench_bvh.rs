@@ -116,23 +116,7 @@ fn brute_force(mesh: &TriangleMesh, ray: &Ray) -> Option<(f64, u32)> {
 /// The brute force on every [`REFERENCE_STRIDE`]th ray, on [`REFERENCE_THREADS`] threads.
 fn reference(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Option<(f64, u32)>> {
     let picked: Vec<&Ray> = rays.iter().step_by(REFERENCE_STRIDE).collect();
-    let chunk = picked.len().div_ceil(REFERENCE_THREADS).max(1);
-    std::thread::scope(|s| {
-        let parts: Vec<_> = picked
-            .chunks(chunk)
-            .map(|part| {
-                s.spawn(move || {
-                    part.iter()
-                        .map(|r| brute_force(mesh, r))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        parts
-            .into_iter()
-            .flat_map(|p| p.join().expect("a reference thread panicked"))
-            .collect()
-    })
+    crate::parallel::map(&picked, REFERENCE_THREADS, |r| brute_force(mesh, r))
 }
 
 /// How two answer sets differ: the largest `|Δt|` over rays both hit, the rays whose triangle

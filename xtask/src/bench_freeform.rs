@@ -92,27 +92,11 @@ fn reference_hit(solid: &Solid, r: &CameraRay) -> Option<f64> {
 
 /// The nearest reference hit over the solids, per ray, on [`REFERENCE_THREADS`] threads.
 fn reference(solids: &[Solid], rays: &[CameraRay]) -> Vec<Option<f64>> {
-    let chunk = rays.len().div_ceil(REFERENCE_THREADS).max(1);
-    std::thread::scope(|s| {
-        let parts: Vec<_> = rays
-            .chunks(chunk)
-            .map(|part| {
-                s.spawn(move || {
-                    part.iter()
-                        .map(|r| {
-                            solids
-                                .iter()
-                                .filter_map(|solid| reference_hit(solid, r))
-                                .min_by(f64::total_cmp)
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        parts
-            .into_iter()
-            .flat_map(|p| p.join().expect("a reference thread panicked"))
-            .collect()
+    crate::parallel::map(rays, REFERENCE_THREADS, |r| {
+        solids
+            .iter()
+            .filter_map(|solid| reference_hit(solid, r))
+            .min_by(f64::total_cmp)
     })
 }
 

@@ -83,14 +83,7 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         sweep::FOV_DEGREES
     );
     scene.camera = camera(1.0)?;
-    let mut screen_series: Vec<Series> = LODS
-        .iter()
-        .map(|(_, name)| Series {
-            label: (*name).into(),
-            points: Vec::new(),
-            point_labels: Vec::new(),
-        })
-        .collect();
+    let mut screen_series = empty_series();
     for side in SCREENS {
         eprintln!("terrain-scaling: screen {side}²");
         (scene.width, scene.height) = (side, side);
@@ -120,14 +113,7 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         (sweep::EYE - sweep::TARGET).length()
     );
     (scene.width, scene.height) = (DISTANCE_SCREEN, DISTANCE_SCREEN);
-    let mut distance_series: Vec<Series> = LODS
-        .iter()
-        .map(|(_, name)| Series {
-            label: (*name).into(),
-            points: Vec::new(),
-            point_labels: Vec::new(),
-        })
-        .collect();
+    let mut distance_series = empty_series();
     for k in DISTANCES {
         eprintln!("terrain-scaling: distance × {k}");
         scene.camera = camera(k)?;
@@ -166,4 +152,15 @@ pub fn run(repeats: usize) -> Result<(String, Vec<LinePlot>), String> {
         },
     ];
     Ok((md, plots))
+}
+
+/// One empty series per level-of-detail setting, in `LODS` order.
+fn empty_series() -> Vec<Series> {
+    LODS.iter()
+        .map(|(_, name)| Series {
+            label: (*name).into(),
+            points: Vec::new(),
+            point_labels: Vec::new(),
+        })
+        .collect()
 }

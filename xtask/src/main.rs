@@ -17,6 +17,7 @@ mod datasize;
 mod datasize_plot;
 mod hausdorff;
 mod package;
+mod parallel;
 mod plot_font;
 mod polygonise;
 mod regress;

@@ -114,13 +114,7 @@ impl Sweep {
 
     /// Writes `<name>.csv`, `<name>.svg` and `<name>.png` under `dir`; returns the paths.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, String> {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        let [csv, svg, png] = ["csv", "svg", "png"].map(|e| dir.join(format!("{}.{e}", self.name)));
-        std::fs::write(&csv, self.csv())
-            .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-        write_plot(self, &svg, &png)?;
-        Ok(vec![csv, svg, png])
+        write_files(self, &self.name, &self.csv(), dir)
     }
 }
 
@@ -166,13 +160,7 @@ impl LinePlot {
 
     /// Writes `<name>.csv`, `<name>.svg` and `<name>.png` under `dir`; returns the paths.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, String> {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        let [csv, svg, png] = ["csv", "svg", "png"].map(|e| dir.join(format!("{}.{e}", self.name)));
-        std::fs::write(&csv, self.csv())
-            .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-        write_plot(self, &svg, &png)?;
-        Ok(vec![csv, svg, png])
+        write_files(self, &self.name, &self.csv(), dir)
     }
 }
 
@@ -202,6 +190,22 @@ impl Chart for LinePlot {
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         draw_lines(self, root)
     }
+}
+
+/// Writes `csv` as `<name>.csv` and `chart` as `<name>.svg` and `<name>.png` under `dir`;
+/// returns the paths.
+fn write_files(
+    chart: &impl Chart,
+    name: &str,
+    csv: &str,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let [csv_path, svg, png] = ["csv", "svg", "png"].map(|e| dir.join(format!("{name}.{e}")));
+    std::fs::write(&csv_path, csv)
+        .map_err(|e| format!("cannot write {}: {e}", csv_path.display()))?;
+    write_plot(chart, &svg, &png)?;
+    Ok(vec![csv_path, svg, png])
 }
 
 fn write_plot(chart: &impl Chart, svg: &Path, png: &Path) -> Result<(), String> {
