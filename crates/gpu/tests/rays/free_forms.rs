@@ -4,12 +4,13 @@
 
 use crate::Backend;
 use crate::backend::{CaseRay, Tolerance};
-use crate::cases::{bisect, camera_rays, data_scene, far_rays};
+use crate::cases::{camera_rays, data_scene, far_rays};
 use crate::cpu::Cpu;
 use crate::gpu::{Gpu, relative_rays};
 use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster, Solid};
 use fray_gpu::testing::FreeFormBatch;
+use fray_test_support::roots::inside_spans;
 use glam::DVec3;
 
 /// What a backend found on a ray through free forms.
@@ -147,27 +148,16 @@ fn reference_spans(solids: &[&Solid], r: &CaseRay, step: f64) -> Vec<(f64, f64)>
         let step = step.max(bounds.diagonal() / SAMPLES);
         let n = ((range.hi - range.lo) / step).ceil().max(1.0) as usize;
         let h = (range.hi - range.lo) / n as f64;
-        let mut prev = (range.lo, f(range.lo));
-        let mut entry = (prev.1 >= 0.0).then_some(range.lo);
-        for k in 1..=n {
-            let t = if k == n {
-                range.hi
-            } else {
-                range.lo + h * k as f64
-            };
-            let v = f(t);
-            if (v >= 0.0) != (prev.1 >= 0.0) {
-                let edge = bisect(&f, prev.0, t);
-                match entry.take() {
-                    Some(a) => spans.push((a, edge)),
-                    None => entry = Some(edge),
+        let ts: Vec<f64> = (0..=n)
+            .map(|k| {
+                if k == n {
+                    range.hi
+                } else {
+                    range.lo + h * k as f64
                 }
-            }
-            prev = (t, v);
-        }
-        if let Some(a) = entry {
-            spans.push((a, range.hi));
-        }
+            })
+            .collect();
+        spans.extend(inside_spans(&f, &ts));
     }
     spans.sort_by(|a, b| a.0.total_cmp(&b.0));
     spans

@@ -9,7 +9,7 @@ use crate::cpu::Cpu;
 use crate::gpu::Gpu;
 use fray_atmosphere::gpu_layout::{GpuSky, GpuSkyOptions};
 use fray_atmosphere::sky::{Sky, SkyView};
-use fray_gpu::testing::{GpuSkyQuery, SkyBatch, SkySeen};
+use fray_gpu::testing::{GpuSkyQuery, SkyBatch, SkySeen, sky_query};
 use glam::DVec3;
 
 /// How a sky is drawn: aerial-perspective steps and whether the background holds the sun's disc.
@@ -145,15 +145,9 @@ impl SkyBackend for Gpu {
             transmittance: sky.transmittance_table(),
             view: view.table(),
         };
-        let f = |v: DVec3| v.as_vec3();
         let gpu_queries: Vec<GpuSkyQuery> = queries
             .iter()
-            .map(|q| {
-                let (o, d, p) = (f(q.origin), f(q.dir), f(q.point));
-                let t = q.t.min(1e30) as f32;
-                let (h, mu) = (q.table.0 as f32, q.table.1 as f32);
-                [[o.x, o.y, o.z, t], [d.x, d.y, d.z, h], [p.x, p.y, p.z, mu]]
-            })
+            .map(|q| sky_query(q.origin, q.dir, q.t, q.point, q.table))
             .collect();
         let rgb = |v: [f32; 3]| DVec3::from(v.map(f64::from));
         batch
