@@ -20,6 +20,14 @@ pub fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     if inside_a { a } else { b }
 }
 
+/// `n + 1` evenly spaced samples of `[lo, hi]`, the last exactly `hi` (`n ≥ 1`).
+pub fn samples(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    let h = (hi - lo) / n as f64;
+    (0..=n)
+        .map(|k| if k == n { hi } else { lo + h * k as f64 })
+        .collect()
+}
+
 /// The spans where `f ≥ 0` over the increasing samples `ts` (at least one), each sign change
 /// between neighbours bisected; a span still open at the last sample ends there.
 pub fn inside_spans(f: &impl Fn(f64) -> f64, ts: &[f64]) -> Vec<(f64, f64)> {
@@ -51,8 +59,7 @@ mod tests {
     /// bisection's tolerance (closed form, not the same search).
     #[test]
     fn a_chord_of_the_unit_ball() {
-        let ts: Vec<f64> = (0..=7).map(|k| -3.0 + 6.0 * f64::from(k) / 7.0).collect();
-        let spans = inside_spans(&|x: f64| 1.0 - x * x, &ts);
+        let spans = inside_spans(&|x: f64| 1.0 - x * x, &samples(-3.0, 3.0, 7));
         assert_eq!(spans.len(), 1);
         assert!((spans[0].0 + 1.0).abs() < 1e-11 && (spans[0].1 - 1.0).abs() < 1e-11);
         // Inside at the last sample: the span ends there.

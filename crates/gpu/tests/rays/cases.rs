@@ -72,3 +72,13 @@ pub fn direction(elevation: f64, azimuth: f64) -> DVec3 {
     let (e, a) = (elevation.to_radians(), azimuth.to_radians());
     DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin())
 }
+
+/// Fails where any of `backend`'s `what` rays are off, with up to four of them.
+pub fn assert_none_off<T: std::fmt::Debug>(backend: &str, what: &str, failures: &[T]) {
+    assert!(
+        failures.is_empty(),
+        "{backend}: {} {what} rays off, e.g. {:?}",
+        failures.len(),
+        &failures[..failures.len().min(4)]
+    );
+}

@@ -303,51 +303,47 @@ pub mod parity {
     /// distances near 11.5 km; at most 0.27 of this bound, elsewhere far less.
     const REL: f64 = 5e-5;
 
+    /// A layer from `base` to `top` with the default albedo.
+    fn layer(base: f64, top: f64, extinction: f64, falloff: Option<f64>, phase: Phase) -> FogLayer {
+        FogLayer {
+            base,
+            top,
+            extinction,
+            falloff,
+            phase,
+            ..FogLayer::default()
+        }
+    }
+
     fn layers() -> Vec<(&'static str, FogLayer)> {
         vec![
             (
                 "homogeneous 400 m, HG 0.76",
-                FogLayer {
-                    base: 0.0,
-                    top: 400.0,
-                    extinction: 1.2e-3,
-                    falloff: None,
-                    phase: Phase::HenyeyGreenstein { g: 0.76 },
-                    ..FogLayer::default()
-                },
+                layer(
+                    0.0,
+                    400.0,
+                    1.2e-3,
+                    None,
+                    Phase::HenyeyGreenstein { g: 0.76 },
+                ),
             ),
             (
                 "falloff 30 m in 100 m, isotropic",
-                FogLayer {
-                    base: 0.0,
-                    top: 100.0,
-                    extinction: 2e-2,
-                    falloff: Some(30.0),
-                    phase: Phase::Isotropic,
-                    ..FogLayer::default()
-                },
+                layer(0.0, 100.0, 2e-2, Some(30.0), Phase::Isotropic),
             ),
             (
                 "valley fog 1 km below, falloff 150 m, printed 0.5",
-                FogLayer {
-                    base: -1100.0,
-                    top: -700.0,
-                    extinction: 1.2e-3,
-                    falloff: Some(150.0),
-                    phase: Phase::Printed { g: 0.5 },
-                    ..FogLayer::default()
-                },
+                layer(
+                    -1100.0,
+                    -700.0,
+                    1.2e-3,
+                    Some(150.0),
+                    Phase::Printed { g: 0.5 },
+                ),
             ),
             (
                 "thin dense slab, HG −0.3",
-                FogLayer {
-                    base: 20.0,
-                    top: 22.5,
-                    extinction: 0.05,
-                    falloff: None,
-                    phase: Phase::HenyeyGreenstein { g: -0.3 },
-                    ..FogLayer::default()
-                },
+                layer(20.0, 22.5, 0.05, None, Phase::HenyeyGreenstein { g: -0.3 }),
             ),
         ]
     }

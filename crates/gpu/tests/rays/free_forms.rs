@@ -10,7 +10,7 @@ use crate::gpu::{Gpu, relative_rays};
 use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster, Solid};
 use fray_gpu::testing::FreeFormBatch;
-use fray_test_support::roots::inside_spans;
+use fray_test_support::roots::{inside_spans, samples};
 use glam::DVec3;
 
 /// What a backend found on a ray through free forms.
@@ -147,17 +147,7 @@ fn reference_spans(solids: &[&Solid], r: &CaseRay, step: f64) -> Vec<(f64, f64)>
         let f = |t: f64| solid.eval(r.ray.at(t));
         let step = step.max(bounds.diagonal() / SAMPLES);
         let n = ((range.hi - range.lo) / step).ceil().max(1.0) as usize;
-        let h = (range.hi - range.lo) / n as f64;
-        let ts: Vec<f64> = (0..=n)
-            .map(|k| {
-                if k == n {
-                    range.hi
-                } else {
-                    range.lo + h * k as f64
-                }
-            })
-            .collect();
-        spans.extend(inside_spans(&f, &ts));
+        spans.extend(inside_spans(&f, &samples(range.lo, range.hi, n)));
     }
     spans.sort_by(|a, b| a.0.total_cmp(&b.0));
     spans

@@ -4,7 +4,7 @@
 
 use crate::Backend;
 use crate::backend::{CaseRay, Tolerance};
-use crate::cases::{bisect, camera_rays, data_scene, far_rays};
+use crate::cases::{assert_none_off, bisect, camera_rays, data_scene, far_rays};
 use crate::cpu::Cpu;
 use crate::gpu::{Gpu, relative_rays};
 use fray_core::PixelFootprint;
@@ -256,13 +256,7 @@ pub fn suite(backend: &dyn Backend) {
          depth {worst_depth:.3e} of its bound, worst normal {worst_normal:.2e}",
         backend.name()
     );
-    assert!(
-        failures.is_empty(),
-        "{}: {} terrain rays off, e.g. {:?}",
-        backend.name(),
-        failures.len(),
-        &failures[..failures.len().min(4)]
-    );
+    assert_none_off(backend.name(), "terrain", &failures);
 }
 
 pub mod parity {

@@ -38,7 +38,7 @@ use fray_geometry::{FreeForm, Perturbation, Quadric, Shape, Sheets, Solid};
 use fray_gpu::testing::{FreeFormBatch, GpuFreeFormHit};
 use fray_gpu::{EPSILON_FLOOR, GpuContext};
 use fray_test_support::Rng;
-use fray_test_support::roots::inside_spans;
+use fray_test_support::roots::{inside_spans, samples};
 use glam::{DAffine3, DMat3, DQuat, DVec3, EulerRot};
 use std::fmt;
 
@@ -513,16 +513,7 @@ fn reference_spans(prep: &Prepared, shot: &Shot) -> Vec<(f64, f64)> {
     let n = ((range.hi - range.lo) / (prep.size / SAMPLES))
         .ceil()
         .max(1.0) as usize;
-    let h = (range.hi - range.lo) / n as f64;
-    let mut ts: Vec<f64> = (0..=n)
-        .map(|k| {
-            if k == n {
-                range.hi
-            } else {
-                range.lo + h * k as f64
-            }
-        })
-        .collect();
+    let mut ts = samples(range.lo, range.hi, n);
     if range.contains(shot.target) {
         ts.push(shot.target);
         ts.sort_by(f64::total_cmp);
