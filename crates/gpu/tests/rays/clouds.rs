@@ -36,7 +36,7 @@ pub struct CloudAnswer {
 }
 
 /// The clouds the queries of a call see: `volume` lit by `light`, marched at `settings`;
-/// `reference` as for [`crate::free_forms::FreeFormBackend::free_forms`].
+/// `reference` as for [`crate::free_forms::FreeFormsSeen`].
 #[derive(Clone, Copy, Debug)]
 pub struct CloudsSeen<'a> {
     pub volume: &'a GridVolume,

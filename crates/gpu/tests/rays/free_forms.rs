@@ -35,18 +35,20 @@ pub struct Bounds {
     pub normal: f64,
 }
 
+/// The free forms the rays of a call see, cast with the tolerances `tol`.
+#[derive(Clone, Copy, Debug)]
+pub struct FreeFormsSeen<'a> {
+    pub solids: &'a [&'a Solid],
+    /// The point a backend that works relative to one (the GPU) takes positions from.
+    pub reference: DVec3,
+    pub tol: &'a Tolerance,
+}
+
 /// What a backend of the suite answers for free forms.
 pub trait FreeFormBackend {
     fn bounds(&self) -> Bounds;
-    /// Nearest hit over `solids`, its normal and the any-hit answer, for each ray; `reference`
-    /// is the point a backend that works relative to one (the GPU) takes positions from.
-    fn free_forms(
-        &self,
-        solids: &[&Solid],
-        reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-    ) -> Vec<Answer>;
+    /// Nearest hit over `seen.solids`, its normal and the any-hit answer, for each ray.
+    fn free_forms(&self, seen: FreeFormsSeen<'_>, rays: &[CaseRay]) -> Vec<Answer>;
 }
 
 impl FreeFormBackend for Cpu {
@@ -64,13 +66,8 @@ impl FreeFormBackend for Cpu {
         }
     }
 
-    fn free_forms(
-        &self,
-        solids: &[&Solid],
-        _reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-    ) -> Vec<Answer> {
+    fn free_forms(&self, seen: FreeFormsSeen<'_>, rays: &[CaseRay]) -> Vec<Answer> {
+        let FreeFormsSeen { solids, tol, .. } = seen;
         let mut caster = RayCaster::new();
         let mut stats = CastStats::default();
         rays.iter()
@@ -111,13 +108,12 @@ impl FreeFormBackend for Gpu {
         }
     }
 
-    fn free_forms(
-        &self,
-        solids: &[&Solid],
-        reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-    ) -> Vec<Answer> {
+    fn free_forms(&self, seen: FreeFormsSeen<'_>, rays: &[CaseRay]) -> Vec<Answer> {
+        let FreeFormsSeen {
+            solids,
+            reference,
+            tol,
+        } = seen;
         let ctx = self.context();
         let batch = FreeFormBatch::new(ctx, solids, reference).unwrap_or_else(|e| panic!("{e}"));
         let hits = batch
@@ -180,7 +176,14 @@ fn cases(name: &str, width: u32) -> Vec<Case> {
     let reference = fray_gpu::params::reference_point(&scene.camera);
     let camera = camera_rays(&scene, width, height);
     // Grazing rays: through each hit's neighbourhood along the tangent plane, just outside.
-    let hits = Cpu.free_forms(&refs, reference, &camera, &tol);
+    let hits = Cpu.free_forms(
+        FreeFormsSeen {
+            solids: &refs,
+            reference,
+            tol: &tol,
+        },
+        &camera,
+    );
     let mut grazing = Vec::new();
     for (r, a) in camera.iter().zip(&hits) {
         let Some(t) = a.t else { continue };
@@ -243,7 +246,14 @@ pub fn suite(backend: &dyn Backend) {
     for name in ["csg.ron", "turboprop.ron"] {
         for case in cases(name, 48) {
             let solids: Vec<&Solid> = case.solids.iter().collect();
-            let answers = backend.free_forms(&solids, case.reference, &case.rays, &case.tol);
+            let answers = backend.free_forms(
+                FreeFormsSeen {
+                    solids: &solids,
+                    reference: case.reference,
+                    tol: &case.tol,
+                },
+                &case.rays,
+            );
             let mut f = Failures::default();
             for (r, a) in case.rays.iter().zip(&answers) {
                 check_ray(&solids, r, a, &case, &bounds, &mut f);

@@ -23,7 +23,7 @@ pub struct TerrainAnswer {
 
 /// The terrain the rays of a call see: `terrain` with the pixel footprint `footprint` (`ZERO`:
 /// exact), the backend's ε of `tol` as the bicubic root tolerance; `reference` as for
-/// [`crate::free_forms::FreeFormBackend::free_forms`].
+/// [`crate::free_forms::FreeFormsSeen`].
 #[derive(Clone, Copy, Debug)]
 pub struct TerrainSeen<'a> {
     pub terrain: &'a Terrain,
