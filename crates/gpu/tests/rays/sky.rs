@@ -91,12 +91,7 @@ pub trait SkyBackend {
 
 impl SkyBackend for Cpu {
     fn sky(&self, seen: SkySeenFrom<'_>, queries: &[SkyQuery]) -> Vec<SkyAnswer> {
-        let SkySeenFrom {
-            sky,
-            view,
-            options,
-            eye,
-        } = seen;
+        let (sky, view, options, eye) = (seen.sky, seen.view, seen.options, seen.eye);
         let ground = sky.model().ground_radius;
         queries
             .iter()
@@ -123,12 +118,7 @@ impl SkyBackend for Cpu {
 
 impl SkyBackend for Gpu {
     fn sky(&self, seen: SkySeenFrom<'_>, queries: &[SkyQuery]) -> Vec<SkyAnswer> {
-        let SkySeenFrom {
-            sky,
-            view,
-            options,
-            eye,
-        } = seen;
+        let (sky, view, options, eye) = (seen.sky, seen.view, seen.options, seen.eye);
         let ctx = self.context();
         let gpu_options = GpuSkyOptions {
             sun_disc: options.sun_disc,
