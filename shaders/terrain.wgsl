@@ -480,10 +480,7 @@ fn bicubic_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip:
     var stack: array<vec4<f32>, TERRAIN_BICUBIC_STACK>;
     stack[0] = vec4<f32>(span.lo_t, span.hi_t, f_lo.x, bspline_f(p, span.s0, span.w0, span.start.z, d, span.hi_t).x);
     var len = 1u;
-    loop {
-        if (len == 0u) {
-            break;
-        }
+    while (len > 0u) {
         len -= 1u;
         let seg = stack[len];
         let mid = 0.5 * (seg.x + seg.y);
@@ -602,10 +599,7 @@ fn cast_terrain(k: u32, origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32,
     var stack: array<vec2<f32>, TERRAIN_STACK>;
     stack[0] = vec2<f32>(c.t0, c.t1);
     var len = 1u;
-    loop {
-        if (len == 0u) {
-            break;
-        }
+    while (len > 0u) {
         len -= 1u;
         let seg = stack[len];
         terrain_segments += counted;
