@@ -300,14 +300,40 @@ fn entry_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, c: Clip, t: f32, i: u32
     return h;
 }
 
-// First hit on bilinear cell (i, j) within [ta, tb] ∩ the cell column (inside `clip`).
-fn cell_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip: Clip, ta: f32, tb: f32) -> TerrainHit {
+// The ray in cell (i, j)'s column (the cell's square, the terrain's height range) within `clip`:
+// the clip `c`, the ray's point `start` there (at c.t0) with its offsets `s0`, `w0` in the cell,
+// and [ta, tb] within it — from `a`, and as [lo_t, hi_t] from c.t0; `empty` where they do not meet.
+struct CellSpan {
+    c: Clip,
+    a: f32,
+    lo_t: f32,
+    hi_t: f32,
+    start: vec3<f32>,
+    s0: f32,
+    w0: f32,
+    empty: bool,
+}
+
+fn cell_span(o: vec3<f32>, d: vec3<f32>, i: u32, j: u32, clip: Clip, ta: f32, tb: f32) -> CellSpan {
     let lo = vec3<f32>(f32(i), f32(j), T.heights.x);
     let hi = vec3<f32>(f32(i + 1u), f32(j + 1u), T.heights.y);
-    let c = clip_within(o, d, lo, hi, clip);
-    let a = max(c.t0, ta);
-    let b = min(c.t1, tb);
-    if (c.t0 > c.t1 || a > b) {
+    var s: CellSpan;
+    s.c = clip_within(o, d, lo, hi, clip);
+    s.a = max(s.c.t0, ta);
+    let b = min(s.c.t1, tb);
+    s.empty = s.c.t0 > s.c.t1 || s.a > b;
+    s.start = o + d * s.c.t0;
+    s.s0 = s.start.x - f32(i);
+    s.w0 = s.start.y - f32(j);
+    s.lo_t = s.a - s.c.t0;
+    s.hi_t = b - s.c.t0;
+    return s;
+}
+
+// First hit on bilinear cell (i, j) within [ta, tb] ∩ the cell column (inside `clip`).
+fn cell_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip: Clip, ta: f32, tb: f32) -> TerrainHit {
+    let span = cell_span(o, d, i, j, clip, ta, tb);
+    if (span.empty) {
         return terrain_miss();
     }
     let h00 = sample(i, j);
@@ -317,23 +343,18 @@ fn cell_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip: Cl
     let ka = h10 - h00;
     let kb = h01 - h00;
     let kk = h00 - h10 - h01 + h11;
-    let start = o + d * c.t0;
-    let s0 = start.x - f32(i);
-    let w0 = start.y - f32(j);
     let qa = -kk * d.x * d.y;
-    let qb = d.z - (ka * d.x + kb * d.y + kk * (s0 * d.y + w0 * d.x));
-    let qc = start.z - (h00 + ka * s0 + kb * w0 + kk * s0 * w0);
-    let lo_t = a - c.t0;
-    let hi_t = b - c.t0;
-    let f_lo = (qa * lo_t + qb) * lo_t + qc;
+    let qb = d.z - (ka * d.x + kb * d.y + kk * (span.s0 * d.y + span.w0 * d.x));
+    let qc = span.start.z - (h00 + ka * span.s0 + kb * span.w0 + kk * span.s0 * span.w0);
+    let f_lo = (qa * span.lo_t + qb) * span.lo_t + qc;
     if (f_lo <= 0.0) {
-        return entry_hit(o, d, dir, c, a, i, j);
+        return entry_hit(o, d, dir, span.c, span.a, i, j);
     }
     var tau = -1.0;
     if (qa == 0.0) {
         if (qb < 0.0) {
             let r = -qc / qb;
-            if (r >= lo_t && r <= hi_t) {
+            if (r >= span.lo_t && r <= span.hi_t) {
                 tau = r;
             }
         }
@@ -348,9 +369,9 @@ fn cell_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip: Cl
                 r1 = r2;
                 r2 = tmp;
             }
-            if (r1 >= lo_t && r1 <= hi_t) {
+            if (r1 >= span.lo_t && r1 <= span.hi_t) {
                 tau = r1;
-            } else if (r2 >= lo_t && r2 <= hi_t) {
+            } else if (r2 >= span.lo_t && r2 <= span.hi_t) {
                 tau = r2;
             }
         }
@@ -358,10 +379,10 @@ fn cell_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip: Cl
     if (tau < 0.0) {
         return terrain_miss();
     }
-    let s = clamp(s0 + tau * d.x, 0.0, 1.0);
-    let w = clamp(w0 + tau * d.y, 0.0, 1.0);
+    let s = clamp(span.s0 + tau * d.x, 0.0, 1.0);
+    let w = clamp(span.w0 + tau * d.y, 0.0, 1.0);
     var h: TerrainHit;
-    h.t = c.t0 + tau;
+    h.t = span.c.t0 + tau;
     h.normal = surface_normal(ka + kk * w, kb + kk * s);
     h.kind = HIT_SURFACE;
     h.levels_above = 0u;
@@ -425,24 +446,14 @@ fn bspline_illinois(p: array<vec4<f32>, 4>, s0: f32, w0: f32, r0: f32, d: vec3<f
 // First hit on bicubic cell (i, j) within [ta, tb] ∩ the cell column (fray_terrain's cell_hit
 // and bicubic_root).
 fn bicubic_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip: Clip, ta: f32, tb: f32, eps_in: f32) -> TerrainHit {
-    let lo = vec3<f32>(f32(i), f32(j), T.heights.x);
-    let hi = vec3<f32>(f32(i + 1u), f32(j + 1u), T.heights.y);
-    let c = clip_within(o, d, lo, hi, clip);
-    let a0 = max(c.t0, ta);
-    let b0 = min(c.t1, tb);
-    if (c.t0 > c.t1 || a0 > b0) {
+    let span = cell_span(o, d, i, j, clip, ta, tb);
+    if (span.empty) {
         return terrain_miss();
     }
     let p = control_points(i, j);
-    let start = o + d * c.t0;
-    let s0 = start.x - f32(i);
-    let w0 = start.y - f32(j);
-    let r0 = start.z;
-    let lo_t = a0 - c.t0;
-    let hi_t = b0 - c.t0;
-    let f_lo = bspline_f(p, s0, w0, r0, d, lo_t);
+    let f_lo = bspline_f(p, span.s0, span.w0, span.start.z, d, span.lo_t);
     if (f_lo.x <= 0.0) {
-        return entry_hit(o, d, dir, c, a0, i, j);
+        return entry_hit(o, d, dir, span.c, span.a, i, j);
     }
     // Slope bounds (first and second differences), as in fray_terrain::BicubicCell.
     var d1 = vec2<f32>(0.0);
@@ -464,33 +475,30 @@ fn bicubic_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip:
     }
     let k1 = abs(d.z) + d1.x * abs(d.x) + d1.y * abs(d.y);
     let k2 = d2.x * d.x * d.x + 2.0 * d2.y * abs(d.x * d.y) + d2.z * d.y * d.y;
-    let eps = max(eps_in, 8.0 * F32_EPS * (abs(lo_t) + abs(hi_t)));
+    let eps = max(eps_in, 8.0 * F32_EPS * (abs(span.lo_t) + abs(span.hi_t)));
     var root = -1.0;
     var stack: array<vec4<f32>, TERRAIN_BICUBIC_STACK>;
-    stack[0] = vec4<f32>(lo_t, hi_t, f_lo.x, bspline_f(p, s0, w0, r0, d, hi_t).x);
+    stack[0] = vec4<f32>(span.lo_t, span.hi_t, f_lo.x, bspline_f(p, span.s0, span.w0, span.start.z, d, span.hi_t).x);
     var len = 1u;
-    loop {
-        if (len == 0u) {
-            break;
-        }
+    while (len > 0u) {
         len -= 1u;
         let seg = stack[len];
         let mid = 0.5 * (seg.x + seg.y);
         let half = 0.5 * (seg.y - seg.x);
-        let fm = bspline_f(p, s0, w0, r0, d, mid);
+        let fm = bspline_f(p, span.s0, span.w0, span.start.z, d, mid);
         let monotone = abs(fm.y) > k2 * half;
         // No wider than the tolerance (or, never at a normal tolerance, out of stack).
         let small = seg.y - seg.x <= eps || len + 2u > TERRAIN_BICUBIC_STACK;
         if (seg.w <= 0.0) {
             if (monotone || small) {
-                root = bspline_illinois(p, s0, w0, r0, d, seg.x, seg.y, seg.z, seg.w, eps);
+                root = bspline_illinois(p, span.s0, span.w0, span.start.z, d, seg.x, seg.y, seg.z, seg.w, eps);
                 break;
             }
         } else if (fm.x - k1 * half > 0.0 || monotone) {
             continue;
         } else if (small) {
             if (fm.x <= 0.0) {
-                root = bspline_illinois(p, s0, w0, r0, d, seg.x, mid, seg.z, fm.x, eps);
+                root = bspline_illinois(p, span.s0, span.w0, span.start.z, d, seg.x, mid, seg.z, fm.x, eps);
                 break;
             }
             continue;
@@ -502,9 +510,9 @@ fn bicubic_hit(o: vec3<f32>, d: vec3<f32>, dir: vec3<f32>, i: u32, j: u32, clip:
     if (root < 0.0) {
         return terrain_miss();
     }
-    let g = bspline_f(p, s0, w0, r0, d, root);
+    let g = bspline_f(p, span.s0, span.w0, span.start.z, d, root);
     var h: TerrainHit;
-    h.t = c.t0 + root;
+    h.t = span.c.t0 + root;
     h.normal = surface_normal(g.z, g.w);
     h.kind = HIT_SURFACE;
     h.levels_above = 0u;
@@ -591,10 +599,7 @@ fn cast_terrain(k: u32, origin: vec3<f32>, dir: vec3<f32>, t_lo: f32, t_hi: f32,
     var stack: array<vec2<f32>, TERRAIN_STACK>;
     stack[0] = vec2<f32>(c.t0, c.t1);
     var len = 1u;
-    loop {
-        if (len == 0u) {
-            break;
-        }
+    while (len > 0u) {
         len -= 1u;
         let seg = stack[len];
         terrain_segments += counted;

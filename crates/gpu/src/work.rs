@@ -282,6 +282,19 @@ mod tests {
         solids
     }
 
+    /// `s`'s free forms flattened and its culled work list at the scene's own camera.
+    fn culled(s: &Scene) -> (GpuSolids, GpuWork) {
+        let solids = flat(s);
+        let w = GpuWork::culled(
+            s,
+            (&s.camera, s.width, s.height),
+            &solids,
+            &QuadtreeConfig::new(TILE),
+        )
+        .unwrap();
+        (solids, w)
+    }
+
     /// Reads word `k` of the GPU's `indices` (scene programs, then the work list's words).
     fn word(solids: &GpuSolids, w: &GpuWork, k: u32) -> u32 {
         let head = solids.program.len() as u32;
@@ -295,14 +308,7 @@ mod tests {
     #[test]
     fn culled_items_keep_the_schedulers_tiles_and_index_the_gpu_array() {
         let s = scene();
-        let solids = flat(&s);
-        let w = GpuWork::culled(
-            &s,
-            (&s.camera, s.width, s.height),
-            &solids,
-            &QuadtreeConfig::new(TILE),
-        )
-        .unwrap();
+        let (solids, w) = culled(&s);
         assert!(!w.items.is_empty() && w.stats.is_some());
         assert!(w.items.windows(2).all(|p| p[0].y0 <= p[1].y0));
         for (c_index, c) in w.candidates.iter().enumerate() {
@@ -341,14 +347,7 @@ mod tests {
         let mut s = fray_scene::load(std::path::Path::new(path)).unwrap();
         (s.width, s.height) = (64, 36);
         let list = fray_scene::work_list(&s, TILE).unwrap();
-        let solids = flat(&s);
-        let w = GpuWork::culled(
-            &s,
-            (&s.camera, s.width, s.height),
-            &solids,
-            &QuadtreeConfig::new(TILE),
-        )
-        .unwrap();
+        let (solids, w) = culled(&s);
         let terrain = PrimitiveKind::Terrain.code();
         let kept = list
             .items
@@ -383,14 +382,7 @@ mod tests {
         );
         let s = fray_scene::parse(&text, "meshes.ron").unwrap();
         assert_eq!((s.objects.len(), s.meshes.len()), (1, 2));
-        let solids = flat(&s);
-        let w = GpuWork::culled(
-            &s,
-            (&s.camera, s.width, s.height),
-            &solids,
-            &QuadtreeConfig::new(TILE),
-        )
-        .unwrap();
+        let (solids, w) = culled(&s);
         let mesh = PrimitiveKind::Mesh.code();
         let listed: Vec<u32> = w
             .candidates

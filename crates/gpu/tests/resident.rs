@@ -166,15 +166,7 @@ fn a_second_frame_builds_no_pipeline_and_uploads_no_scene() {
         let mut at_moved = scene.clone();
         at_moved.camera = view2.camera;
         let fresh = gpu.render(&at_moved, &settings).unwrap();
-        let mut worst = 0.0f64;
-        let mut flips = 0;
-        for (a, b) in second.depth.pixels().iter().zip(fresh.depth.pixels()) {
-            if a.is_finite() != b.is_finite() {
-                flips += 1;
-            } else if a.is_finite() {
-                worst = worst.max((a - b).abs() / b.max(1e-9));
-            }
-        }
+        let (flips, worst) = depth_differences(&second, &fresh);
         let pixels = second.depth.pixels().len();
         assert!(flips * 200 <= pixels, "{name}: {flips} hit/miss flips");
         assert!(worst < 1e-4, "{name}: relative depth difference {worst:e}");
@@ -656,15 +648,7 @@ fn a_moved_camera_rewrites_only_the_mesh_instance_blocks() {
         if scene.objects.is_empty() {
             assert_eq!(bits(&second), bits(&fresh), "{name}: a fresh upload");
         } else {
-            let mut flips = 0;
-            let mut worst = 0.0f64;
-            for (a, b) in second.depth.pixels().iter().zip(fresh.depth.pixels()) {
-                if a.is_finite() != b.is_finite() {
-                    flips += 1;
-                } else if a.is_finite() {
-                    worst = worst.max((a - b).abs() / b.max(1e-9));
-                }
-            }
+            let (flips, worst) = depth_differences(&second, &fresh);
             let pixels = second.depth.pixels().len();
             eprintln!("{name}: moved vs fresh: {flips} flips, depth within {worst:e}");
             assert!(flips * 200 <= pixels && worst < 1e-4, "{name}");
@@ -722,4 +706,19 @@ fn main() {
         ],
         &[],
     );
+}
+
+/// Hit/miss flips between `a` and `b`, and the largest relative depth difference where both
+/// hit (relative to `b`).
+fn depth_differences(a: &fray_core::Frame, b: &fray_core::Frame) -> (usize, f64) {
+    let mut flips = 0;
+    let mut worst = 0.0f64;
+    for (a, b) in a.depth.pixels().iter().zip(b.depth.pixels()) {
+        if a.is_finite() != b.is_finite() {
+            flips += 1;
+        } else if a.is_finite() {
+            worst = worst.max((a - b).abs() / b.max(1e-9));
+        }
+    }
+    (flips, worst)
 }

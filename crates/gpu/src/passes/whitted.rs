@@ -24,13 +24,19 @@ pub use crate::params::MAX_SHADOW_CROSSINGS;
 /// the band halved, when a frame's queue overflows.
 pub const QUEUE_SLOTS_PER_RAY: u32 = 2;
 
+/// A step of the queue between levels: one invocation that reads and moves the queue's
+/// counters and writes the next pass's indirect dispatch.
+const fn queue_step(label: &'static str, entry: &'static str) -> PassSpec {
+    PassSpec {
+        label,
+        entry,
+        roles: &[Role::Frame, Role::Queue],
+        workload: Workload::Single,
+    }
+}
+
 /// Makes the level the level before spawned current, and writes its indirect dispatch.
-pub const FORWARD: PassSpec = PassSpec {
-    label: "whitted forward",
-    entry: "queue_forward.wgsl",
-    roles: &[Role::Frame, Role::Queue],
-    workload: Workload::Single,
-};
+pub const FORWARD: PassSpec = queue_step("whitted forward", "queue_forward.wgsl");
 /// Intersects the current level with every primitive kind (dispatched indirectly).
 pub const INTERSECT: PassSpec = PassSpec {
     label: "whitted intersect",
@@ -39,12 +45,7 @@ pub const INTERSECT: PassSpec = PassSpec {
     workload: Workload::Rays,
 };
 /// Makes a level's parents current for the gather.
-pub const SELECT_PARENTS: PassSpec = PassSpec {
-    label: "whitted parents",
-    entry: "queue_gather.wgsl",
-    roles: &[Role::Frame, Role::Queue],
-    workload: Workload::Single,
-};
+pub const SELECT_PARENTS: PassSpec = queue_step("whitted parents", "queue_gather.wgsl");
 /// Adds each level's radiance to its parents, weighted by `kr` or `kt` (dispatched indirectly).
 pub const GATHER: PassSpec = PassSpec {
     label: "whitted gather",
@@ -53,12 +54,7 @@ pub const GATHER: PassSpec = PassSpec {
     workload: Workload::Rays,
 };
 /// Only with media: makes the level being gathered current for the media pass.
-pub const SELECT_LEVEL: PassSpec = PassSpec {
-    label: "whitted level",
-    entry: "queue_level.wgsl",
-    roles: &[Role::Frame, Role::Queue],
-    workload: Workload::Single,
-};
+pub const SELECT_LEVEL: PassSpec = queue_step("whitted level", "queue_level.wgsl");
 
 /// Whitted's queue passes, with the shade and media passes they run again per level.
 #[derive(Debug)]

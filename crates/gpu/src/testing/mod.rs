@@ -18,7 +18,7 @@ pub use clouds::{CloudsBatch, GpuCloudRay, GpuCloudTerms};
 pub use fog::{FogBatch, GpuFogRay, GpuFogTerms};
 pub use freeform::{FreeFormBatch, GpuFreeFormHit};
 pub use mesh::{GpuMeshHit, MeshBatch};
-pub use sky::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkySeen};
+pub use sky::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkySeen, sky_query};
 pub use terrain::{GpuRay, GpuTerrainHit, TerrainBatch};
 
 /// Every batch kernel.

@@ -29,6 +29,21 @@ pub const KERNEL: Kernel = Kernel {
 /// ray), `(unit ray direction, a table altitude h)`, `(a point p, a table cosine μ)`.
 pub type GpuSkyQuery = [[f32; 4]; 3];
 
+/// The query at `origin` along `dir` with the surface at `t`, the sun asked at `point`, the
+/// table at `table` = (altitude, cosine), in the kernel's f32 rows.
+pub fn sky_query(
+    origin: glam::DVec3,
+    dir: glam::DVec3,
+    t: f64,
+    point: glam::DVec3,
+    table: (f64, f64),
+) -> GpuSkyQuery {
+    let (o, d, p) = (origin.as_vec3(), dir.as_vec3(), point.as_vec3());
+    let t = t.min(1e30) as f32;
+    let (h, mu) = (table.0 as f32, table.1 as f32);
+    [[o.x, o.y, o.z, t], [d.x, d.y, d.z, h], [p.x, p.y, p.z, mu]]
+}
+
 /// What the sky gave a query, as the GPU found it (RGB each).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GpuSkyAnswer {

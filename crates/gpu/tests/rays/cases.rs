@@ -6,23 +6,7 @@ use fray_scene::Scene;
 use glam::DVec3;
 use std::path::Path;
 
-/// Where `f` changes sign in `[a, b]` (it does at the ends), to 1e-12 relative.
-pub fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let inside_a = f(a) >= 0.0;
-    for _ in 0..200 {
-        let m = 0.5 * (a + b);
-        if m <= a || m >= b || (b - a) <= 1e-12 * b.abs().max(1.0) {
-            break;
-        }
-        if (f(m) >= 0.0) == inside_a {
-            a = m;
-        } else {
-            b = m;
-        }
-    }
-    // The first inside point of the pair.
-    if inside_a { a } else { b }
-}
+pub use fray_test_support::roots::bisect;
 
 /// The camera rays of `scene` through the pixel centres of a `width × height` grid.
 pub fn camera_rays(scene: &Scene, width: u32, height: u32) -> Vec<CaseRay> {
@@ -87,4 +71,14 @@ pub fn data_scene(name: &str) -> Scene {
 pub fn direction(elevation: f64, azimuth: f64) -> DVec3 {
     let (e, a) = (elevation.to_radians(), azimuth.to_radians());
     DVec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin())
+}
+
+/// Fails where any of `backend`'s `what` rays are off, with up to four of them.
+pub fn assert_none_off<T: std::fmt::Debug>(backend: &str, what: &str, failures: &[T]) {
+    assert!(
+        failures.is_empty(),
+        "{backend}: {} {what} rays off, e.g. {:?}",
+        failures.len(),
+        &failures[..failures.len().min(4)]
+    );
 }

@@ -35,30 +35,31 @@ pub struct CloudAnswer {
     pub pixel_jitter: f64,
 }
 
+/// The clouds the queries of a call see: `volume` lit by `light`, marched at `settings`;
+/// `reference` as for [`crate::free_forms::FreeFormsSeen`].
+#[derive(Clone, Copy, Debug)]
+pub struct CloudsSeen<'a> {
+    pub volume: &'a GridVolume,
+    pub light: &'a CloudLight,
+    pub settings: &'a MarchSettings,
+    pub reference: DVec3,
+}
+
 /// What a backend of the suite answers for the clouds.
 pub trait CloudBackend {
-    /// The cloud march (at `settings`, each query's jitter) through `volume` lit by `light`,
-    /// its optical depth at the march's step, the density at the origin and the pixel's jitter;
-    /// `reference` as for [`crate::free_forms::FreeFormBackend::free_forms`].
-    fn clouds(
-        &self,
-        volume: &GridVolume,
-        light: &CloudLight,
-        settings: &MarchSettings,
-        reference: DVec3,
-        queries: &[CloudQuery],
-    ) -> Vec<CloudAnswer>;
+    /// The cloud march (at `seen.settings`, each query's jitter), its optical depth at the
+    /// march's step, the density at the origin and the pixel's jitter.
+    fn clouds(&self, seen: CloudsSeen<'_>, queries: &[CloudQuery]) -> Vec<CloudAnswer>;
 }
 
 impl CloudBackend for Cpu {
-    fn clouds(
-        &self,
-        volume: &GridVolume,
-        light: &CloudLight,
-        settings: &MarchSettings,
-        _reference: DVec3,
-        queries: &[CloudQuery],
-    ) -> Vec<CloudAnswer> {
+    fn clouds(&self, seen: CloudsSeen<'_>, queries: &[CloudQuery]) -> Vec<CloudAnswer> {
+        let CloudsSeen {
+            volume,
+            light,
+            settings,
+            ..
+        } = seen;
         queries
             .iter()
             .map(|q| {
@@ -83,14 +84,13 @@ impl CloudBackend for Cpu {
 }
 
 impl CloudBackend for Gpu {
-    fn clouds(
-        &self,
-        volume: &GridVolume,
-        light: &CloudLight,
-        settings: &MarchSettings,
-        reference: DVec3,
-        queries: &[CloudQuery],
-    ) -> Vec<CloudAnswer> {
+    fn clouds(&self, seen: CloudsSeen<'_>, queries: &[CloudQuery]) -> Vec<CloudAnswer> {
+        let CloudsSeen {
+            volume,
+            light,
+            settings,
+            reference,
+        } = seen;
         let ctx = self.context();
         let block = GpuClouds::new(volume, light, settings, true, reference.to_array());
         let batch = CloudsBatch::new(ctx, volume, &block).unwrap_or_else(|e| panic!("{e}"));
@@ -150,7 +150,15 @@ pub fn suite(backend: &dyn Backend) {
                 pixel: (0, 0),
             })
             .collect();
-        let answers = backend.clouds(&clouds.volume, &light, &clouds.march, eye, &queries);
+        let answers = backend.clouds(
+            CloudsSeen {
+                volume: &clouds.volume,
+                light: &light,
+                settings: &clouds.march,
+                reference: eye,
+            },
+            &queries,
+        );
         for (r, m) in rays.iter().zip(&answers) {
             rays_checked += 1;
             let (o, d) = (r.ray.origin.to_array(), r.ray.dir.to_array());
@@ -196,7 +204,7 @@ pub mod parity {
     use crate::backend::CaseRay;
     use crate::cases::direction;
     use crate::clouds::CloudBackend;
-    use crate::clouds::CloudQuery;
+    use crate::clouds::{CloudQuery, CloudsSeen};
     use crate::cpu::Cpu;
     use crate::gpu::gpu;
     use fray_clouds::DensityGrid;
@@ -372,8 +380,13 @@ pub mod parity {
                     let reference = offset + DVec3::new(-70.0, 25.0, -3.0);
                     let all = queries(&region);
                     let qs: Vec<CloudQuery> = all.iter().map(|(_, q)| *q).collect();
-                    let cpu = Cpu.clouds(&volume, &light, &settings, reference, &qs);
-                    let got = gpu().clouds(&volume, &light, &settings, reference, &qs);
+                    let seen = CloudsSeen {
+                        volume: &volume,
+                        light: &light,
+                        settings: &settings,
+                        reference,
+                    };
+                    let (cpu, got) = (Cpu.clouds(seen, &qs), gpu().clouds(seen, &qs));
                     assert_eq!(got.len(), qs.len());
                     let mut w = Worst::default();
                     let mut sampled = 0u64;

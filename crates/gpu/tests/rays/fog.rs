@@ -61,29 +61,27 @@ pub const FOG_NAMES: [&str; 6] = [
     "segment transmittance",
 ];
 
+/// The layer the rays of a call see, by its model, from the camera's height.
+#[derive(Clone, Copy, Debug)]
+pub struct FogSeen<'a> {
+    pub layer: &'a FogLayer,
+    pub model: FogModel,
+    /// Every ray starts at the camera, at this height (a backend that works relative to it
+    /// takes heights from there).
+    pub camera_y: f64,
+}
+
 /// What a backend of the suite answers for the fog layer.
 pub trait FogBackend {
-    /// What `layer` (by `model`) does to each ray; every ray starts at the camera, at height
-    /// `camera_y` (a backend that works relative to it takes heights from there).
-    fn fog(
-        &self,
-        layer: &FogLayer,
-        model: FogModel,
-        camera_y: f64,
-        rays: &[FogRay],
-    ) -> Vec<FogAnswer>;
+    /// What `seen.layer` (by `seen.model`) does to each ray.
+    fn fog(&self, seen: FogSeen<'_>, rays: &[FogRay]) -> Vec<FogAnswer>;
     /// How far its fog answers may be from the reference: `abs + rel · |reference|`.
     fn medium_bounds(&self) -> (f64, f64);
 }
 
 impl FogBackend for Cpu {
-    fn fog(
-        &self,
-        layer: &FogLayer,
-        model: FogModel,
-        _camera_y: f64,
-        rays: &[FogRay],
-    ) -> Vec<FogAnswer> {
+    fn fog(&self, seen: FogSeen<'_>, rays: &[FogRay]) -> Vec<FogAnswer> {
+        let FogSeen { layer, model, .. } = seen;
         // Unit albedo, ambient and irradiance: the in-scatter is the factor itself.
         let layer = FogLayer {
             albedo: DVec3::ONE,
@@ -125,13 +123,12 @@ impl FogBackend for Cpu {
 }
 
 impl FogBackend for Gpu {
-    fn fog(
-        &self,
-        layer: &FogLayer,
-        model: FogModel,
-        camera_y: f64,
-        rays: &[FogRay],
-    ) -> Vec<FogAnswer> {
+    fn fog(&self, seen: FogSeen<'_>, rays: &[FogRay]) -> Vec<FogAnswer> {
+        let FogSeen {
+            layer,
+            model,
+            camera_y,
+        } = seen;
         let ctx = self.context();
         let block = GpuFog::new(layer, model, camera_y);
         let batch = FogBatch::new(ctx, &block).unwrap_or_else(|e| panic!("{e}"));
@@ -226,7 +223,14 @@ pub fn suite(backend: &dyn Backend) {
                 .iter()
                 .map(|&ray| FogRay { ray, sun: DVec3::Y })
                 .collect();
-            let answers = backend.fog(layer, fog.model, eye_y, &fog_rays);
+            let answers = backend.fog(
+                FogSeen {
+                    layer,
+                    model: fog.model,
+                    camera_y: eye_y,
+                },
+                &fog_rays,
+            );
             for (r, m) in rays.iter().zip(&answers) {
                 rays_checked += 1;
                 let depth = reference_depth(&fog, r);
@@ -288,7 +292,7 @@ pub mod parity {
     use crate::cases::direction;
     use crate::cpu::Cpu;
     use crate::fog::FogBackend;
-    use crate::fog::{FOG_NAMES, FogAnswer, FogRay};
+    use crate::fog::{FOG_NAMES, FogAnswer, FogRay, FogSeen};
     use crate::gpu::gpu;
     use fray_atmosphere::{FogLayer, FogModel, Phase};
     use fray_core::{Interval, Ray};
@@ -303,51 +307,47 @@ pub mod parity {
     /// distances near 11.5 km; at most 0.27 of this bound, elsewhere far less.
     const REL: f64 = 5e-5;
 
+    /// A layer from `base` to `top` with the default albedo.
+    fn layer(base: f64, top: f64, extinction: f64, falloff: Option<f64>, phase: Phase) -> FogLayer {
+        FogLayer {
+            base,
+            top,
+            extinction,
+            falloff,
+            phase,
+            ..FogLayer::default()
+        }
+    }
+
     fn layers() -> Vec<(&'static str, FogLayer)> {
         vec![
             (
                 "homogeneous 400 m, HG 0.76",
-                FogLayer {
-                    base: 0.0,
-                    top: 400.0,
-                    extinction: 1.2e-3,
-                    falloff: None,
-                    phase: Phase::HenyeyGreenstein { g: 0.76 },
-                    ..FogLayer::default()
-                },
+                layer(
+                    0.0,
+                    400.0,
+                    1.2e-3,
+                    None,
+                    Phase::HenyeyGreenstein { g: 0.76 },
+                ),
             ),
             (
                 "falloff 30 m in 100 m, isotropic",
-                FogLayer {
-                    base: 0.0,
-                    top: 100.0,
-                    extinction: 2e-2,
-                    falloff: Some(30.0),
-                    phase: Phase::Isotropic,
-                    ..FogLayer::default()
-                },
+                layer(0.0, 100.0, 2e-2, Some(30.0), Phase::Isotropic),
             ),
             (
                 "valley fog 1 km below, falloff 150 m, printed 0.5",
-                FogLayer {
-                    base: -1100.0,
-                    top: -700.0,
-                    extinction: 1.2e-3,
-                    falloff: Some(150.0),
-                    phase: Phase::Printed { g: 0.5 },
-                    ..FogLayer::default()
-                },
+                layer(
+                    -1100.0,
+                    -700.0,
+                    1.2e-3,
+                    Some(150.0),
+                    Phase::Printed { g: 0.5 },
+                ),
             ),
             (
                 "thin dense slab, HG −0.3",
-                FogLayer {
-                    base: 20.0,
-                    top: 22.5,
-                    extinction: 0.05,
-                    falloff: None,
-                    phase: Phase::HenyeyGreenstein { g: -0.3 },
-                    ..FogLayer::default()
-                },
+                layer(20.0, 22.5, 0.05, None, Phase::HenyeyGreenstein { g: -0.3 }),
             ),
         ]
     }
@@ -358,6 +358,16 @@ pub mod parity {
         model: FogModel,
         camera_y: f64,
         rays: Vec<(String, FogRay)>,
+    }
+
+    impl Batch {
+        fn seen(&self) -> FogSeen<'_> {
+            FogSeen {
+                layer: &self.layer,
+                model: self.model,
+                camera_y: self.camera_y,
+            }
+        }
     }
 
     fn batches() -> Vec<Batch> {
@@ -442,8 +452,8 @@ pub mod parity {
         let (mut bad, mut rays) = (0usize, 0usize);
         for b in &batches {
             let fog_rays: Vec<FogRay> = b.rays.iter().map(|(_, r)| *r).collect();
-            let cpu: Vec<FogAnswer> = Cpu.fog(&b.layer, b.model, b.camera_y, &fog_rays);
-            let got: Vec<FogAnswer> = gpu().fog(&b.layer, b.model, b.camera_y, &fog_rays);
+            let cpu: Vec<FogAnswer> = Cpu.fog(b.seen(), &fog_rays);
+            let got: Vec<FogAnswer> = gpu().fog(b.seen(), &fog_rays);
             rays += fog_rays.len();
             for (((name, _), c), g) in b.rays.iter().zip(&cpu).zip(&got) {
                 let (want, have) = (c.values(), g.values());

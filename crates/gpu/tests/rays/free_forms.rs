@@ -4,12 +4,13 @@
 
 use crate::Backend;
 use crate::backend::{CaseRay, Tolerance};
-use crate::cases::{bisect, camera_rays, data_scene, far_rays};
+use crate::cases::{camera_rays, data_scene, far_rays};
 use crate::cpu::Cpu;
 use crate::gpu::{Gpu, relative_rays};
 use fray_core::{Interval, Ray};
 use fray_geometry::{CastStats, RayCaster, Solid};
 use fray_gpu::testing::FreeFormBatch;
+use fray_test_support::roots::{inside_spans, samples};
 use glam::DVec3;
 
 /// What a backend found on a ray through free forms.
@@ -34,18 +35,20 @@ pub struct Bounds {
     pub normal: f64,
 }
 
+/// The free forms the rays of a call see, cast with the tolerances `tol`.
+#[derive(Clone, Copy, Debug)]
+pub struct FreeFormsSeen<'a> {
+    pub solids: &'a [&'a Solid],
+    /// The point a backend that works relative to one (the GPU) takes positions from.
+    pub reference: DVec3,
+    pub tol: &'a Tolerance,
+}
+
 /// What a backend of the suite answers for free forms.
 pub trait FreeFormBackend {
     fn bounds(&self) -> Bounds;
-    /// Nearest hit over `solids`, its normal and the any-hit answer, for each ray; `reference`
-    /// is the point a backend that works relative to one (the GPU) takes positions from.
-    fn free_forms(
-        &self,
-        solids: &[&Solid],
-        reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-    ) -> Vec<Answer>;
+    /// Nearest hit over `seen.solids`, its normal and the any-hit answer, for each ray.
+    fn free_forms(&self, seen: FreeFormsSeen<'_>, rays: &[CaseRay]) -> Vec<Answer>;
 }
 
 impl FreeFormBackend for Cpu {
@@ -63,13 +66,8 @@ impl FreeFormBackend for Cpu {
         }
     }
 
-    fn free_forms(
-        &self,
-        solids: &[&Solid],
-        _reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-    ) -> Vec<Answer> {
+    fn free_forms(&self, seen: FreeFormsSeen<'_>, rays: &[CaseRay]) -> Vec<Answer> {
+        let FreeFormsSeen { solids, tol, .. } = seen;
         let mut caster = RayCaster::new();
         let mut stats = CastStats::default();
         rays.iter()
@@ -110,13 +108,12 @@ impl FreeFormBackend for Gpu {
         }
     }
 
-    fn free_forms(
-        &self,
-        solids: &[&Solid],
-        reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-    ) -> Vec<Answer> {
+    fn free_forms(&self, seen: FreeFormsSeen<'_>, rays: &[CaseRay]) -> Vec<Answer> {
+        let FreeFormsSeen {
+            solids,
+            reference,
+            tol,
+        } = seen;
         let ctx = self.context();
         let batch = FreeFormBatch::new(ctx, solids, reference).unwrap_or_else(|e| panic!("{e}"));
         let hits = batch
@@ -146,28 +143,7 @@ fn reference_spans(solids: &[&Solid], r: &CaseRay, step: f64) -> Vec<(f64, f64)>
         let f = |t: f64| solid.eval(r.ray.at(t));
         let step = step.max(bounds.diagonal() / SAMPLES);
         let n = ((range.hi - range.lo) / step).ceil().max(1.0) as usize;
-        let h = (range.hi - range.lo) / n as f64;
-        let mut prev = (range.lo, f(range.lo));
-        let mut entry = (prev.1 >= 0.0).then_some(range.lo);
-        for k in 1..=n {
-            let t = if k == n {
-                range.hi
-            } else {
-                range.lo + h * k as f64
-            };
-            let v = f(t);
-            if (v >= 0.0) != (prev.1 >= 0.0) {
-                let edge = bisect(&f, prev.0, t);
-                match entry.take() {
-                    Some(a) => spans.push((a, edge)),
-                    None => entry = Some(edge),
-                }
-            }
-            prev = (t, v);
-        }
-        if let Some(a) = entry {
-            spans.push((a, range.hi));
-        }
+        spans.extend(inside_spans(&f, &samples(range.lo, range.hi, n)));
     }
     spans.sort_by(|a, b| a.0.total_cmp(&b.0));
     spans
@@ -200,7 +176,14 @@ fn cases(name: &str, width: u32) -> Vec<Case> {
     let reference = fray_gpu::params::reference_point(&scene.camera);
     let camera = camera_rays(&scene, width, height);
     // Grazing rays: through each hit's neighbourhood along the tangent plane, just outside.
-    let hits = Cpu.free_forms(&refs, reference, &camera, &tol);
+    let hits = Cpu.free_forms(
+        FreeFormsSeen {
+            solids: &refs,
+            reference,
+            tol: &tol,
+        },
+        &camera,
+    );
     let mut grazing = Vec::new();
     for (r, a) in camera.iter().zip(&hits) {
         let Some(t) = a.t else { continue };
@@ -263,7 +246,14 @@ pub fn suite(backend: &dyn Backend) {
     for name in ["csg.ron", "turboprop.ron"] {
         for case in cases(name, 48) {
             let solids: Vec<&Solid> = case.solids.iter().collect();
-            let answers = backend.free_forms(&solids, case.reference, &case.rays, &case.tol);
+            let answers = backend.free_forms(
+                FreeFormsSeen {
+                    solids: &solids,
+                    reference: case.reference,
+                    tol: &case.tol,
+                },
+                &case.rays,
+            );
             let mut f = Failures::default();
             for (r, a) in case.rays.iter().zip(&answers) {
                 check_ray(&solids, r, a, &case, &bounds, &mut f);

@@ -9,7 +9,7 @@ use crate::cpu::Cpu;
 use crate::gpu::Gpu;
 use fray_atmosphere::gpu_layout::{GpuSky, GpuSkyOptions};
 use fray_atmosphere::sky::{Sky, SkyView};
-use fray_gpu::testing::{GpuSkyQuery, SkyBatch, SkySeen};
+use fray_gpu::testing::{GpuSkyQuery, SkyBatch, SkySeen, sky_query};
 use glam::DVec3;
 
 /// How a sky is drawn: aerial-perspective steps and whether the background holds the sun's disc.
@@ -73,29 +73,25 @@ pub const SKY_NAMES: [&str; 6] = [
     "transmittance table",
 ];
 
+/// The sky the queries of a call see: `sky` from `eye`, with its sky-view table `view`
+/// (`Sky::view(eye)`: both backends look it up).
+#[derive(Clone, Copy, Debug)]
+pub struct SkySeenFrom<'a> {
+    pub sky: &'a Sky,
+    pub view: &'a SkyView,
+    pub options: SkyOptions,
+    pub eye: DVec3,
+}
+
 /// What a backend of the suite answers for the sky.
 pub trait SkyBackend {
-    /// What `sky`, seen from `eye` (its sky-view table `view`, `Sky::view(eye)`: both backends
-    /// look it up), gives each query.
-    fn sky(
-        &self,
-        sky: &Sky,
-        view: &SkyView,
-        options: SkyOptions,
-        eye: DVec3,
-        queries: &[SkyQuery],
-    ) -> Vec<SkyAnswer>;
+    /// What `seen.sky` gives each query.
+    fn sky(&self, seen: SkySeenFrom<'_>, queries: &[SkyQuery]) -> Vec<SkyAnswer>;
 }
 
 impl SkyBackend for Cpu {
-    fn sky(
-        &self,
-        sky: &Sky,
-        view: &SkyView,
-        options: SkyOptions,
-        eye: DVec3,
-        queries: &[SkyQuery],
-    ) -> Vec<SkyAnswer> {
+    fn sky(&self, seen: SkySeenFrom<'_>, queries: &[SkyQuery]) -> Vec<SkyAnswer> {
+        let (sky, view, options, eye) = (seen.sky, seen.view, seen.options, seen.eye);
         let ground = sky.model().ground_radius;
         queries
             .iter()
@@ -121,14 +117,8 @@ impl SkyBackend for Cpu {
 }
 
 impl SkyBackend for Gpu {
-    fn sky(
-        &self,
-        sky: &Sky,
-        view: &SkyView,
-        options: SkyOptions,
-        eye: DVec3,
-        queries: &[SkyQuery],
-    ) -> Vec<SkyAnswer> {
+    fn sky(&self, seen: SkySeenFrom<'_>, queries: &[SkyQuery]) -> Vec<SkyAnswer> {
+        let (sky, view, options, eye) = (seen.sky, seen.view, seen.options, seen.eye);
         let ctx = self.context();
         let gpu_options = GpuSkyOptions {
             sun_disc: options.sun_disc,
@@ -145,15 +135,9 @@ impl SkyBackend for Gpu {
             transmittance: sky.transmittance_table(),
             view: view.table(),
         };
-        let f = |v: DVec3| v.as_vec3();
         let gpu_queries: Vec<GpuSkyQuery> = queries
             .iter()
-            .map(|q| {
-                let (o, d, p) = (f(q.origin), f(q.dir), f(q.point));
-                let t = q.t.min(1e30) as f32;
-                let (h, mu) = (q.table.0 as f32, q.table.1 as f32);
-                [[o.x, o.y, o.z, t], [d.x, d.y, d.z, h], [p.x, p.y, p.z, mu]]
-            })
+            .map(|q| sky_query(q.origin, q.dir, q.t, q.point, q.table))
             .collect();
         let rgb = |v: [f32; 3]| DVec3::from(v.map(f64::from));
         batch
@@ -215,7 +199,15 @@ pub fn suite(backend: &dyn Backend) {
                 steps: sky.steps,
                 sun_disc: sky.sun_disc,
             };
-            let answers = backend.sky(&sky.sky, &sky.sky.view(eye), options, eye, &queries);
+            let answers = backend.sky(
+                SkySeenFrom {
+                    sky: &sky.sky,
+                    view: &sky.sky.view(eye),
+                    options,
+                    eye,
+                },
+                &queries,
+            );
             for (r, a) in rays.iter().zip(&answers) {
                 rays_checked += 1;
                 let truth = reference::single_scattering(model, sun, eye, r.ray.dir, r.range.hi);
@@ -288,7 +280,7 @@ pub mod parity {
     use crate::cpu::Cpu;
     use crate::gpu::gpu;
     use crate::sky::SkyBackend;
-    use crate::sky::{SKY_NAMES, SkyOptions, SkyQuery};
+    use crate::sky::{SKY_NAMES, SkyOptions, SkyQuery, SkySeenFrom};
     use fray_atmosphere::sky::{Sky, SkyModel, SkySun, SkyTables};
     use fray_core::MemoryBudget;
     use glam::DVec3;
@@ -453,8 +445,13 @@ pub mod parity {
                     let all = queries(&label, &sky, eye);
                     let qs: Vec<SkyQuery> = all.iter().map(|(_, q)| *q).collect();
                     let view = sky.view(eye);
-                    let cpu = Cpu.sky(&sky, &view, options, eye, &qs);
-                    let got = gpu().sky(&sky, &view, options, eye, &qs);
+                    let seen = SkySeenFrom {
+                        sky: &sky,
+                        view: &view,
+                        options,
+                        eye,
+                    };
+                    let (cpu, got) = (Cpu.sky(seen, &qs), gpu().sky(seen, &qs));
                     for (((name, _), c), g) in all.iter().zip(&cpu).zip(&got) {
                         let (want, have) = (c.values(), g.values());
                         count += 1;

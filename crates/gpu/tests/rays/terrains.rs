@@ -4,7 +4,7 @@
 
 use crate::Backend;
 use crate::backend::{CaseRay, Tolerance};
-use crate::cases::{bisect, camera_rays, data_scene, far_rays};
+use crate::cases::{assert_none_off, bisect, camera_rays, data_scene, far_rays};
 use crate::cpu::Cpu;
 use crate::gpu::{Gpu, relative_rays};
 use fray_core::PixelFootprint;
@@ -21,32 +21,34 @@ pub struct TerrainAnswer {
     pub any: bool,
 }
 
+/// The terrain the rays of a call see: `terrain` with the pixel footprint `footprint` (`ZERO`:
+/// exact), the backend's ε of `tol` as the bicubic root tolerance; `reference` as for
+/// [`crate::free_forms::FreeFormsSeen`].
+#[derive(Clone, Copy, Debug)]
+pub struct TerrainSeen<'a> {
+    pub terrain: &'a Terrain,
+    pub reference: DVec3,
+    pub tol: &'a Tolerance,
+    pub footprint: PixelFootprint,
+}
+
 /// What a backend of the suite answers for terrains.
 pub trait TerrainBackend {
-    /// Nearest hit on `terrain` with the pixel footprint `footprint` (`ZERO`: exact), for each
-    /// ray, with the backend's ε of `tol` as the bicubic root tolerance.
-    fn terrain(
-        &self,
-        terrain: &Terrain,
-        reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-        footprint: PixelFootprint,
-    ) -> Vec<TerrainAnswer>;
+    /// Nearest hit on `seen.terrain` for each ray.
+    fn terrain(&self, seen: TerrainSeen<'_>, rays: &[CaseRay]) -> Vec<TerrainAnswer>;
     /// How far its exact terrain hits may be from the reference (`depth(t)`, as
     /// [`Bounds::depth`]) and its normals.
     fn terrain_bounds(&self) -> (fn(f64, &Tolerance) -> f64, f64);
 }
 
 impl TerrainBackend for Cpu {
-    fn terrain(
-        &self,
-        terrain: &Terrain,
-        _reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-        footprint: PixelFootprint,
-    ) -> Vec<TerrainAnswer> {
+    fn terrain(&self, seen: TerrainSeen<'_>, rays: &[CaseRay]) -> Vec<TerrainAnswer> {
+        let TerrainSeen {
+            terrain,
+            tol,
+            footprint,
+            ..
+        } = seen;
         let eps = tol.eps;
         let mut stats = TerrainStats::default();
         rays.iter()
@@ -65,14 +67,13 @@ impl TerrainBackend for Cpu {
 }
 
 impl TerrainBackend for Gpu {
-    fn terrain(
-        &self,
-        terrain: &Terrain,
-        reference: DVec3,
-        rays: &[CaseRay],
-        tol: &Tolerance,
-        footprint: PixelFootprint,
-    ) -> Vec<TerrainAnswer> {
+    fn terrain(&self, seen: TerrainSeen<'_>, rays: &[CaseRay]) -> Vec<TerrainAnswer> {
+        let TerrainSeen {
+            terrain,
+            reference,
+            tol,
+            footprint,
+        } = seen;
         let ctx = self.context();
         let batch = TerrainBatch::with_pixel_lod(ctx, terrain, reference, footprint)
             .unwrap_or_else(|e| panic!("{e}"))
@@ -185,7 +186,15 @@ pub fn suite(backend: &dyn Backend) {
             ("camera", camera, reference, tol),
             ("far", far, far_eye, far_tol),
         ] {
-            let answers = backend.terrain(&terrain, reference, &rays, &tol, PixelFootprint::ZERO);
+            let answers = backend.terrain(
+                TerrainSeen {
+                    terrain: &terrain,
+                    reference,
+                    tol: &tol,
+                    footprint: PixelFootprint::ZERO,
+                },
+                &rays,
+            );
             for (r, a) in rays.iter().zip(&answers) {
                 rays_checked += 1;
                 let spans = terrain_spans(&terrain, r);
@@ -256,13 +265,7 @@ pub fn suite(backend: &dyn Backend) {
          depth {worst_depth:.3e} of its bound, worst normal {worst_normal:.2e}",
         backend.name()
     );
-    assert!(
-        failures.is_empty(),
-        "{}: {} terrain rays off, e.g. {:?}",
-        backend.name(),
-        failures.len(),
-        &failures[..failures.len().min(4)]
-    );
+    assert_none_off(backend.name(), "terrain", &failures);
 }
 
 pub mod parity {
@@ -315,8 +318,8 @@ pub mod parity {
     use crate::cases::{camera_rays, data_scene};
     use crate::cpu::Cpu;
     use crate::gpu::gpu;
-    use crate::terrains::TerrainAnswer;
     use crate::terrains::TerrainBackend;
+    use crate::terrains::{TerrainAnswer, TerrainSeen};
     use fray_core::{Interval, PixelFootprint, Ray};
     use fray_terrain::{
         Heightmap, HitKind, Interpolation, MapRay, Placement, Terrain, TerrainHit, TerrainOptions,
@@ -476,8 +479,14 @@ pub mod parity {
             eps: EPS,
             eps_gpu: EPS,
         };
-        let cpu: Vec<TerrainAnswer> = Cpu.terrain(terrain, reference, rays, &tol, footprint);
-        let hits: Vec<TerrainAnswer> = gpu().terrain(terrain, reference, rays, &tol, footprint);
+        let seen = TerrainSeen {
+            terrain,
+            reference,
+            tol: &tol,
+            footprint,
+        };
+        let cpu: Vec<TerrainAnswer> = Cpu.terrain(seen, rays);
+        let hits: Vec<TerrainAnswer> = gpu().terrain(seen, rays);
         let mut f = Figures {
             rays: rays.len(),
             ..Figures::default()

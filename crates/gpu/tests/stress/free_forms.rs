@@ -38,6 +38,7 @@ use fray_geometry::{FreeForm, Perturbation, Quadric, Shape, Sheets, Solid};
 use fray_gpu::testing::{FreeFormBatch, GpuFreeFormHit};
 use fray_gpu::{EPSILON_FLOOR, GpuContext};
 use fray_test_support::Rng;
+use fray_test_support::roots::{inside_spans, samples};
 use glam::{DAffine3, DMat3, DQuat, DVec3, EulerRot};
 use std::fmt;
 
@@ -502,23 +503,6 @@ fn shot(prep: &Prepared, rng: &mut Rng, kind: usize, camera: DVec3) -> Shot {
     }
 }
 
-/// The first point of `[a, b]` on `f`'s inside side of its sign change (bisection).
-fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let inside_a = f(a) >= 0.0;
-    for _ in 0..200 {
-        let m = 0.5 * (a + b);
-        if m <= a || m >= b || (b - a) <= 1e-12 * b.abs().max(1.0) {
-            break;
-        }
-        if (f(m) >= 0.0) == inside_a {
-            a = m;
-        } else {
-            b = m;
-        }
-    }
-    if inside_a { a } else { b }
-}
-
 /// The reference's inside spans on the ray: `F` sampled over the box's part of the range at
 /// `SAMPLES` per diagonal and at the aimed point, each sign change bisected.
 fn reference_spans(prep: &Prepared, shot: &Shot) -> Vec<(f64, f64)> {
@@ -529,38 +513,12 @@ fn reference_spans(prep: &Prepared, shot: &Shot) -> Vec<(f64, f64)> {
     let n = ((range.hi - range.lo) / (prep.size / SAMPLES))
         .ceil()
         .max(1.0) as usize;
-    let h = (range.hi - range.lo) / n as f64;
-    let mut ts: Vec<f64> = (0..=n)
-        .map(|k| {
-            if k == n {
-                range.hi
-            } else {
-                range.lo + h * k as f64
-            }
-        })
-        .collect();
+    let mut ts = samples(range.lo, range.hi, n);
     if range.contains(shot.target) {
         ts.push(shot.target);
         ts.sort_by(f64::total_cmp);
     }
-    let mut spans = Vec::new();
-    let mut prev = (ts[0], f(ts[0]));
-    let mut entry = (prev.1 >= 0.0).then_some(ts[0]);
-    for &t in &ts[1..] {
-        let v = f(t);
-        if (v >= 0.0) != (prev.1 >= 0.0) {
-            let edge = bisect(&f, prev.0, t);
-            match entry.take() {
-                Some(a) => spans.push((a, edge)),
-                None => entry = Some(edge),
-            }
-        }
-        prev = (t, v);
-    }
-    if let Some(a) = entry {
-        spans.push((a, range.hi));
-    }
-    spans
+    inside_spans(&f, &ts)
 }
 
 /// The reference's outward normal at `t`, its deciding leaf, and `1 / max(|cos θ|, 0.02)`.

@@ -23,7 +23,7 @@ use fray_atmosphere::gpu_layout::{GpuSky, GpuSkyOptions};
 use fray_atmosphere::sky::{Sky, SkyModel, SkySun, SkyTables, reference};
 use fray_core::MemoryBudget;
 use fray_gpu::GpuContext;
-use fray_gpu::testing::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkySeen};
+use fray_gpu::testing::{GpuSkyAnswer, GpuSkyQuery, SkyBatch, SkySeen, sky_query};
 use fray_test_support::Rng;
 use glam::DVec3;
 use std::fmt;
@@ -190,15 +190,9 @@ pub fn skies(ctx: &GpuContext) -> Summary {
         let queries: Vec<Query> = (0..QUERIES)
             .map(|i| query(&mut rng, i, sun.direction, top))
             .collect();
-        let f = |v: DVec3| v.as_vec3();
         let gpu_queries: Vec<GpuSkyQuery> = queries
             .iter()
-            .map(|q| {
-                let (o, d, p) = (f(q.origin), f(q.dir), f(q.point));
-                let t = q.t.min(1e30) as f32;
-                let (h, mu) = (q.table.0 as f32, q.table.1 as f32);
-                [[o.x, o.y, o.z, t], [d.x, d.y, d.z, h], [p.x, p.y, p.z, mu]]
-            })
+            .map(|q| sky_query(q.origin, q.dir, q.t, q.point, q.table))
             .collect();
         let seen = SkySeen {
             block: &block,
