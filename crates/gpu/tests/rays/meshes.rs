@@ -205,14 +205,8 @@ fn point_triangle_distance(p: DVec3, c: &[DVec3; 3]) -> f64 {
     if inside && n != DVec3::ZERO {
         return (p - q).length();
     }
-    (0..3)
-        .map(|k| {
-            let (a, b) = (c[k], c[(k + 1) % 3]);
-            let ab = b - a;
-            let s = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-            (p - (a + ab * s)).length()
-        })
-        .fold(f64::INFINITY, f64::min)
+    // Outside it: the nearest edge segment.
+    fray_test_support::triangles::edge_distance(c, p)
 }
 
 /// The mesh cases: camera rays of the mesh data scenes and the same from a camera 10³ back, the
