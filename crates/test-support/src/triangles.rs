@@ -36,6 +36,33 @@ pub fn edge_distance(c: &[DVec3; 3], p: DVec3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The brute force's nearest hit of the line `origin + t·dir` over `triangles`, `t` accepted by
+/// `in_range`, each triangle by [`moller_trumbore`] (the earlier triangle on a tie): `(t, the
+/// hit's distance to that triangle's nearest edge, |cos θ| between the line and its normal)`.
+pub fn nearest_hit(
+    origin: DVec3,
+    dir: DVec3,
+    triangles: impl IntoIterator<Item = [DVec3; 3]>,
+    in_range: impl Fn(f64) -> bool,
+) -> Option<(f64, f64, f64)> {
+    let mut best: Option<(f64, f64, f64)> = None;
+    for c in triangles {
+        let Some(t) = moller_trumbore(origin, dir, &c) else {
+            continue;
+        };
+        if !in_range(t) || best.is_some_and(|b| b.0 <= t) {
+            continue;
+        }
+        let normal = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+        best = Some((
+            t,
+            edge_distance(&c, origin + dir * t),
+            normal.dot(dir).abs(),
+        ));
+    }
+    best
+}
+
 /// The cube `[−1, 1]³`: its 8 corners (corner `k` at `±1` by bits 0, 1, 2 of `k` for x, y, z)
 /// and its 12 triangles, wound outward.
 pub fn cube() -> (Vec<DVec3>, Vec<[u32; 3]>) {

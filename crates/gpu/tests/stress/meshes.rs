@@ -13,7 +13,7 @@ use fray_gpu::GpuContext;
 use fray_gpu::testing::MeshBatch;
 use fray_mesh::{Instance, MeshBvh, TriangleMesh};
 use fray_test_support::Rng;
-use fray_test_support::triangles::{edge_distance, moller_trumbore};
+use fray_test_support::triangles;
 use glam::{DAffine3, DMat3, DQuat, DVec3, EulerRot};
 use std::sync::Arc;
 
@@ -23,20 +23,8 @@ pub const MESH_RAYS: usize = 8192;
 /// the watertight test either backend uses): `(t, distance to the triangle's nearest edge,
 /// |cos θ|)` of the nearest hit in `range`.
 fn brute_force(inst: &Instance, ray: &Ray, range: Interval) -> Option<(f64, f64, f64)> {
-    let mut best: Option<(f64, f64, f64)> = None;
-    for i in 0..12 {
-        let c = inst.world_corners(i);
-        let Some(t) = moller_trumbore(ray.origin, ray.dir, &c) else {
-            continue;
-        };
-        if !range.contains(t) || best.is_some_and(|b| b.0 <= t) {
-            continue;
-        }
-        let (e1, e2) = (c[1] - c[0], c[2] - c[0]);
-        let n = e1.cross(e2).normalize_or_zero();
-        best = Some((t, edge_distance(&c, ray.at(t)), n.dot(ray.dir).abs()));
-    }
-    best
+    let corners = (0..12).map(|i| inst.world_corners(i));
+    triangles::nearest_hit(ray.origin, ray.dir, corners, |t| range.contains(t))
 }
 
 /// A closed mesh about the origin: the cube `[−1, 1]³` (its 12 triangles).

@@ -22,7 +22,7 @@ use super::runner::{self, Family, Tally};
 use fray_core::{Interval, Ray};
 use fray_mesh::{Instance, MeshBvh, TriangleMesh};
 use fray_test_support::Rng;
-use fray_test_support::triangles::{edge_distance, moller_trumbore};
+use fray_test_support::triangles::{self, edge_distance};
 use glam::{DAffine3, DMat3, DQuat, DVec3, EulerRot};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
@@ -110,20 +110,8 @@ fn build(cube: bool, rng: &mut Rng) -> (Vec<DVec3>, Vec<[u32; 3]>, usize) {
 
 /// The nearest reference hit: `(t, distance from the hit to the triangle's nearest edge, |cos θ|)`.
 fn reference(inst: &Instance, n: usize, ray: &Ray, range: Interval) -> Option<(f64, f64, f64)> {
-    let mut best: Option<(f64, f64, f64)> = None;
-    for i in 0..n {
-        let c = inst.world_corners(i);
-        let Some(t) = moller_trumbore(ray.origin, ray.dir, &c) else {
-            continue;
-        };
-        if !range.contains(t) || best.is_some_and(|b| b.0 <= t) {
-            continue;
-        }
-        let (e1, e2) = (c[1] - c[0], c[2] - c[0]);
-        let normal = e1.cross(e2).normalize_or_zero();
-        best = Some((t, edge_distance(&c, ray.at(t)), normal.dot(ray.dir).abs()));
-    }
-    best
+    let corners = (0..n).map(|i| inst.world_corners(i));
+    triangles::nearest_hit(ray.origin, ray.dir, corners, |t| range.contains(t))
 }
 
 /// The distance from `p` to the nearest of the first `n` triangles.
