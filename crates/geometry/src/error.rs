@@ -11,6 +11,13 @@ pub enum GeometryError {
     NotFinite { field: &'static str },
     #[error("`bounds` must be a finite, non-empty box (min ≤ max on every axis)")]
     InvalidBounds,
+    #[error(
+        "a clipping box cannot be {how}: only a move that keeps boxes axis-aligned (a translation, or \
+         a scale) keeps the object's shape"
+    )]
+    ClipNotMovable { how: &'static str },
+    #[error("the transform is singular or not finite")]
+    SingularTransform,
     #[error("a {op} needs at least {min} operands, got {got}")]
     TooFewOperands {
         op: &'static str,

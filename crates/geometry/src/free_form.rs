@@ -2,7 +2,7 @@
 
 use crate::{GeometryError, Perturbation, Quadric};
 use fray_core::Aabb;
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 /// `F′(p) = F(p) + Σ fᵢ Rᵢ(p)` restricted to a finite box.
 ///
@@ -61,6 +61,44 @@ impl FreeForm {
             perturbations,
             bounds,
             clips,
+        })
+    }
+
+    /// The object moved by the affine map `t` (`p ↦ M p + v`): `F′_t(t(p)) = F′(p)`. The base and
+    /// every perturbation's quadric are mapped exactly (`Quadric::transformed`) and a derived box is
+    /// derived again; an explicit clipping box can only follow a map that keeps boxes
+    /// axis-aligned (a diagonal `M`: translation and scale), since a rotated box is no box.
+    pub fn moved(&self, t: &DAffine3) -> Result<Self, GeometryError> {
+        let map = |q: &Quadric| q.transformed(t).ok_or(GeometryError::SingularTransform);
+        let base = map(&self.base)?;
+        let perturbations = self
+            .perturbations
+            .iter()
+            .map(|p| Ok(Perturbation::new(p.form_factor, map(&p.quadric)?)))
+            .collect::<Result<Vec<_>, GeometryError>>()?;
+        if !self.clips {
+            return Self::new(base, perturbations, None);
+        }
+        let m = t.matrix3;
+        let diagonal = m.x_axis.y == 0.0
+            && m.x_axis.z == 0.0
+            && m.y_axis.x == 0.0
+            && m.y_axis.z == 0.0
+            && m.z_axis.x == 0.0
+            && m.z_axis.y == 0.0;
+        if !diagonal {
+            return Err(GeometryError::ClipNotMovable { how: "rotated" });
+        }
+        let (a, b) = (
+            t.transform_point3(self.bounds.min),
+            t.transform_point3(self.bounds.max),
+        );
+        let bounds = Aabb::new(a.min(b), a.max(b));
+        Ok(Self {
+            base,
+            perturbations,
+            bounds,
+            clips: true,
         })
     }
 

@@ -147,6 +147,34 @@ impl Solid {
         }
     }
 
+    /// The solid moved by the affine map `t`: every leaf moved (`FreeForm::moved`), the same
+    /// program, the box recomputed from the leaves' new boxes as compiling does (a union's is the
+    /// union of its operands', an intersection's their intersection, a difference's its first
+    /// operand's).
+    pub fn moved(&self, t: &glam::DAffine3) -> Result<Self, GeometryError> {
+        let leaves = self
+            .leaves
+            .iter()
+            .map(|l| l.moved(t))
+            .collect::<Result<Vec<_>, _>>()?;
+        let boxes: Vec<Aabb> = leaves.iter().map(FreeForm::bounds).collect();
+        let bounds = run(&self.program, &mut Boxes(&boxes))
+            .flatten()
+            .unwrap_or(Aabb::EMPTY);
+        let leaf_covers_solid = covers(&leaves, &bounds);
+        let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &self.leaf_negated);
+        Ok(Self {
+            widenings,
+            perturbation_magnitudes,
+            leaves,
+            program: self.program.clone(),
+            bounds,
+            max_stack: self.max_stack,
+            leaf_covers_solid,
+            leaf_negated: self.leaf_negated.clone(),
+        })
+    }
+
     pub fn leaves(&self) -> &[FreeForm] {
         &self.leaves
     }
@@ -215,6 +243,29 @@ fn covers(leaves: &[FreeForm], bounds: &Aabb) -> Vec<bool> {
             !bounds.is_empty() && b.min.cmple(bounds.min).all() && b.max.cmpge(bounds.max).all()
         })
         .collect()
+}
+
+/// The box of a program's value from its leaves' boxes, as [`compile`] makes it: `None` is a
+/// negated operand (unbounded: everything outside a box), which an intersection ignores.
+struct Boxes<'a>(&'a [Aabb]);
+
+impl CsgAlgebra for Boxes<'_> {
+    type Value = Option<Aabb>;
+    fn leaf(&mut self, i: u32) -> Option<Option<Aabb>> {
+        self.0.get(i as usize).map(|b| Some(*b))
+    }
+    fn max(&mut self, a: Option<Aabb>, b: Option<Aabb>) -> Option<Option<Aabb>> {
+        Some(a.zip(b).map(|(a, b)| a.union(&b)))
+    }
+    fn min(&mut self, a: Option<Aabb>, b: Option<Aabb>) -> Option<Option<Aabb>> {
+        Some(match (a, b) {
+            (Some(a), Some(b)) => Some(a.intersection(&b)),
+            (a, b) => a.or(b),
+        })
+    }
+    fn neg(&mut self, _: Option<Aabb>) -> Option<Option<Aabb>> {
+        Some(None)
+    }
 }
 
 /// The stack depth of the program: an operand's is its own, or one more than its second
