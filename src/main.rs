@@ -30,6 +30,16 @@ enum Command {
     Render(RenderArgs),
     /// Parse and validate a scene file, and print what it holds (objects of every kind), what it
     /// uses and what it charged to the memory budget.
+    /// Stack PNG tiles rendered with `fray render --tile I/N` (given in tile order) into one
+    /// image.
+    Assemble {
+        /// The tiles, tile 0 first.
+        #[arg(required = true)]
+        tiles: Vec<PathBuf>,
+        /// The whole image (.png).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
@@ -52,6 +62,21 @@ struct RenderArgs {
     /// Image height in pixels (keeps the aspect ratio if --width is not given).
     #[arg(long)]
     height: Option<u32>,
+    /// Render from the scene's camera of this name (`cameras` in the scene file).
+    #[arg(long, value_name = "NAME")]
+    camera: Option<String>,
+    /// Render the scene's animation at this time, in seconds.
+    #[arg(long, value_name = "SECONDS", conflicts_with = "frames")]
+    time: Option<f64>,
+    /// Render frames A to B−1 of the scene's animation, each to the output path with its number
+    /// in place of a printf pattern (`-o out_%04d.png`; default: `<scene>_%04d.png`). A frame's
+    /// bytes do not depend on the frames rendered before it.
+    #[arg(long, value_name = "A..B", value_parser = parse_frames)]
+    frames: Option<std::ops::Range<u32>>,
+    /// Render tile I of N of the image: a band of rows (`fray assemble` stacks the tiles back
+    /// into the whole image, bit for bit). CPU backend.
+    #[arg(long, value_name = "I/N", value_parser = parse_tile, conflicts_with = "frames")]
+    tile: Option<fray_render::ImageTile>,
     /// Ray-casting tolerance in world units (default: 1e-10 × the scene's size).
     #[arg(long)]
     eps: Option<f64>,
@@ -132,6 +157,9 @@ fn main() -> ExitCode {
         .or_else(|| Cli::parse_from(["fray", "render"]).command);
     let result = match command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Assemble { tiles, output }) => {
+            fray_render::assemble_png_tiles(&tiles, &output).map_err(|e| e.to_string())
+        }
         Some(Command::Check {
             scene,
             memory_budget,
@@ -157,6 +185,57 @@ fn parse_media_grid(text: &str) -> Result<u32, String> {
             range.end()
         )),
     }
+}
+
+fn parse_frames(text: &str) -> Result<std::ops::Range<u32>, String> {
+    let bad = || format!("frames are `A..B` (B excluded), e.g. 0..240, got {text:?}");
+    let (a, b) = text.split_once("..").ok_or_else(bad)?;
+    let (a, b): (u32, u32) = (a.parse().map_err(|_| bad())?, b.parse().map_err(|_| bad())?);
+    if a < b { Ok(a..b) } else { Err(bad()) }
+}
+
+fn parse_tile(text: &str) -> Result<fray_render::ImageTile, String> {
+    let bad = || format!("a tile is `I/N` (tile I of N, from 0), e.g. 3/8, got {text:?}");
+    let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    let (index, count) = (i.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?);
+    if count == 0 || index >= count {
+        return Err(bad());
+    }
+    Ok(fray_render::ImageTile { index, count })
+}
+
+/// `pattern` with its printf pattern (`%d`, `%04d`, …) replaced by `n`.
+fn numbered(pattern: &Path, n: u32) -> Result<PathBuf, String> {
+    let text = pattern.to_string_lossy();
+    let start = text.find('%').ok_or_else(|| {
+        format!(
+            "{}: an output for many frames needs a frame-number pattern such as %04d",
+            pattern.display()
+        )
+    })?;
+    let rest = &text[start + 1..];
+    let end = rest.find('d').ok_or_else(|| {
+        format!(
+            "{}: the pattern after % must be like %04d",
+            pattern.display()
+        )
+    })?;
+    let spec = &rest[..end];
+    let width: usize = if spec.is_empty() {
+        0
+    } else if spec.chars().all(|c| c.is_ascii_digit()) && spec.len() <= 2 {
+        spec.parse().unwrap_or(0)
+    } else {
+        return Err(format!(
+            "{}: the pattern after % must be like %04d",
+            pattern.display()
+        ));
+    };
+    Ok(PathBuf::from(format!(
+        "{}{n:0width$}{}",
+        &text[..start],
+        &rest[end + 1..]
+    )))
 }
 
 fn parse_samples(text: &str) -> Result<fray_core::PixelSamples, String> {
@@ -245,6 +324,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         closed_form: args.no_closed_form.then_some(false),
         samples: args.samples,
         media_grid: args.media_grid,
+        tile: args.tile,
     });
     // Options no scene could make right (`--threads` past the machine's limit) are refused
     // before the scene is loaded.
@@ -274,20 +354,67 @@ fn render(args: &RenderArgs) -> Result<(), String> {
     if let Some(bar) = &build_bar {
         bar.finish_and_clear();
     }
-    let (scene, name) = loaded?;
+    let (mut scene, name) = loaded?;
+    if let Some(camera) = &args.camera {
+        scene = scene
+            .with_camera(camera)
+            .map_err(|e| format!("{name}: {e}"))?;
+    }
+    let stem = args
+        .scene
+        .as_deref()
+        .and_then(|p| p.file_stem())
+        .map_or_else(
+            || "turboprop".to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        );
     let output = args.output.clone().unwrap_or_else(|| {
-        let stem = args
-            .scene
-            .as_deref()
-            .and_then(|p| p.file_stem())
-            .map_or_else(
-                || "turboprop".to_string(),
-                |s| s.to_string_lossy().into_owned(),
-            );
-        PathBuf::from(format!("{stem}.png"))
+        PathBuf::from(match (&args.frames, args.tile) {
+            (Some(_), _) => format!("{stem}_%04d.png"),
+            (None, Some(t)) => format!("{stem}_tile{}of{}.png", t.index, t.count),
+            (None, None) => format!("{stem}.png"),
+        })
     });
     // Refuse an output the writers cannot produce before rendering, not after.
     fray_render::output::check_extension(&output).map_err(|e| e.to_string())?;
+    let at = |n: u32| scene.at_frame(n).map_err(|e| format!("{name}: {e}"));
+    match &args.frames {
+        Some(frames) => {
+            if let Some(a) = &scene.animation
+                && frames.end > a.frames
+            {
+                eprintln!(
+                    "note: the animation has {} frames; frames from {} on hold its {} end",
+                    a.frames,
+                    a.frames,
+                    if a.looped { "looped" } else { "last" }
+                );
+            }
+            numbered(&output, frames.start)?;
+            for n in frames.clone() {
+                render_still(&renderer, &at(n)?, &name, &numbered(&output, n)?, args)?;
+            }
+            Ok(())
+        }
+        None => {
+            // A still of an animated scene is its frame at `--time`, else at time 0.
+            let still = match args.time {
+                Some(t) => scene.at_time(t).map_err(|e| format!("{name}: {e}"))?,
+                None => at(0)?,
+            };
+            render_still(&renderer, &still, &name, &output, args)
+        }
+    }
+}
+
+/// Renders `scene` with `renderer`, writes it to `output` and prints the summary line.
+fn render_still(
+    renderer: &Renderer,
+    scene: &fray_scene::Scene,
+    name: &str,
+    output: &Path,
+    args: &RenderArgs,
+) -> Result<(), String> {
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(0);
         bar.set_style(
@@ -306,7 +433,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         }
     };
     let frame = renderer
-        .render_with_progress(&scene, Some(&report))
+        .render_with_progress(scene, Some(&report))
         .map_err(|e| format!("{name}: {e}"))?;
     if let Some(bar) = &bar {
         bar.finish_and_clear();
@@ -322,7 +449,7 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         },
         exposure: args.exposure,
     };
-    write_image(&frame, &output, &png).map_err(|e| e.to_string())?;
+    write_image(&frame, output, &png).map_err(|e| e.to_string())?;
     if !args.quiet {
         let s = &frame.stats;
         // Terrain work, when a terrain was searched: per terrain cast of a camera ray.

@@ -28,7 +28,12 @@ fn solid() -> Solid {
         None,
     )
     .unwrap();
-    let hole = FreeForm::new(Quadric::sphere(DVec3::new(2.5, 0.0, 0.0), 0.4), vec![], None).unwrap();
+    let hole = FreeForm::new(
+        Quadric::sphere(DVec3::new(2.5, 0.0, 0.0), 0.4),
+        vec![],
+        None,
+    )
+    .unwrap();
     Solid::new(Shape::Difference(
         Box::new(Shape::Union(vec![
             Shape::FreeForm(body),
@@ -57,7 +62,9 @@ fn a_moved_solid_at_the_moved_point_has_the_original_value() {
     let moved = solid.moved(&t).unwrap();
     let mut state = 0x2545_f491_u64;
     let mut next = || {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let mut checked = 0;
@@ -78,7 +85,10 @@ fn a_moved_solid_at_the_moved_point_has_the_original_value() {
     for _ in 0..20_000 {
         let p = DVec3::new(8.0 * next() - 4.0, 2.0 * next() - 1.0, 10.0 * next() - 5.0);
         if solid.eval(p) >= 0.0 {
-            assert!(b.contains(t.transform_point3(p)), "{p} inside, outside {b:?}");
+            assert!(
+                b.contains(t.transform_point3(p)),
+                "{p} inside, outside {b:?}"
+            );
         }
     }
 }
@@ -89,7 +99,11 @@ fn the_identity_moves_nothing() {
     let solid = solid();
     let same = solid.moved(&DAffine3::IDENTITY).unwrap();
     assert_eq!(same.bounds(), solid.bounds());
-    for p in [DVec3::ZERO, DVec3::new(1.0, 0.3, 0.2), DVec3::new(2.5, 0.0, 0.1)] {
+    for p in [
+        DVec3::ZERO,
+        DVec3::new(1.0, 0.3, 0.2),
+        DVec3::new(2.5, 0.0, 0.1),
+    ] {
         assert_eq!(same.eval(p), solid.eval(p));
     }
 }

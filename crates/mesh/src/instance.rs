@@ -50,6 +50,14 @@ impl Instance {
         Ok(instance)
     }
 
+    /// The same mesh (and packet data) placed by `t` after this instance's own placement: what an
+    /// animated object is at a time. Nothing is rebuilt.
+    pub fn moved(&self, t: &DAffine3) -> Result<Self, MeshError> {
+        let mut instance = Self::new(self.mesh.clone(), *t * self.to_world)?;
+        instance.packets = self.packets.clone();
+        Ok(instance)
+    }
+
     /// The packet data, if the instance has it.
     pub fn packets(&self) -> Option<&PacketBvh> {
         self.packets.as_deref()

@@ -59,6 +59,40 @@ pub struct RenderOptions {
     /// pixel exactly, `Some(n)` on a grid of pixels `n` apart (`fray_scene::GRID_SPACINGS`).
     /// The GPU evaluates the media per pixel.
     pub media_grid: Option<u32>,
+    /// Render one horizontal tile of the image ([`ImageTile`]); `None`: the whole image.
+    pub tile: Option<ImageTile>,
+}
+
+/// Tile `index` of `count` of an image: a band of whole rows, in blocks of
+/// [`ImageTile::ROW_BLOCK`] rows shared out as evenly as they go. Tiles rendered apart (on other
+/// machines) and stacked in index order are the whole image, bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageTile {
+    pub index: u32,
+    pub count: u32,
+}
+
+impl ImageTile {
+    /// Rows come in blocks of the CPU backend's tile size, so a tile's rows are rendered exactly
+    /// as the whole image's are.
+    pub const ROW_BLOCK: u32 = 16;
+
+    /// The rows `(start, end)`, end excluded, of this tile of an image `height` rows tall.
+    pub fn rows(&self, height: u32) -> Result<(u32, u32), RenderError> {
+        let blocks = height.div_ceil(Self::ROW_BLOCK);
+        if self.count == 0 || self.index >= self.count || self.count > blocks {
+            return Err(RenderError::BadTile {
+                index: self.index,
+                count: self.count,
+                blocks,
+                height,
+            });
+        }
+        let at = |i: u32| (u64::from(i) * u64::from(blocks) / u64::from(self.count)) as u32;
+        let start = at(self.index) * Self::ROW_BLOCK;
+        let end = (at(self.index + 1) * Self::ROW_BLOCK).min(height);
+        Ok((start, end))
+    }
 }
 
 impl RenderOptions {
@@ -79,6 +113,21 @@ pub enum RenderError {
     Cpu(#[from] TraceError),
     #[error("gpu backend: {0}")]
     Gpu(#[from] GpuError),
+    #[error(
+        "tile {index}/{count}: an image {height} rows tall has {blocks} blocks of {} rows, so \
+         1..={blocks} tiles, numbered from 0",
+        ImageTile::ROW_BLOCK
+    )]
+    BadTile {
+        index: u32,
+        count: u32,
+        blocks: u32,
+        height: u32,
+    },
+    #[error(
+        "tiles render on the CPU backend (the GPU backend renders whole frames); use --backend cpu"
+    )]
+    TileOnGpu,
 }
 
 /// Renders scenes with fixed options.
@@ -135,6 +184,9 @@ impl Renderer {
         if let Some(n) = self.options.media_grid {
             settings.media_grid = (n > 0).then_some(n);
         }
+        if let Some(tile) = self.options.tile {
+            settings.rows = Some(tile.rows(scene.height)?);
+        }
         let cpu = |settings: &TraceSettings| fray_trace::render(&scene, settings, progress);
         if let Some(c) = self.options.culling {
             settings.culling = c;
@@ -156,7 +208,14 @@ impl Renderer {
                 Ok(_) => {}
             }
         }
-        match self.resolved_backend() {
+        let backend = match (self.resolved_backend(), self.options.tile) {
+            (Backend::Gpu, Some(_)) if self.options.backend == Backend::Gpu => {
+                return Err(RenderError::TileOnGpu);
+            }
+            (_, Some(_)) => Backend::Cpu,
+            (b, None) => b,
+        };
+        match backend {
             Backend::Cpu | Backend::Auto => Ok(cpu(&settings)?),
             Backend::Gpu => {
                 let gpu_settings = GpuSettings {

@@ -27,6 +27,13 @@ pub struct Scene {
     pub image: Image,
     #[serde(default)]
     pub camera: Camera,
+    /// More cameras by name (`fray render --camera NAME`, the viewer's number keys in name
+    /// order); `camera` stays the default.
+    #[serde(default)]
+    pub cameras: BTreeMap<String, Camera>,
+    /// Motion over time: a camera path, object tracks, the sun's direction (default: a still).
+    #[serde(default)]
+    pub animation: Option<Animation>,
     /// Radiance of rays that hit nothing (linear RGB).
     #[serde(default = "default_background")]
     pub background: Vec3,
@@ -579,6 +586,129 @@ impl Default for Transform {
             scale: ones(),
         }
     }
+}
+
+/// Keyframed motion: `fps` frames per second, `frames` frames (default: to the last key), and
+/// tracks whose keys are at times in seconds. With `loop`, time wraps at the animation's length
+/// and every track closes on itself (its last key runs on into its first).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Animation {
+    #[serde(default = "default_fps")]
+    pub fps: f64,
+    /// A whole number ≥ 1, read as any number so a bad value gets a clear message.
+    #[serde(default)]
+    pub frames: Option<f64>,
+    #[serde(default, rename = "loop")]
+    pub looped: bool,
+    /// The camera's path (the scene's `camera` must be a `Pinhole`).
+    #[serde(default)]
+    pub camera: Option<CameraPath>,
+    /// Object tracks by object `name` (free forms and meshes): each key moves the object from
+    /// where the file places it.
+    #[serde(default)]
+    pub objects: BTreeMap<String, ObjectTrack>,
+    /// The direction of the scene's first `Sun` light over time (the sky's sun with it).
+    #[serde(default)]
+    pub sun: Option<SunTrack>,
+}
+
+fn default_fps() -> f64 {
+    24.0
+}
+
+/// How a track passes through its keys.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum Interpolation {
+    /// Straight from key to key.
+    Linear,
+    /// A Catmull–Rom spline through the keys (tangents from the neighbouring keys, for keys at
+    /// any spacing in time): smooth positions, continuous velocity.
+    #[default]
+    CatmullRom,
+}
+
+/// How a track's time runs between its first and last key.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum Ease {
+    #[default]
+    Linear,
+    /// Starts slowly.
+    In,
+    /// Ends slowly.
+    Out,
+    /// Starts and ends slowly (smoothstep).
+    InOut,
+}
+
+/// A camera path: keys of eye, look-at point, up and field of view.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraPath {
+    pub keys: Vec<CameraKey>,
+    #[serde(default)]
+    pub interpolation: Interpolation,
+    #[serde(default)]
+    pub ease: Ease,
+}
+
+/// One key of a camera path. A key without `look_at` looks along the path (where the eye is
+/// heading); then no key has one.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraKey {
+    pub time: f64,
+    pub eye: Vec3,
+    #[serde(default)]
+    pub look_at: Option<Vec3>,
+    #[serde(default = "default_up")]
+    pub up: Vec3,
+    /// Degrees; default: the scene camera's.
+    #[serde(default)]
+    pub fov_y: Option<f64>,
+}
+
+/// An object's track: keys of a translation and a rotation applied after the object's own
+/// placement (rotation about the world origin, then translation).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectTrack {
+    pub keys: Vec<ObjectKey>,
+    #[serde(default)]
+    pub interpolation: Interpolation,
+    #[serde(default)]
+    pub ease: Ease,
+}
+
+/// One key of an object track; rotations are interpolated along the shortest arc.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectKey {
+    pub time: f64,
+    #[serde(default = "zeros")]
+    pub translate: Vec3,
+    /// Degrees about x, then y, then z (world axes), as in `Transform`.
+    #[serde(default = "zeros")]
+    pub rotate: Vec3,
+}
+
+/// The sun's direction (toward the sun) over time.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SunTrack {
+    pub keys: Vec<SunKey>,
+    #[serde(default)]
+    pub interpolation: Interpolation,
+    #[serde(default)]
+    pub ease: Ease,
+}
+
+/// One key of the sun's track.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SunKey {
+    pub time: f64,
+    pub direction: Vec3,
 }
 
 /// The atmosphere: a fog layer, a physically based sky, and how their terms are evaluated.

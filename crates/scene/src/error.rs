@@ -30,13 +30,26 @@ pub enum SceneError {
         field: String,
         message: String,
     },
+    /// A time of the scene's animation at which it cannot be built (e.g. the camera's look-at
+    /// point meets its eye between two keys).
+    #[error("{what} at time {time} s: {message}")]
+    Animation {
+        time: f64,
+        what: String,
+        message: String,
+    },
+    /// `--camera NAME` names no camera of the scene.
+    #[error("no camera named {name:?}: {known}")]
+    NoSuchCamera { name: String, known: String },
 }
 
 impl SceneError {
     /// The 1-based line the error points at (`None` for I/O errors).
     pub fn line(&self) -> Option<usize> {
         match self {
-            SceneError::Io { .. } => None,
+            SceneError::Io { .. }
+            | SceneError::Animation { .. }
+            | SceneError::NoSuchCamera { .. } => None,
             SceneError::Syntax { line, .. } | SceneError::Invalid { line, .. } => Some(*line),
         }
     }
@@ -44,7 +57,9 @@ impl SceneError {
     /// The 1-based column (in characters) the error points at (`None` for I/O errors).
     pub fn column(&self) -> Option<usize> {
         match self {
-            SceneError::Io { .. } => None,
+            SceneError::Io { .. }
+            | SceneError::Animation { .. }
+            | SceneError::NoSuchCamera { .. } => None,
             SceneError::Syntax { column, .. } | SceneError::Invalid { column, .. } => Some(*column),
         }
     }

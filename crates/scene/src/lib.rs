@@ -10,6 +10,7 @@
 //! format is documented in `docs/scene-format.md`. [`work_list`] makes the work items both
 //! backends render, from the scene's cell test for the `fray-quadtree` scheduler.
 
+mod animation;
 mod assets;
 mod atmosphere;
 mod checks;
@@ -28,6 +29,7 @@ mod solid;
 mod texture;
 mod work;
 
+pub use animation::{Animation, CameraPath, Curve, MAX_FRAMES, ObjectTrack, TrackTarget};
 pub use atmosphere::{
     Atmosphere, DEFAULT_GRID_SPACING, DEFAULT_GRID_SPACING_TEXT, Fog, GRID_SPACINGS, MAX_SKY_STEPS,
     Sky,

@@ -208,6 +208,17 @@ pub(crate) fn resolve(
     scene.clouds = clouds;
     scene.settings = settings;
     scene.features = features;
+    let cameras_path = root.field("cameras");
+    for (name, c) in &d.cameras {
+        scene.cameras.push(crate::NamedCamera {
+            name: name.clone(),
+            camera: self::camera(&cameras_path.field(name), c)?,
+        });
+    }
+    if let Some(a) = &d.animation {
+        let animation = crate::animation::resolve(&root.field("animation"), a, &scene)?;
+        scene.animation = Some(std::sync::Arc::new(animation));
+    }
     Ok(scene)
 }
 

@@ -16,6 +16,11 @@ pub struct Scene {
     pub width: u32,
     pub height: u32,
     pub camera: Projector,
+    /// The file's named cameras, in name order ([`Scene::with_camera`]).
+    pub cameras: Vec<NamedCamera>,
+    /// Motion over time ([`Scene::at_time`]); `None` for a still, and in the scenes `at_time`
+    /// returns (a frame of an animation is a still).
+    pub animation: Option<Arc<crate::Animation>>,
     /// Radiance of rays that hit nothing (linear RGB).
     pub background: Rgb,
     /// Uniform ambient radiance that lights every surface through its `ambient` reflectance.
@@ -37,6 +42,13 @@ pub struct Scene {
     /// The render's memory account: what the scene built is charged to it, and the backends
     /// charge their frames, work lists and device buffers to it too.
     pub budget: MemoryBudget,
+}
+
+/// A camera the file names (`cameras: {"side": Pinhole(…)}`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedCamera {
+    pub name: String,
+    pub camera: Projector,
 }
 
 /// Render settings stored in the scene (command-line options override them).
@@ -215,6 +227,8 @@ impl Scene {
             width,
             height,
             camera,
+            cameras: Vec::new(),
+            animation: None,
             background,
             ambient,
             lights,

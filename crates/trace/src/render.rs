@@ -86,8 +86,21 @@ pub fn render_into(
     crate::settings::check_threads(settings.threads)?;
     let start = Instant::now();
     let (width, height) = (scene.width, scene.height);
-    let n = width as usize * height as usize;
-    let sized = |w: u32, h: u32| w == width && h == height;
+    let ts = settings.tile_size;
+    // The rows rendered: the whole image, or a band of it that starts where a band of the whole
+    // image's loop starts, so every pixel is computed exactly as in the whole image.
+    let (row0, row1) = settings.rows.unwrap_or((0, height));
+    if !(row0 < row1 && row1 <= height && row0 % ts == 0) {
+        return Err(TraceError::BadRows {
+            start: row0,
+            end: row1,
+            height,
+            tile: ts,
+        });
+    }
+    let rows = row1 - row0;
+    let n = width as usize * rows as usize;
+    let sized = |w: u32, h: u32| w == width && h == rows;
     let resized = !(sized(frame.colour.width(), frame.colour.height())
         && sized(frame.depth.width(), frame.depth.height())
         && sized(frame.normals.width(), frame.normals.height()));
@@ -95,7 +108,7 @@ pub fn render_into(
     // the media grid are checked against what the scene and the frame leave.
     let _frame_images = if resized {
         Some(scene.budget.reserve_elements(
-            format!("the frame's colour, depth and normal images ({width} × {height} pixels, 32 bytes each)"),
+            format!("the frame's colour, depth and normal images ({width} × {rows} pixels, 32 bytes each)"),
             n as u64,
             FRAME_BYTES_PER_PIXEL,
         )?)
@@ -112,8 +125,7 @@ pub fn render_into(
             reason: e.to_string(),
         })?
     };
-    let ts = settings.tile_size;
-    let total = u64::from(width) * u64::from(height);
+    let total = u64::from(width) * u64::from(rows);
     let done = AtomicU64::new(0);
     // Tiles `(x0, y0, x1, y1)`, with the index of their work item when culling.
     let (tiles, list): (Vec<Tile>, _) = if settings.culling {
@@ -159,6 +171,7 @@ pub fn render_into(
     // which cost a 1024² frame as much as a fifth of its tracing in page faults and copies.
     let band_rows = ts as usize;
     let bands = tiles_by_band(&tiles, height, ts);
+    let bands = &bands[(row0 / ts) as usize..row1.div_ceil(ts) as usize];
     if resized {
         // New buffers from zeroed allocations: the kernel maps their pages when a band task
         // first writes its rows (in parallel, once), instead of in a fill pass before that.
@@ -167,12 +180,12 @@ pub fn render_into(
         };
         let (colour, depth, normals) = (zeroed(), vec![0.0; n], zeroed());
         // The lengths are width × height by construction, so the fallbacks are never taken.
-        frame.colour = Image::from_pixels(width, height, colour)
-            .unwrap_or_else(|| Image::filled(width, height, Rgb::ZERO));
-        frame.depth = Image::from_pixels(width, height, depth)
-            .unwrap_or_else(|| Image::filled(width, height, 0.0));
-        frame.normals = Image::from_pixels(width, height, normals)
-            .unwrap_or_else(|| Image::filled(width, height, Vec3::ZERO));
+        frame.colour = Image::from_pixels(width, rows, colour)
+            .unwrap_or_else(|| Image::filled(width, rows, Rgb::ZERO));
+        frame.depth = Image::from_pixels(width, rows, depth)
+            .unwrap_or_else(|| Image::filled(width, rows, 0.0));
+        frame.normals = Image::from_pixels(width, rows, normals)
+            .unwrap_or_else(|| Image::filled(width, rows, Vec3::ZERO));
     }
     let w = width as usize;
     let mut integrator = Integrator::new(scene, settings);
@@ -204,7 +217,7 @@ pub fn render_into(
                 },
                 |scratch, (k, (((colour, depth), normals), band))| {
                     // Background where no tile (or no surface) is.
-                    let y0 = k as u32 * ts;
+                    let y0 = row0 + k as u32 * ts;
                     let media = integrator.media().is_some();
                     if media {
                         // Marked unwritten: what no tile writes gets its miss after the tiles.
@@ -221,7 +234,7 @@ pub fn render_into(
                         depth,
                         normals,
                     };
-                    let y1 = (y0 + ts).min(height);
+                    let y1 = (y0 + ts).min(row1);
                     for &ti in band {
                         let t = &tiles[ti as usize];
                         let (x0, ty0, x1, ty1) = t.rect;

@@ -31,6 +31,10 @@ pub struct TraceSettings {
     /// The media's evaluation: `Some(n)`, on a grid of pixels `n` apart, interpolated where the
     /// depths agree (the scene's `atmosphere.grid`); `None`, every pixel exactly.
     pub media_grid: Option<u32>,
+    /// Render only rows `(start, end)`, end excluded, of the image (a tile of a still, for many
+    /// machines): the frame is those rows, each pixel the same bits as in the whole image.
+    /// `start` is a multiple of `tile_size`; `None`: every row.
+    pub rows: Option<(u32, u32)>,
 }
 
 impl TraceSettings {
@@ -46,6 +50,7 @@ impl TraceSettings {
             method: CastMethod::ClosedForm,
             samples: scene.settings.samples,
             media_grid: scene.atmosphere.grid,
+            rows: None,
         }
     }
 }
@@ -87,6 +92,16 @@ pub enum TraceError {
     EmptyImage(u32, u32),
     #[error("tile size must be at least 1")]
     BadTileSize,
+    #[error(
+        "rows {start}..{end} are not a band of the {height}-row image starting on a multiple of \
+         the {tile}-row tile size"
+    )]
+    BadRows {
+        start: u32,
+        end: u32,
+        height: u32,
+        tile: u32,
+    },
     #[error("quadtree: {0}")]
     Quadtree(#[from] fray_quadtree::QuadtreeError),
     #[error(
