@@ -8,8 +8,11 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Loads a scene file; the error is the loader's message.
+/// The scene at `path` as `fray render` renders it: an animated scene at time 0.
 pub fn load(path: &Path) -> Result<Scene, String> {
-    fray_scene::load(path).map_err(|e| e.to_string())
+    fray_scene::load(path)
+        .and_then(|s| s.at_frame(0))
+        .map_err(|e| e.to_string())
 }
 
 /// The short lower-case name of a backend, used in file names and reports (`cpu`, …).
