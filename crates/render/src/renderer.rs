@@ -130,15 +130,21 @@ pub enum RenderError {
     TileOnGpu,
 }
 
-/// Renders scenes with fixed options.
+/// Renders scenes with fixed options. The GPU is opened at the first GPU render and kept, with
+/// its pipeline cache, for every later render by this renderer (and its clones): the frames of an
+/// animation open the device once and build each pipeline once.
 #[derive(Clone, Debug, Default)]
 pub struct Renderer {
     options: RenderOptions,
+    gpu: std::sync::Arc<std::sync::OnceLock<Result<fray_gpu::GpuRenderer, GpuError>>>,
 }
 
 impl Renderer {
     pub fn new(options: RenderOptions) -> Self {
-        Self { options }
+        Self {
+            options,
+            gpu: Default::default(),
+        }
     }
 
     pub fn options(&self) -> &RenderOptions {
@@ -225,7 +231,12 @@ impl Renderer {
                     samples: settings.samples,
                 };
                 let gpu = || {
-                    let frame = fray_gpu::render(&scene, &gpu_settings)?;
+                    let gpu = self
+                        .gpu
+                        .get_or_init(fray_gpu::GpuRenderer::new)
+                        .as_ref()
+                        .map_err(Clone::clone)?;
+                    let frame = gpu.render(&scene, &gpu_settings)?;
                     if let Some(report) = progress {
                         let n = u64::from(scene.width) * u64::from(scene.height);
                         report(n, n);

@@ -89,3 +89,52 @@ fn threads_past_the_machines_limit_are_refused_on_every_backend_before_rendering
     };
     assert!(within.check().is_ok());
 }
+
+/// One renderer opens the GPU once and keeps its pipelines: the second frame of an animation
+/// (a moved sphere: a new upload) builds no pipeline. And a tile is refused on an explicit GPU
+/// request (tiles render on the CPU).
+#[test]
+fn a_renderer_keeps_its_gpu_and_pipelines_across_frames() {
+    let scene = fray_scene::parse(
+        &SPHERE.replace(
+            "objects:",
+            "animation: Some((fps: 1, objects: {\"ball\": (keys: [(time: 0), (time: 1, translate: (0.5, 0, 0))])})), objects:",
+        )
+        .replace("(shape: Sphere", "(name: \"ball\", shape: Sphere"),
+        "sphere.ron",
+    )
+    .unwrap();
+    let renderer = Renderer::new(RenderOptions {
+        backend: Backend::Gpu,
+        width: Some(40),
+        ..RenderOptions::default()
+    });
+    let first = match renderer.render(&scene.at_frame(0).unwrap()) {
+        Ok(frame) => frame,
+        Err(e) => {
+            assert!(
+                !std::env::var("FRAY_REQUIRE_GPU").is_ok_and(|v| v == "1"),
+                "FRAY_REQUIRE_GPU=1 but the GPU backend failed: {e}"
+            );
+            eprintln!("skipped: no GPU adapter ({e})");
+            return;
+        }
+    };
+    let second = renderer.render(&scene.at_frame(1).unwrap()).unwrap();
+    assert!(first.stats.pipelines_built > 0);
+    assert_eq!(
+        second.stats.pipelines_built, 0,
+        "the pipelines were built again"
+    );
+    assert_ne!(
+        first.depth.get(20, 15),
+        second.depth.get(20, 15),
+        "the sphere moved"
+    );
+    let tiled = Renderer::new(RenderOptions {
+        backend: Backend::Gpu,
+        tile: Some(fray_render::ImageTile { index: 0, count: 2 }),
+        ..RenderOptions::default()
+    });
+    assert!(matches!(tiled.render(&scene), Err(RenderError::TileOnGpu)));
+}
