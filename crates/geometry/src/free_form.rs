@@ -102,6 +102,39 @@ impl FreeForm {
         })
     }
 
+    /// What [`FreeForm::moved`] refuses, exactly: the object moved by any affine map `t` as the
+    /// intersection (CSG `min`) of its unclipped self and the six half-spaces of its moved
+    /// clipping box — the box turned with the object, which no axis-aligned box can be. Each
+    /// part is clipped only by the box around the moved box's corners, which holds their
+    /// intersection, so that clip cuts nothing of it. The unclipped object comes first.
+    pub fn moved_as_box_intersection(&self, t: &DAffine3) -> Result<Vec<Self>, GeometryError> {
+        let map = |q: &Quadric| q.transformed(t).ok_or(GeometryError::SingularTransform);
+        let (lo, hi) = (self.bounds.min, self.bounds.max);
+        let corners = (0..8).map(|k| {
+            let pick = |bit: u32, a: f64, b: f64| if k & (1 << bit) == 0 { a } else { b };
+            t.transform_point3(DVec3::new(
+                pick(0, lo.x, hi.x),
+                pick(1, lo.y, hi.y),
+                pick(2, lo.z, hi.z),
+            ))
+        });
+        let around = corners.fold(Aabb::EMPTY, |b, c| b.union(&Aabb::new(c, c)));
+        let perturbations = self
+            .perturbations
+            .iter()
+            .map(|p| Ok(Perturbation::new(p.form_factor, map(&p.quadric)?)))
+            .collect::<Result<Vec<_>, GeometryError>>()?;
+        let mut parts = vec![Self::new(map(&self.base)?, perturbations, Some(around))?];
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            // Inside the box: at or above its lower face, at or below its upper one.
+            for (point, outward) in [(lo, -axis), (hi, axis)] {
+                let face = map(&Quadric::half_space(point, outward))?;
+                parts.push(Self::new(face, Vec::new(), Some(around))?);
+            }
+        }
+        Ok(parts)
+    }
+
     fn derived_bounds(base: &Quadric, perturbations: &[Perturbation]) -> Option<Aabb> {
         let mut b = base.inside_bounds()?;
         for p in perturbations.iter().filter(|p| p.form_factor > 0.0) {

@@ -253,12 +253,6 @@ fn bad_animations_are_located() {
             "animation.objects.plane",
             "no free-form or mesh object",
         ),
-        // A clipped object cannot rotate.
-        (
-            "objects: {\"slab\": (keys: [(time: 0), (time: 1, rotate: (0, 30, 0))])}",
-            "animation.objects.slab.keys[1].rotate",
-            "rotated",
-        ),
         // A loop without its length.
         ("loop: true", "animation.frames", "needs its length"),
         // A loop key past the end.
@@ -287,4 +281,38 @@ fn bad_animations_are_located() {
     let (f, _, message) = invalid(&src);
     assert_eq!(f, "animation.camera");
     assert!(message.contains("Pinhole"), "{message}");
+}
+
+/// A clipped object turns with its box: the slab's clipping box becomes its six moved faces
+/// (seven leaves, each with the slab's material), and the turned slab holds the slab's turned
+/// points.
+#[test]
+fn a_clipped_object_turns_with_its_box() {
+    let scene = ok(&format!(
+        "{HEAD}
+  materials: {{\"stone\": (diffuse: (0.5, 0.5, 0.5))}},
+  animation: Some((fps: 1, objects: {{\"slab\": (interpolation: Linear, keys: [
+    (time: 0), (time: 1, rotate: (0, 0, 30))])}})),
+)"
+    )
+    .replace(
+        "(name: \"slab\", shape:",
+        "(name: \"slab\", material: \"stone\", shape:",
+    ));
+    let turned = scene.at_time(1.0).unwrap();
+    let slab = &turned.objects[1];
+    assert_eq!(slab.solid.leaves().len(), 7);
+    assert_eq!(
+        slab.leaf_materials,
+        vec![scene.objects[1].leaf_materials[0]; 7]
+    );
+    let r = glam::DQuat::from_rotation_z(30f64.to_radians());
+    for p in [
+        DVec3::new(0.0, -1.5, 0.0),
+        DVec3::new(4.0, -1.2, -3.0),
+        DVec3::new(-2.0, -1.9, 4.5),
+    ] {
+        assert!(scene.objects[1].solid.eval(p) > 0.0);
+        assert!(slab.solid.eval(r * p) > 0.0, "{p} turned is outside");
+    }
 }

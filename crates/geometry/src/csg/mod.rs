@@ -147,32 +147,62 @@ impl Solid {
         }
     }
 
-    /// The solid moved by the affine map `t`: every leaf moved (`FreeForm::moved`), the same
-    /// program, the box recomputed from the leaves' new boxes as compiling does (a union's is the
-    /// union of its operands', an intersection's their intersection, a difference's its first
-    /// operand's).
-    pub fn moved(&self, t: &glam::DAffine3) -> Result<Self, GeometryError> {
-        let leaves = self
-            .leaves
+    /// The solid moved by the affine map `t`, exactly, with the leaf of `self` each of its
+    /// leaves comes from (for per-leaf materials): every leaf moved (`FreeForm::moved`), except
+    /// that a leaf whose clipping box the map turns becomes the intersection of its unclipped
+    /// self and its box's six moved half-spaces (`FreeForm::moved_as_box_intersection`: seven
+    /// leaves from one); the same program otherwise, the box recomputed from the leaves' new
+    /// boxes as compiling does (a union's is the union of its operands', an intersection's their
+    /// intersection, a difference's its first operand's).
+    pub fn moved(&self, t: &glam::DAffine3) -> Result<(Self, Vec<u32>), GeometryError> {
+        let mut leaves = Vec::with_capacity(self.leaves.len());
+        let mut origins = Vec::with_capacity(self.leaves.len());
+        let mut fragments: Vec<Vec<CsgOp>> = Vec::with_capacity(self.leaves.len());
+        for (i, leaf) in self.leaves.iter().enumerate() {
+            let parts = match leaf.moved(t) {
+                Ok(moved) => vec![moved],
+                Err(GeometryError::ClipNotMovable { .. }) => leaf.moved_as_box_intersection(t)?,
+                Err(e) => return Err(e),
+            };
+            let mut fragment = Vec::with_capacity(2 * parts.len());
+            for (k, part) in parts.into_iter().enumerate() {
+                fragment.push(CsgOp::Leaf(leaves.len() as u32));
+                if k > 0 {
+                    fragment.push(CsgOp::Min);
+                }
+                leaves.push(part);
+                origins.push(i as u32);
+            }
+            fragments.push(fragment);
+        }
+        // A leaf's fragment stands where the leaf stood: leaves keep their postfix order.
+        let program: Vec<CsgOp> = self
+            .program
             .iter()
-            .map(|l| l.moved(t))
-            .collect::<Result<Vec<_>, _>>()?;
+            .flat_map(|op| match op {
+                CsgOp::Leaf(i) => fragments[*i as usize].clone(),
+                other => vec![*other],
+            })
+            .collect();
         let boxes: Vec<Aabb> = leaves.iter().map(FreeForm::bounds).collect();
-        let bounds = run(&self.program, &mut Boxes(&boxes))
+        let bounds = run(&program, &mut Boxes(&boxes))
             .flatten()
             .unwrap_or(Aabb::EMPTY);
+        let max_stack = run(&program, &mut Depth).unwrap_or(0);
         let leaf_covers_solid = covers(&leaves, &bounds);
-        let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &self.leaf_negated);
-        Ok(Self {
+        let leaf_negated = negated(&program, leaves.len());
+        let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &leaf_negated);
+        let solid = Self {
             widenings,
             perturbation_magnitudes,
             leaves,
-            program: self.program.clone(),
+            program,
             bounds,
-            max_stack: self.max_stack,
+            max_stack,
             leaf_covers_solid,
-            leaf_negated: self.leaf_negated.clone(),
-        })
+            leaf_negated,
+        };
+        Ok((solid, origins))
     }
 
     pub fn leaves(&self) -> &[FreeForm] {

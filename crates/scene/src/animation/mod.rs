@@ -95,8 +95,15 @@ impl ObjectTrack {
     pub fn at(&self, t: f64) -> DAffine3 {
         let (i, j, s) = self.translate.segment(t);
         let (a, b) = (self.rotations[i], self.rotations[j]);
-        // Equal keys give their rotation exactly (no rounding into a still object's box).
-        let q = if a == b { a } else { a.slerp(b, s) };
+        // A key's own time and equal keys give the key's rotation exactly (no rounding turns a
+        // still object's clipping box).
+        let q = if a == b || s == 0.0 {
+            a
+        } else if s == 1.0 {
+            b
+        } else {
+            a.slerp(b, s)
+        };
         DAffine3::from_mat3_translation(
             DMat3::from_quat(q),
             DVec3::from_array(self.translate.at(t)),
@@ -135,10 +142,17 @@ impl Scene {
             match track.target {
                 TrackTarget::Solid(i) => {
                     let object = &mut scene.objects[i];
-                    object.solid = object
+                    let (solid, origins) = object
                         .solid
                         .moved(&motion)
                         .map_err(|e| fail(&what, e.to_string()))?;
+                    // A turned clipping box adds leaves: each takes its origin's material.
+                    let materials = &object.leaf_materials;
+                    object.leaf_materials = origins
+                        .iter()
+                        .map(|&o| materials.get(o as usize).copied().unwrap_or(0))
+                        .collect();
+                    object.solid = solid;
                 }
                 TrackTarget::Mesh(i) => {
                     let mesh = &mut scene.meshes[i];

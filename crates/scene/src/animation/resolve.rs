@@ -1,12 +1,12 @@
 //! Checks a scene file's `animation` against the resolved scene, with located errors.
 
 use super::{Animation, CameraPath, Curve, ObjectTrack, TrackTarget};
-use crate::checks::{Invalid, Result, angle, direction, invalid, point, positive};
+use crate::checks::{Result, angle, direction, invalid, point, positive};
 use crate::description::{self, Interpolation};
 use crate::path::FieldPath;
 use crate::{Light, Scene};
 use fray_core::Projector;
-use glam::{DAffine3, DMat3, DQuat};
+use glam::DQuat;
 
 /// The most frames an animation may have (a day at 24 frames per second is 2 073 600): every
 /// frame's camera is checked when the scene is loaded.
@@ -247,16 +247,6 @@ fn object_track(
         let q = DQuat::from_rotation_z(r.z.to_radians())
             * DQuat::from_rotation_y(r.y.to_radians())
             * DQuat::from_rotation_x(r.x.to_radians());
-        // Each key's motion must be one the object can take (a clipping box refuses rotation).
-        let motion = DAffine3::from_mat3(DMat3::from_quat(q));
-        if let TrackTarget::Solid(i) = target
-            && let Err(e) = scene.objects[i].solid.moved(&motion)
-        {
-            return Err(Invalid {
-                path: at.field("rotate"),
-                message: e.to_string(),
-            });
-        }
         rotations.push(q);
     }
     Ok(ObjectTrack {
