@@ -315,5 +315,5 @@ fn every_cloud_data_scene_is_well_within_the_caps() {
         );
         clouds += 1;
     }
-    assert_eq!(clouds, 4);
+    assert_eq!(clouds, 5);
 }
