@@ -21,9 +21,14 @@ use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, EventLoop, EventLoopProxy};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, EventLoopProxy};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
+
+/// The shortest time between two redraws of a moving camera (60 per second): redrawing faster
+/// would only spin the UI thread (on the CPU backend, against the worker's threads). The GPU
+/// under `--turntable` redraws without it, to measure its frame rate.
+const TICK: Duration = Duration::from_micros(16_667);
 
 /// The worker's message to the loop: a CPU frame is ready.
 #[derive(Clone, Copy, Debug)]
@@ -116,6 +121,8 @@ struct State {
     readout: Readout,
     counts: Counts,
     last_tick: Instant,
+    /// When a moving camera's next redraw is due.
+    next_tick: Option<Instant>,
     generation: u64,
 }
 
@@ -139,6 +146,22 @@ impl ApplicationHandler<Wake> for App {
     fn user_event(&mut self, _event_loop: &ActiveEventLoop, _event: Wake) {
         if let Some(state) = &self.state {
             state.window.request_redraw();
+        }
+    }
+
+    /// A moving camera ticks at most every [`TICK`]: the loop sleeps until then.
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(state) = &mut self.state else {
+            return;
+        };
+        match state.next_tick {
+            Some(at) if Instant::now() >= at => {
+                state.next_tick = None;
+                state.window.request_redraw();
+                event_loop.set_control_flow(ControlFlow::Wait);
+            }
+            Some(at) => event_loop.set_control_flow(ControlFlow::WaitUntil(at)),
+            None => event_loop.set_control_flow(ControlFlow::Wait),
         }
     }
 
@@ -327,6 +350,7 @@ impl State {
             readout: Readout::default(),
             counts: Counts::default(),
             last_tick: Instant::now(),
+            next_tick: None,
             generation: 0,
         })
     }
@@ -622,7 +646,12 @@ impl State {
         }
         self.draw()?;
         if moving {
-            self.window.request_redraw();
+            let unthrottled = self.options.turntable && matches!(self.path, Path::Gpu(_));
+            if unthrottled {
+                self.window.request_redraw();
+            } else {
+                self.next_tick = Some(now + TICK);
+            }
         }
         Ok(true)
     }
@@ -648,6 +677,8 @@ impl State {
             );
             if let Some(d) = self.depth_under(centre.0, centre.1) {
                 self.speed = 0.25 * d;
+                // The depth view's scale: what the camera looks at mid-grey.
+                self.presenter.depth_scale = d as f32;
             }
         }
         let c = &mut self.counts;

@@ -68,7 +68,7 @@ pub fn show(ctx: &egui::Context, controls: Controls, readout: &Readout) -> Contr
             ui.label(format!("speed {:.3} units/s (wheel)", readout.speed));
             ui.label(&readout.camera);
             ui.label("WASD QE fly · right drag look · left drag orbit · 1 scene camera");
-            ui.label("S / F12 save · H / F1 hide");
+            ui.label("F12 / Ctrl+S save · H / F1 hide · Esc quit");
         });
     c
 }
