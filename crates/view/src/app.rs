@@ -30,6 +30,10 @@ use winit::window::{Window, WindowId};
 /// under `--turntable` redraws without it, to measure its frame rate.
 const TICK: Duration = Duration::from_micros(16_667);
 
+/// The samples per pixel a still CPU frame is refined to when neither `--samples` nor the scene
+/// asks for more.
+const STILL_SAMPLES: u32 = 4;
+
 /// The worker's message to the loop: a CPU frame is ready.
 #[derive(Clone, Copy, Debug)]
 pub struct Wake;
@@ -266,7 +270,7 @@ impl State {
         );
         let egui_renderer = egui_wgpu::Renderer::new(device, format, Default::default());
         let samples = options.samples.unwrap_or(scene.settings.samples).count();
-        let controls = Controls {
+        let mut controls = Controls {
             shadows: scene.settings.shadows,
             culling: true,
             samples,
@@ -301,6 +305,10 @@ impl State {
                 format!("gpu ({adapter_name}, {})", renderer.context().backend),
             ),
             None => {
+                // A still CPU frame is refined to anti-aliased: at least 4 samples unless asked.
+                if options.samples.is_none() {
+                    controls.samples = controls.samples.max(STILL_SAMPLES);
+                }
                 let threads = options.threads.unwrap_or_else(|| {
                     std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
                 });
@@ -310,7 +318,7 @@ impl State {
                 (
                     Path::Cpu(Box::new(CpuPath {
                         worker,
-                        progression: Progression::new(samples > 1),
+                        progression: Progression::new(controls.samples > 1),
                         last: None,
                     })),
                     format!("cpu ({threads} threads; presented by {adapter_name})"),
