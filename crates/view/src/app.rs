@@ -203,6 +203,9 @@ impl State {
         proxy: EventLoopProxy<Wake>,
         started: Instant,
     ) -> Result<Self, ViewError> {
+        // The resident `GpuScene` borrows the renderer and the scene for as long as it lives, and
+        // the loop keeps it for the process's life: both are leaked once, here, so the window's
+        // state needs no self-reference.
         let scene: &'static Scene = Box::leak(Box::new(options.scene.clone()));
         let (width, height) = options.size.unwrap_or((scene.width, scene.height));
         let attributes = Window::default_attributes()
