@@ -1,5 +1,5 @@
 //! `fray view` under Xvfb: the window opens, its still frame on the screen is `fray render`'s
-//! for the same camera, it answers synthetic input (xdotool) by moving, and the save key writes
+//! for the same camera, it answers synthetic input (xdotool: a right drag turns, W flies), and the save key writes
 //! the bytes `fray render` writes for the camera it prints. Reported as *ignored* where Xvfb,
 //! xwd, xdotool or a Vulkan adapter is missing, unless `FRAY_REQUIRE_GPU=1` (CI), which makes
 //! a missing one a failure.
@@ -279,13 +279,25 @@ fn fly_and_save(backend: &str, worst_allowed: u8) {
         .to_owned();
     xdotool(&x, &["windowfocus", "--sync", &window]);
     xdotool(&x, &["mousemove", "160", "120"]);
+    // Look left a little with the right button held: the view turns.
+    xdotool(&x, &["mousedown", "3"]);
+    for _ in 0..4 {
+        xdotool(&x, &["mousemove_relative", "--", "-10", "0"]);
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    xdotool(&x, &["mouseup", "3"]);
+    viewer.wait_for("still frame:");
+    std::thread::sleep(Duration::from_millis(500));
+    let turned = screenshot(&x);
+    let (worst, _) = difference(&turned, &first);
+    assert!(worst > 16, "the view did not turn (right drag)");
     xdotool(&x, &["keydown", "w"]);
     std::thread::sleep(Duration::from_millis(800));
     xdotool(&x, &["keyup", "w"]);
     viewer.wait_for("still frame:");
     std::thread::sleep(Duration::from_millis(500));
     let moved = screenshot(&x);
-    let (worst, _) = difference(&moved, &first);
+    let (worst, _) = difference(&moved, &turned);
     assert!(worst > 16, "the view did not move (W)");
     xdotool(&x, &["key", "F12"]);
     let saved_line = viewer.wait_for("saved ");
