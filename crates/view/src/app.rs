@@ -564,7 +564,12 @@ impl State {
         let mut shown = None;
         match &mut self.path {
             Path::Gpu(gpu) => {
-                if changed || self.recopy {
+                if self.recopy
+                    && !changed
+                    && gpu.copy_again(&mut self.presenter, self.controls.debug)
+                {
+                    self.recopy = false;
+                } else if changed || self.recopy {
                     gpu.set(self.controls.shadows, self.controls.culling)?;
                     let samples = PixelSamples::new(self.controls.samples)
                         .map_err(|e| ViewError::Options(e.to_string()))?;

@@ -80,6 +80,23 @@ impl GpuPath {
         Ok(stats)
     }
 
+    /// Copies what `debug` shows of the last frame to the presenter again (a debug view
+    /// switched; nothing re-renders). False before the first frame.
+    pub fn copy_again(&self, presenter: &mut Presenter, debug: DebugView) -> bool {
+        let Some(textures) = self.resident.textures() else {
+            return false;
+        };
+        let ctx = self.renderer.context();
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("viewer copy"),
+            });
+        presenter.copy_gpu_frame(&ctx.device, &mut encoder, &textures, debug);
+        ctx.queue.submit([encoder.finish()]);
+        true
+    }
+
     /// The last frame's depth at pixel `(x, y)` (`None`: no hit, no frame, or outside it).
     pub fn depth_at(&self, x: u32, y: u32) -> Option<f64> {
         let ctx = self.renderer.context();
