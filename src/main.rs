@@ -28,6 +28,9 @@ struct Cli {
 enum Command {
     /// Render a scene file (the built-in default scene if none is given).
     Render(RenderArgs),
+    /// Fly through a scene in a window (the built-in default scene if none is given): the GPU
+    /// draws every frame, or the CPU renders progressively; F12 saves what `fray render` would.
+    View(fray_view::ViewArgs),
     /// Parse and validate a scene file, and print what it holds (objects of every kind), what it
     /// uses and what it charged to the memory budget.
     /// Stack PNG tiles rendered with `fray render --tile I/N` (given in tile order) into one
@@ -164,6 +167,8 @@ fn main() -> ExitCode {
             scene,
             memory_budget,
         }) => check(&scene, memory_budget.unwrap_or_default()),
+        Some(Command::View(args)) => load(args.scene.as_deref(), &args.build_options())
+            .and_then(|(scene, name)| args.run(scene, name)),
         None => Err("no command".to_owned()),
     };
     match result {

@@ -10,7 +10,11 @@
 //!   `fray-quadtree`;
 //! - `fray-trace` and `fray-gpu` both take a `fray-scene` `Scene`, and `fray-gpu` never depends
 //!   on `fray-trace` (its tests may, for parity);
-//! - only the CLI (`fray`), xtask, tests and benches (dev-dependencies) depend on `fray-render`.
+//! - only the front ends — the CLI (`fray`), the viewer (`fray-view`) —, xtask, tests and benches
+//!   (dev-dependencies) depend on `fray-render`;
+//! - windows are the viewer's alone: only `fray-view` depends on a window or overlay crate
+//!   (winit, egui and its winit and wgpu parts), in its tests too, and only the CLI uses
+//!   `fray-view`: the renderers know nothing of windows.
 //!
 //! Build dependencies count as normal ones (they are the crate's own code). Each rule is also
 //! broken on purpose in a hand-made graph below, so a test that passes has checked something.
@@ -33,8 +37,13 @@ const GPU: &str = "fray-gpu";
 const RENDER: &str = "fray-render";
 /// Helpers tests share: any crate's tests may use it; no crate's own code may.
 const TEST_SUPPORT: &str = "fray-test-support";
-/// The packages that may depend on `fray-render` in their own code: the CLI and xtask.
-const RENDER_USERS: [&str; 2] = ["fray", "xtask"];
+/// The packages that may depend on `fray-render` in their own code: the front ends (the CLI,
+/// the viewer) and xtask.
+const RENDER_USERS: [&str; 3] = ["fray", "fray-view", "xtask"];
+/// The viewer: the one crate that opens windows.
+const VIEW: &str = "fray-view";
+/// The window and overlay crates (not workspace members: their edges are kept by name).
+const WINDOW_CRATES: [&str; 4] = ["winit", "egui", "egui-wgpu", "egui-winit"];
 
 /// Whether a dependency is the crate's own code (normal, build) or its tests, benches and
 /// examples' (dev).
@@ -107,7 +116,7 @@ impl Graph {
                 .expect("a dependency list")
             {
                 let to = dep["name"].as_str().expect("a dependency name");
-                if !graph.packages.contains(to) {
+                if !graph.packages.contains(to) && !WINDOW_CRATES.contains(&to) {
                     continue;
                 }
                 let kind = match dep["kind"].as_str() {
@@ -150,6 +159,12 @@ fn violations(graph: &Graph) -> Vec<String> {
         if e.from == TEST_SUPPORT {
             report("fray-test-support depends on no fray crate, so any crate's tests may use it");
         }
+        if WINDOW_CRATES.contains(&e.to.as_str()) && e.from != VIEW {
+            report(
+                "only fray-view opens windows: the renderers know nothing of them \
+                 (invariant 1)",
+            );
+        }
         if e.from == CORE {
             report("fray-core is the bottom and depends on no fray crate (invariant 1)");
         }
@@ -175,9 +190,12 @@ fn violations(graph: &Graph) -> Vec<String> {
             }
             if e.to == RENDER && !RENDER_USERS.contains(&e.from.as_str()) {
                 report(
-                    "only the CLI, xtask, tests and benches depend on fray-render \
-                     (invariant 1)",
+                    "only the CLI, the viewer, xtask, tests and benches depend on \
+                     fray-render (invariant 1)",
                 );
+            }
+            if e.to == VIEW && e.from != "fray" {
+                report("only the CLI uses fray-view (invariant 1)");
             }
         }
     }
@@ -195,7 +213,9 @@ fn violations(graph: &Graph) -> Vec<String> {
 #[test]
 fn the_workspace_keeps_every_layering_rule() {
     let graph = Graph::of_workspace();
-    let expected = [CORE, QUADTREE, SCENE, TRACE, GPU, RENDER, "fray", "xtask"];
+    let expected = [
+        CORE, QUADTREE, SCENE, TRACE, GPU, RENDER, VIEW, "fray", "xtask",
+    ];
     for name in expected.iter().chain(&MODELS) {
         assert!(
             graph.packages.contains(*name),
@@ -215,6 +235,8 @@ fn the_workspace_keeps_every_layering_rule() {
         "fray-gpu's parity tests use fray-trace"
     );
     assert!(graph.has("fray", RENDER, Kind::Normal));
+    assert!(graph.has(VIEW, "winit", Kind::Normal));
+    assert!(graph.has("fray", VIEW, Kind::Normal));
 }
 
 /// A graph that keeps every rule, to break one rule at a time.
@@ -234,6 +256,11 @@ fn sound() -> Vec<(&'static str, &'static str, Kind)> {
         (RENDER, GPU, Normal),
         ("fray", RENDER, Normal),
         ("xtask", RENDER, Normal),
+        (VIEW, RENDER, Normal),
+        (VIEW, GPU, Normal),
+        (VIEW, "winit", Normal),
+        (VIEW, "egui", Normal),
+        ("fray", VIEW, Normal),
     ];
     for model in MODELS {
         edges.extend([
@@ -344,9 +371,23 @@ fn a_library_depending_on_the_facade_is_caught() {
         &problems,
         TRACE,
         RENDER,
-        "only the CLI, xtask, tests and benches",
+        "only the CLI, the viewer, xtask, tests and benches",
     );
     // As a dev-dependency (a test or bench), fray-render is allowed (fray-gpu's, above).
+}
+
+#[test]
+fn a_window_outside_the_viewer_is_caught() {
+    for (from, window, kind) in [
+        (GPU, "winit", Kind::Normal),
+        (TRACE, "egui", Kind::Dev),
+        (RENDER, "egui-wgpu", Kind::Normal),
+    ] {
+        let problems = broken(&[(from, window, kind)], &[]);
+        assert_one(&problems, from, window, "only fray-view opens windows");
+    }
+    let problems = broken(&[(RENDER, VIEW, Kind::Normal)], &[]);
+    assert_one(&problems, RENDER, VIEW, "only the CLI uses fray-view");
 }
 
 #[test]

@@ -79,6 +79,16 @@ impl GpuContext {
     async fn new_async() -> Result<Self, GpuError> {
         let instance = instance();
         let adapter = adapter(&instance).await?;
+        Self::open_async(&adapter).await
+    }
+
+    /// Opens `adapter`'s device as [`GpuContext::new`] does (blocking): for a caller that chose
+    /// the adapter itself, e.g. one compatible with a window's surface (fray-view).
+    pub fn from_adapter(adapter: &wgpu::Adapter) -> Result<Self, GpuError> {
+        pollster::block_on(Self::open_async(adapter))
+    }
+
+    async fn open_async(adapter: &wgpu::Adapter) -> Result<Self, GpuError> {
         let info = adapter.get_info();
         let limits = adapter.limits();
         // Timestamps around the passes' dispatches (their GPU time), where the adapter has them.

@@ -50,7 +50,7 @@ pub use features::{Feature, Features};
 pub use media::clouds::cloud_light;
 pub use params::View;
 pub use render::{
-    EPSILON_FLOOR, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
+    EPSILON_FLOOR, FrameTextures, GpuRenderer, GpuScene, GpuSettings, HOST_BYTES_PER_PIXEL,
     SHADOW_OFFSET_EPSILONS, camera_distance, gpu_epsilon, gpu_epsilon_for, render,
     unsupported_feature,
 };

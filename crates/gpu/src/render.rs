@@ -106,6 +106,14 @@ impl GpuRenderer {
         })
     }
 
+    /// A backend on an already open device (e.g. one whose adapter can present to a window).
+    pub fn from_context(ctx: GpuContext) -> Self {
+        Self {
+            ctx,
+            cache: PipelineCache::default(),
+        }
+    }
+
     /// The device context.
     pub fn context(&self) -> &GpuContext {
         &self.ctx
@@ -247,6 +255,29 @@ struct Targets {
     readback: wgpu::Buffer,
 }
 
+/// The textures a frame left on the device ([`GpuScene::render_display`]), each `width ×
+/// height` of the view.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameTextures<'t> {
+    /// Tone-mapped sRGB colour, `Rgba8Unorm` (the bytes a PNG of the frame holds, alpha 255).
+    pub display: &'t wgpu::Texture,
+    /// Linear colour and depth (`w`, negative for no hit), `Rgba32Float`.
+    pub colour_depth: &'t wgpu::Texture,
+    /// The unit normal and a hit flag (`w > 0.5`), `Rgba32Float`.
+    pub normals: &'t wgpu::Texture,
+}
+
+/// What a frame's passes leave for its statistics.
+struct PassRun {
+    work: GpuWork,
+    words: Vec<u32>,
+    epsilon: f64,
+    pass_times: PassTimes,
+    timed: bool,
+    encode_time: Duration,
+    uploaded: u64,
+}
+
 /// The camera's offset from the anchor as the rebase pass takes it: its f32 high and low parts.
 type CameraOffset = ([f32; 4], [f32; 4]);
 
@@ -347,12 +378,45 @@ impl<'a> GpuScene<'a> {
     /// cannot fit a band, the frame is refused (`band_rows`).
     pub fn render(&mut self, view: &View) -> Result<Frame, GpuError> {
         let start = Instant::now();
+        let mut frame = self.growing_queue(|s| s.render_frame(view))?;
+        frame.stats.elapsed = start.elapsed();
+        Ok(frame)
+    }
+
+    /// Renders the resident scene as `view` shows it, as [`GpuScene::render`] does, but reads
+    /// nothing back except the counters: the frame stays on the device, in the textures returned
+    /// (the display texture is what a window presents). For a viewer's loop.
+    pub fn render_display(
+        &mut self,
+        view: &View,
+    ) -> Result<(RenderStats, FrameTextures<'_>), GpuError> {
+        let start = Instant::now();
+        let mut stats = self.growing_queue(|s| s.display_frame(view))?;
+        stats.elapsed = start.elapsed();
+        let textures = self.textures().ok_or(GpuError::EmptyImage(0, 0))?;
+        Ok((stats, textures))
+    }
+
+    /// The last frame's textures on the device (`None` before the first frame).
+    pub fn textures(&self) -> Option<FrameTextures<'_>> {
+        self.targets.as_ref().map(|t| FrameTextures {
+            display: &t.display,
+            colour_depth: &t.colour_depth,
+            normals: &t.normals,
+        })
+    }
+
+    /// Runs `frame` (one try at a frame, returning it and how many secondary rays found the
+    /// queue full) until no secondary ray overflowed, doubling the queue in between.
+    fn growing_queue<T>(
+        &mut self,
+        mut frame: impl FnMut(&mut Self) -> Result<(T, u64), GpuError>,
+    ) -> Result<T, GpuError> {
         let bound = self.scene.settings.secondary_rays_per_camera_ray();
         loop {
-            let (mut frame, overflows) = self.render_frame(view)?;
+            let (result, overflows) = frame(self)?;
             if overflows == 0 {
-                frame.stats.elapsed = start.elapsed();
-                return Ok(frame);
+                return Ok(result);
             }
             // Past one tile row per band the queue cannot grow within the band's bytes.
             let most = (BAND_BYTES / Self::bytes_per_ray(true, 1)) as u32;
@@ -383,6 +447,32 @@ impl<'a> GpuScene<'a> {
     fn render_frame(&mut self, view: &View) -> Result<(Frame, u64), GpuError> {
         let start = Instant::now();
         let _host_images = self.check_frame(view)?;
+        let run = self.run_passes(view, start)?;
+        let (colour, depth, normals) =
+            self.read_frame(self.scene.background, self.specialisation.media())?;
+        let (stats, overflows) = self.finish_frame(view, run, start)?;
+        Ok((
+            Frame {
+                colour,
+                depth,
+                normals,
+                stats,
+            },
+            overflows,
+        ))
+    }
+
+    /// One try at [`GpuScene::render_display`]: the frame's statistics and its queue overflows.
+    fn display_frame(&mut self, view: &View) -> Result<(RenderStats, u64), GpuError> {
+        let start = Instant::now();
+        let _host_images = self.check_frame(view)?;
+        let run = self.run_passes(view, start)?;
+        self.finish_frame(view, run, start)
+    }
+
+    /// A frame's passes, up to its counters read back: the work list, the view's uploads, the
+    /// rebase and the bands.
+    fn run_passes(&mut self, view: &View, start: Instant) -> Result<PassRun, GpuError> {
         let scene = self.scene;
         let epsilon = gpu_epsilon_for(scene, &view.camera, self.settings.epsilon);
         let work = self.work_list(view)?;
@@ -424,8 +514,35 @@ impl<'a> GpuScene<'a> {
             (counters::WORDS * 4) as u64,
             "counters",
         )?;
-        let (colour, depth, normals) =
-            self.read_frame(scene.background, self.specialisation.media())?;
+        Ok(PassRun {
+            work,
+            words,
+            epsilon,
+            pass_times,
+            timed,
+            encode_time,
+            uploaded,
+        })
+    }
+
+    /// A frame's statistics from its run, once its images are read (or left on the device),
+    /// and its queue overflows; fails with an error no scope caught.
+    fn finish_frame(
+        &mut self,
+        view: &View,
+        run: PassRun,
+        start: Instant,
+    ) -> Result<(RenderStats, u64), GpuError> {
+        let PassRun {
+            work,
+            words,
+            epsilon,
+            pass_times,
+            timed,
+            encode_time,
+            uploaded,
+        } = run;
+        let ctx = &self.renderer.ctx;
         // An error no scope caught (or a lost device) would otherwise go unnoticed: fail with it.
         if let Some(reason) = ctx.take_uncaptured_error() {
             return Err(if reason.starts_with("device lost") {
@@ -444,15 +561,7 @@ impl<'a> GpuScene<'a> {
         stats.encode_time = encode_time;
         stats.uploaded_bytes += uploaded;
         let overflows = Counter::QueueOverflows.read(&words);
-        Ok((
-            Frame {
-                colour,
-                depth,
-                normals,
-                stats,
-            },
-            overflows,
-        ))
+        Ok((stats, overflows))
     }
 
     /// Refuses a frame this backend cannot make — an empty image, host images past the memory

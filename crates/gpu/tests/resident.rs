@@ -238,6 +238,33 @@ fn the_display_image_is_the_frames_tone_map() {
     }
 }
 
+/// A frame left on the device (`render_display`, a viewer's loop) is the frame `render` reads
+/// back: the same display texture and the same counters, from a camera that moved in between.
+fn a_frame_left_on_the_device_is_the_rendered_frame() {
+    let gpu = common::gpu("a_frame_left_on_the_device_is_the_rendered_frame");
+    let scene = data_scene("turboprop.ron", 96);
+    let settings = GpuSettings::for_scene(&scene);
+    let mut resident = gpu.upload(&scene, &settings).unwrap();
+    let first = View::of_scene(&scene, settings.samples);
+    resident.render(&first).unwrap();
+    let before = resident.display_image().unwrap();
+    let mut view = first;
+    view.camera = moved(&scene, glam::DVec3::new(0.5, 0.25, -0.75));
+    let (stats, textures) = resident.render_display(&view).unwrap();
+    assert_eq!(
+        (textures.display.width(), textures.display.height()),
+        (view.width, view.height)
+    );
+    let left = resident.display_image().unwrap();
+    let frame = resident.render(&view).unwrap();
+    let read = resident.display_image().unwrap();
+    assert_ne!(before.pixels(), left.pixels(), "the moved camera's frame");
+    assert_eq!(left.pixels(), read.pixels());
+    assert_eq!(stats.hits, frame.stats.hits);
+    assert_eq!(stats.primary_rays, frame.stats.primary_rays);
+    assert!(stats.hits > 0);
+}
+
 /// `fray_render::output::srgb8` without depending on fray-render: tone map, sRGB, round.
 fn fray_render_like_srgb8(
     frame: &fray_core::Frame,
@@ -682,6 +709,10 @@ fn main() {
             (
                 "the_display_image_is_the_frames_tone_map",
                 the_display_image_is_the_frames_tone_map,
+            ),
+            (
+                "a_frame_left_on_the_device_is_the_rendered_frame",
+                a_frame_left_on_the_device_is_the_rendered_frame,
             ),
             (
                 "the_rebase_pass_is_its_cpu_twin",
