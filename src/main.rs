@@ -167,8 +167,16 @@ fn main() -> ExitCode {
             scene,
             memory_budget,
         }) => check(&scene, memory_budget.unwrap_or_default()),
-        Some(Command::View(args)) => load(args.scene.as_deref(), &args.build_options())
-            .and_then(|(scene, name)| args.run(scene, name)),
+        Some(Command::View(args)) => {
+            let scene = args.scene.clone().or_else(showcase);
+            load(scene.as_deref(), &args.build_options())
+                .and_then(|(scene, name)| {
+                    // The scene as `fray render` shows it: an animated one at time 0.
+                    let still = scene.at_frame(0).map_err(|e| format!("{name}: {e}"))?;
+                    Ok((still, name))
+                })
+                .and_then(|(scene, name)| args.run(scene, name))
+        }
         None => Err("no command".to_owned()),
     };
     match result {
@@ -248,6 +256,18 @@ fn parse_samples(text: &str) -> Result<fray_core::PixelSamples, String> {
         .parse()
         .map_err(|_| format!("a whole number of samples is needed, got {text:?}"))?;
     fray_core::PixelSamples::new(n).map_err(|e| e.to_string())
+}
+
+/// The viewer's default scene: the showcase where the project's data is (the current folder, as
+/// after `git clone` and `cd`, or the checkout this binary was built from); else `None` (the
+/// built-in turboprop, which needs no files).
+fn showcase() -> Option<PathBuf> {
+    [
+        PathBuf::from("data/scenes/showcase.ron"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/scenes/showcase.ron"),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
 }
 
 /// The scene at `path` (or the default scene), built as `options` say.

@@ -295,3 +295,48 @@ impl Presenter {
 }
 
 use bytemuck::Zeroable;
+
+#[cfg(test)]
+mod tests {
+    use super::BlitParams;
+    use std::mem::offset_of;
+
+    /// The blit shader parses and validates, and its `Blit` uniform is `BlitParams` member for
+    /// member — the same names in the same order at the same offsets, the same size — so a field
+    /// added, dropped or swapped on one side fails here.
+    #[test]
+    fn the_blit_shader_validates_and_its_uniform_is_blit_params() {
+        let module = naga::front::wgsl::parse_str(include_str!("blit.wgsl")).unwrap();
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .unwrap();
+        let (members, span) = module
+            .types
+            .iter()
+            .find_map(|(_, t)| match &t.inner {
+                naga::TypeInner::Struct { members, span } if t.name.as_deref() == Some("Blit") => {
+                    Some((members.clone(), *span))
+                }
+                _ => None,
+            })
+            .expect("blit.wgsl declares struct Blit");
+        let rust = [
+            ("surface", offset_of!(BlitParams, surface)),
+            ("source", offset_of!(BlitParams, source)),
+            ("mode", offset_of!(BlitParams, mode)),
+            ("srgb_surface", offset_of!(BlitParams, srgb_surface)),
+            ("depth_scale", offset_of!(BlitParams, depth_scale)),
+            ("pad", offset_of!(BlitParams, pad)),
+        ];
+        let wgsl: Vec<(String, usize)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
+        let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+        assert_eq!(wgsl, rust);
+        assert_eq!(span as usize, std::mem::size_of::<BlitParams>());
+    }
+}
