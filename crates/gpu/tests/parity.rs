@@ -623,6 +623,8 @@ fn three_terrains(lod: fray_scene::TerrainLod) -> Scene {
             terrain,
             material,
             lod,
+            heights: None,
+            frame_memory: None,
         });
     }
     for t in &mut scene.terrains {
