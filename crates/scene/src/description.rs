@@ -454,12 +454,19 @@ impl Shape {
         }
     }
 
-    /// The file this shape reads, relative to the scene file (`None`: it reads none).
-    pub(crate) fn asset_path_mut(&mut self) -> Option<&mut String> {
+    /// The files this shape reads, relative to the scene file (none for a CSG tree: its leaves
+    /// read none).
+    pub(crate) fn asset_paths_mut(&mut self) -> Vec<&mut String> {
         match self {
-            Shape::Terrain(t) => Some(&mut t.path),
-            Shape::Mesh(m) => Some(&mut m.path),
-            _ => None,
+            Shape::Terrain(t) => {
+                let mut paths = vec![&mut t.path];
+                if let Some(TerrainAnimate::Sequence { paths: frames, .. }) = &mut t.animate {
+                    paths.extend(frames.iter_mut());
+                }
+                paths
+            }
+            Shape::Mesh(m) => vec![&mut m.path],
+            _ => Vec::new(),
         }
     }
 }
@@ -516,6 +523,14 @@ pub enum TerrainAnimate {
         /// `(first column, first row, columns, rows)` of the samples that move; default: all.
         #[serde(default)]
         region: Option<[u64; 4]>,
+    },
+    /// A sequence of height maps of the terrain's size, one a frame: frame `k` shows from
+    /// `k / fps` seconds (the first before 0, the last after the end).
+    Sequence {
+        /// The maps, relative to the scene file, in order.
+        paths: Vec<String>,
+        /// Frames per second, `> 0`.
+        fps: f64,
     },
 }
 

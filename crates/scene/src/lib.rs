@@ -30,7 +30,8 @@ mod texture;
 mod work;
 
 pub use animation::{
-    Animation, CameraPath, Curve, Heights, MAX_FRAMES, MAX_WAVES, ObjectTrack, TrackTarget,
+    Animation, CameraPath, Curve, Heights, MAX_FRAMES, MAX_WAVES, ObjectTrack, Sequence,
+    TrackTarget,
 };
 pub use atmosphere::{
     Atmosphere, DEFAULT_GRID_SPACING, DEFAULT_GRID_SPACING_TEXT, Fog, GRID_SPACINGS, MAX_SKY_STEPS,

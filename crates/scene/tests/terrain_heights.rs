@@ -186,3 +186,116 @@ fn bad_waves_are_located_errors() {
     let e = s.at_time(1.0).unwrap_err().to_string();
     assert!(e.contains("at time 1 s") && e.contains("not finite"), "{e}");
 }
+
+/// Writes `<name>.npy`, `w × h` `<f4` samples from `f(column, row)`, into `dir`.
+fn npy(dir: &Path, name: &str, w: usize, h: usize, f: impl Fn(usize, usize) -> f32) {
+    let bytes: Vec<u8> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .flat_map(|(i, j)| f(i, j).to_le_bytes())
+        .collect();
+    std::fs::write(
+        dir.join(format!("{name}.npy")),
+        fray_terrain::npy::encode("<f4", h, w, &bytes),
+    )
+    .unwrap();
+}
+
+#[test]
+fn a_sequence_of_maps_shows_one_a_frame_updated_where_it_differs() {
+    let dir = std::env::temp_dir().join(format!("fray-scene-sequence-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ground = |i: usize, j: usize| (i * 3 + j * 5 % 7) as f32;
+    npy(&dir, "base", 20, 14, ground);
+    // Frame 0 raises a 3 × 2 patch, frame 1 another, frame 2 is the base again.
+    npy(&dir, "f0", 20, 14, |i, j| {
+        ground(i, j)
+            + if (4..7).contains(&i) && (2..4).contains(&j) {
+                9.0
+            } else {
+                0.0
+            }
+    });
+    npy(&dir, "f1", 20, 14, |i, j| {
+        ground(i, j)
+            + if (15..20).contains(&i) && (10..14).contains(&j) {
+                -4.0
+            } else {
+                0.0
+            }
+    });
+    npy(&dir, "f2", 20, 14, ground);
+    npy(&dir, "small", 19, 14, ground);
+    let src = |animate: &str| {
+        format!(
+            "Scene(objects: [\n (name: \"seq\", shape: Terrain(path: \"base.npy\", interpolation: Bicubic,\n   animate: Some({animate}))),\n])"
+        )
+    };
+    let file = dir.join("seq.ron").display().to_string();
+    let s = parse(
+        &src("Sequence(paths: [\"f0.npy\", \"f1.npy\", \"f2.npy\"], fps: 4)"),
+        &file,
+    )
+    .unwrap();
+    let base = s.terrains[0].terrain.clone();
+    let load = |name: &str| Heightmap::load(&dir.join(format!("{name}.npy"))).unwrap();
+    for (t, frame) in [
+        (-1.0, "f0"),
+        (0.0, "f0"),
+        (0.3, "f1"),
+        (0.5, "f2"),
+        (9.0, "f2"),
+    ] {
+        let still = s.at_time(t).unwrap();
+        let terrain = &still.terrains[0].terrain;
+        let expect = load(frame);
+        assert_eq!(terrain.map(), &expect, "t = {t}");
+        let rebuilt = Terrain::new(expect, *base.placement(), *base.options()).unwrap();
+        assert_eq!(bits(terrain), bits(&rebuilt), "t = {t}");
+        assert_eq!(terrain.height_range(), rebuilt.height_range(), "t = {t}");
+    }
+    match s.terrains[0].heights.as_deref() {
+        Some(fray_scene::Heights::Sequence(q)) => {
+            let regions: Vec<_> = q.frames.iter().map(|f| f.1).collect();
+            assert_eq!(
+                regions,
+                [
+                    fray_terrain::Region::new(4, 2, 7, 4),
+                    fray_terrain::Region::new(15, 10, 20, 14),
+                    fray_terrain::Region::default(),
+                ]
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    let located = |animate: &str, field: &str, message: &str| match parse(&src(animate), &file) {
+        Err(e @ SceneError::Invalid { .. }) => {
+            let text = e.to_string();
+            assert!(
+                e.line() == Some(3) && e.field() == Some(field) && text.contains(message),
+                "{text}"
+            );
+        }
+        other => panic!("expected an error at {field}, got {other:?}"),
+    };
+    located(
+        "Sequence(paths: [\"f0.npy\", \"small.npy\"], fps: 4)",
+        "objects[0].shape.animate.paths[1]",
+        "a 19 × 14 map, the terrain's is 20 × 14",
+    );
+    located(
+        "Sequence(paths: [\"f0.npy\", \"nowhere.npy\"], fps: 4)",
+        "objects[0].shape.animate.paths[1]",
+        "cannot read",
+    );
+    located(
+        "Sequence(paths: [\"f0.npy\"], fps: 0)",
+        "objects[0].shape.animate.fps",
+        "must be > 0",
+    );
+    located(
+        "Sequence(paths: [], fps: 3)",
+        "objects[0].shape.animate.paths",
+        "at least one",
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,13 +1,15 @@
-//! Terrains whose heights change with time: a terrain's checked `animate:` and the terrain it is
-//! at a time — the base terrain's heights moved, its pyramids updated only above the samples that
-//! moved ([`Terrain::with_heights`]), the copy reserved on the scene's budget first.
+//! Terrains whose heights change with time: a terrain's checked `animate:` (waves, or a sequence
+//! of maps) and the terrain it is at a time — the base terrain's heights moved, its pyramids
+//! updated only above the samples that moved ([`Terrain::with_heights`]), the copy reserved on
+//! the scene's budget first.
 
 use crate::checks::{Invalid, Result, finite, invalid, positive};
 use crate::description::{self, TerrainAnimate};
 use crate::path::FieldPath;
 use fray_core::{MemoryBudget, Reservation};
-use fray_terrain::{Region, Terrain, Wave, Waves};
+use fray_terrain::{Heightmap, Region, Terrain, Wave, Waves};
 use glam::DVec2;
+use std::path::Path;
 use std::sync::Arc;
 
 /// The most waves one terrain sums (each costs a sine per sample and frame).
@@ -18,14 +20,57 @@ pub const MAX_WAVES: usize = 16;
 pub enum Heights {
     /// Travelling sine waves over a region ([`Waves`]).
     Waves(Waves),
+    /// One height map a frame, each with the samples where it differs from the file's map.
+    Sequence(Sequence),
+}
+
+/// A sequence of height maps of the terrain's size (with its threshold), `fps` a second.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sequence {
+    pub fps: f64,
+    /// Each frame's map and the samples where it differs from the base map (the bounding
+    /// rectangle: what its pyramid update covers).
+    pub frames: Vec<(Arc<Heightmap>, Region)>,
+}
+
+impl Sequence {
+    /// The frame shown at `t`: `⌊t · fps⌋`, held at the ends.
+    pub fn frame_at(&self, t: f64) -> usize {
+        let k = (t * self.fps).floor();
+        if k <= 0.0 {
+            0
+        } else {
+            (k.min((self.frames.len() - 1) as f64)) as usize
+        }
+    }
 }
 
 impl Heights {
     /// Checks a terrain's `animate:` (at `path`) against its base terrain: finite values, a
     /// positive wavelength, a direction that is not zero, a region inside the map, and heights
     /// that stay finite in `f32` whatever the time.
-    pub(crate) fn resolve(path: &FieldPath, a: &TerrainAnimate, base: &Terrain) -> Result<Self> {
+    pub(crate) fn resolve(
+        path: &FieldPath,
+        a: &TerrainAnimate,
+        base: &Terrain,
+        folder: &Path,
+        budget: &MemoryBudget,
+    ) -> Result<Self> {
         match a {
+            TerrainAnimate::Sequence { paths, fps } => {
+                let fps = positive(&path.field("fps"), *fps)?;
+                if paths.is_empty() {
+                    return invalid(&path.field("paths"), "give at least one height map");
+                }
+                let frames = paths
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| {
+                        frame(&path.field("paths").index(k), &folder.join(p), base, budget)
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(Heights::Sequence(Sequence { fps, frames }))
+            }
             TerrainAnimate::Waves {
                 level,
                 waves,
@@ -81,9 +126,10 @@ impl Heights {
     }
 
     /// The samples that move, on the base terrain's map.
-    pub fn region(&self, base: &Terrain) -> Region {
+    pub fn region(&self, base: &Terrain, t: f64) -> Region {
         match self {
             Heights::Waves(w) => w.region(base.map().width(), base.map().height()),
+            Heights::Sequence(s) => s.frames[s.frame_at(t)].1,
         }
     }
 
@@ -106,12 +152,53 @@ impl Heights {
             Heights::Waves(w) => w
                 .heights_at(base.map(), base.placement(), t)
                 .map_err(|e| e.to_string())?,
+            Heights::Sequence(s) => (*s.frames[s.frame_at(t)].0).clone(),
         };
         let terrain = base
-            .with_heights(map, self.region(base))
+            .with_heights(map, self.region(base, t))
             .map_err(|e| e.to_string())?;
         Ok((Arc::new(terrain), Arc::new(held)))
     }
+}
+
+/// One map of a sequence at `file` (the error at `path`): loaded within the budget (charged for
+/// the scene's life), the terrain's size, given its threshold; and where it differs from the
+/// terrain's map.
+fn frame(
+    path: &FieldPath,
+    file: &Path,
+    base: &Terrain,
+    budget: &MemoryBudget,
+) -> Result<(Arc<Heightmap>, Region)> {
+    let fail = |m: String| Invalid {
+        path: path.clone(),
+        message: m,
+    };
+    let map = Heightmap::load_within(file, budget).map_err(|e| fail(e.to_string()))?;
+    let own = base.map();
+    if (map.width(), map.height()) != (own.width(), own.height()) {
+        return Err(fail(format!(
+            "{}: a {} × {} map, the terrain's is {} × {}",
+            file.display(),
+            map.width(),
+            map.height(),
+            own.width(),
+            own.height()
+        )));
+    }
+    let map = map
+        .with_threshold(own.threshold())
+        .map_err(|e| fail(e.to_string()))?;
+    // The bounding rectangle of the samples that differ (bit for bit) from the terrain's.
+    let mut changed = Region::default();
+    for j in 0..map.height() {
+        for i in 0..map.width() {
+            if map.at(i, j).to_bits() != own.at(i, j).to_bits() {
+                changed = changed.union(&Region::new(i, j, i + 1, j + 1));
+            }
+        }
+    }
+    Ok((Arc::new(map), changed))
 }
 
 fn wave(path: &FieldPath, w: &description::TerrainWave) -> Result<Wave> {

@@ -6,7 +6,7 @@ mod heights;
 mod resolve;
 
 pub use curve::Curve;
-pub use heights::{Heights, MAX_WAVES};
+pub use heights::{Heights, MAX_WAVES, Sequence};
 pub use resolve::MAX_FRAMES;
 pub(crate) use resolve::resolve;
 

@@ -123,6 +123,8 @@ impl SceneKind for Terrains {
                 &path.field("shape").field("animate"),
                 a,
                 &terrain,
+                cx.base,
+                cx.budget,
             )?)),
             None => None,
         };
