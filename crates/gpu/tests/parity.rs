@@ -623,6 +623,8 @@ fn three_terrains(lod: fray_scene::TerrainLod) -> Scene {
             terrain,
             material,
             lod,
+            heights: None,
+            frame_memory: None,
         });
     }
     for t in &mut scene.terrains {
@@ -664,6 +666,36 @@ fn several_terrains_match_the_cpu_reference() {
         assert_eq!(on.depth.pixels(), off.depth.pixels(), "{name}: culling");
         assert_eq!(on.colour.pixels(), off.colour.pixels(), "{name}: culling");
     }
+}
+
+/// Terrains whose heights change with time (data/scenes/terrain_waves.ron: a lake of waves on
+/// the DEM, bicubic, pixel LOD). Each frame is uploaded as it comes: `Scene::at_time` gives a
+/// still holding its own terrain (heights moved, pyramid updated over the lake), and the GPU
+/// renders the scene it is given. At two times the frame matches the CPU's within the terrain
+/// bounds ([`check_terrain`]), and the two GPU frames differ over the lake: the GPU draws each
+/// frame's heights, not the file's.
+fn animated_terrain_matches_the_cpu_reference_at_two_times() {
+    let gpu = common::gpu("animated_terrain_matches_the_cpu_reference_at_two_times");
+    let file = fray_scene::load(&scenes_dir().join("terrain_waves.ron")).unwrap();
+    assert!(file.terrains[0].heights.is_some());
+    let mut depths = Vec::new();
+    for t in [0.7, 2.9] {
+        let scene = sized(file.at_time(t).unwrap());
+        check_terrain(&format!("terrain_waves.ron at {t} s"), &scene, &gpu);
+        let frame = gpu.render(&scene, &GpuSettings::for_scene(&scene)).unwrap();
+        depths.push(frame.depth);
+    }
+    let moved = depths[0]
+        .pixels()
+        .iter()
+        .zip(depths[1].pixels())
+        .filter(|(a, b)| a.to_bits() != b.to_bits())
+        .count();
+    eprintln!("terrain_waves.ron: {moved} GPU pixels moved between the two times");
+    assert!(
+        moved > 100,
+        "only {moved} pixels moved between the two times"
+    );
 }
 
 /// Synthetic mesh scenes (`MESHES/` and `TERRAIN/` stand for the absolute paths of data/meshes
@@ -1432,6 +1464,10 @@ fn main() {
             (
                 "several_terrains_match_the_cpu_reference",
                 several_terrains_match_the_cpu_reference,
+            ),
+            (
+                "animated_terrain_matches_the_cpu_reference_at_two_times",
+                animated_terrain_matches_the_cpu_reference_at_two_times,
             ),
             (
                 "fog_scenes_match_the_cpu_reference",

@@ -454,12 +454,19 @@ impl Shape {
         }
     }
 
-    /// The file this shape reads, relative to the scene file (`None`: it reads none).
-    pub(crate) fn asset_path_mut(&mut self) -> Option<&mut String> {
+    /// The files this shape reads, relative to the scene file (none for a CSG tree: its leaves
+    /// read none).
+    pub(crate) fn asset_paths_mut(&mut self) -> Vec<&mut String> {
         match self {
-            Shape::Terrain(t) => Some(&mut t.path),
-            Shape::Mesh(m) => Some(&mut m.path),
-            _ => None,
+            Shape::Terrain(t) => {
+                let mut paths = vec![&mut t.path];
+                if let Some(TerrainAnimate::Sequence { paths: frames, .. }) = &mut t.animate {
+                    paths.extend(frames.iter_mut());
+                }
+                paths
+            }
+            Shape::Mesh(m) => vec![&mut m.path],
+            _ => Vec::new(),
         }
     }
 }
@@ -497,6 +504,52 @@ pub struct Terrain {
     pub lod_bias: u32,
     /// Raw samples below this are no surface (cut out); default: keep everything.
     pub threshold: Option<f64>,
+    /// How the heights change with time ([`crate::Scene::at_time`]); default: they do not.
+    pub animate: Option<TerrainAnimate>,
+}
+
+/// How a terrain's heights change with time.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum TerrainAnimate {
+    /// A sum of travelling sine waves added to a rectangle of samples (or, with `level`, a lake:
+    /// the samples under the wavy water surface raised to it).
+    Waves {
+        /// The water's mean height, world units above the base plane; default: none (the waves
+        /// are added to the ground).
+        #[serde(default)]
+        level: Option<f64>,
+        waves: Vec<TerrainWave>,
+        /// `(first column, first row, columns, rows)` of the samples that move; default: all.
+        #[serde(default)]
+        region: Option<[u64; 4]>,
+    },
+    /// A sequence of height maps of the terrain's size, one a frame: frame `k` shows from
+    /// `k / fps` seconds (the first before 0, the last after the end).
+    Sequence {
+        /// The maps, relative to the scene file, in order.
+        paths: Vec<String>,
+        /// Frames per second, `> 0`.
+        fps: f64,
+    },
+}
+
+/// One travelling wave of [`TerrainAnimate::Waves`], in world units.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainWave {
+    pub amplitude: f64,
+    /// `> 0`.
+    pub wavelength: f64,
+    /// Along the map's columns and rows (normalised; not zero); default `(1, 0)`.
+    #[serde(default = "column_axis")]
+    pub direction: [f64; 2],
+    /// World units per second along `direction`.
+    pub speed: f64,
+}
+
+fn column_axis() -> [f64; 2] {
+    [1.0, 0.0]
 }
 
 /// How a terrain's level of detail is chosen for camera rays.
@@ -1130,6 +1183,8 @@ macro_rules! quadrics {
                 lod_bias: u32,
                 #[serde(default)]
                 threshold: Option<f64>,
+                #[serde(default)]
+                animate: Option<TerrainAnimate>,
             },
             Mesh {
                 path: String,
@@ -1151,8 +1206,8 @@ macro_rules! quadrics {
                     ShapeRepr::Intersection(v) => Shape::Intersection(v),
                     ShapeRepr::Difference(a, b) => Shape::Difference(a, b),
                     ShapeRepr::Transformed { shape, transform } => Shape::Transformed { shape, transform },
-                    ShapeRepr::Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold } => {
-                        Shape::Terrain(Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold })
+                    ShapeRepr::Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold, animate } => {
+                        Shape::Terrain(Terrain { path, spacing, vertical_scale, origin, rotate, interpolation, lod, lod_bias, threshold, animate })
                     }
                     ShapeRepr::Mesh { path, transform, smooth } => Shape::Mesh(Mesh { path, transform, smooth }),
                     $( ShapeRepr::$name { $( $field ),* } => Shape::Quadric(Quadric::$name { $( $field ),* }) ),*

@@ -29,7 +29,10 @@ mod solid;
 mod texture;
 mod work;
 
-pub use animation::{Animation, CameraPath, Curve, MAX_FRAMES, ObjectTrack, TrackTarget};
+pub use animation::{
+    Animation, CameraPath, Curve, Heights, MAX_FRAMES, MAX_WAVES, ObjectTrack, Sequence,
+    TrackTarget,
+};
 pub use atmosphere::{
     Atmosphere, DEFAULT_GRID_SPACING, DEFAULT_GRID_SPACING_TEXT, Fog, GRID_SPACINGS, MAX_SKY_STEPS,
     Sky,

@@ -262,8 +262,11 @@ fn parse_at_depth(
 fn rebase_assets(d: &mut description::Scene, folder: &Path) {
     fn shape(s: &mut description::Shape, folder: &Path) {
         use description::Shape;
-        if let Some(path) = s.asset_path_mut() {
-            *path = folder.join(&*path).display().to_string();
+        let paths = s.asset_paths_mut();
+        if !paths.is_empty() {
+            for path in paths {
+                *path = folder.join(&*path).display().to_string();
+            }
             return;
         }
         match s {

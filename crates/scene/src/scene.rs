@@ -193,6 +193,12 @@ pub struct TerrainObject {
     /// pixel footprint, coarser by the terrain's LOD bias; [`TerrainLod::Exact`]: the finest
     /// level, or the fixed level `n − lod_bias`). Shadow rays are always exact.
     pub lod: TerrainLod,
+    /// How its heights change with time: [`Scene::at_time`] gives the still the terrain at `t`
+    /// (and `None` here). `None`: the heights are the file's.
+    pub heights: Option<Arc<crate::animation::Heights>>,
+    /// What a still's terrain at a time holds on the scene's budget, released with the last
+    /// copy of the still; `None` for the file's terrain.
+    pub frame_memory: Option<Arc<fray_core::Reservation>>,
 }
 
 /// A triangle-mesh object: an instance of a loaded mesh, one material for all of it.

@@ -7,7 +7,7 @@
 //! stored as `f32`: exact for 16-bit PNG, `<i2`/`<u2` and `f32` data; `f64` `.npy` data is
 //! rounded to the nearest `f32`. All arithmetic on them is `f64`.
 
-use crate::TerrainError;
+use crate::{Region, TerrainError};
 use fray_core::MemoryBudget;
 
 /// The largest accepted number of samples along either side.
@@ -102,6 +102,34 @@ impl Heightmap {
         }
         self.threshold = threshold;
         Ok(self)
+    }
+
+    /// A copy whose samples in `region` (clamped to the map) are `f(column, row, old sample)`,
+    /// the others and the threshold kept: the heights of a terrain at a time. A non-finite new
+    /// sample is refused ([`TerrainError::NonFinite`]). The copy is `4 · width · height` bytes:
+    /// the caller charges it first.
+    pub fn with_region(
+        &self,
+        region: Region,
+        mut f: impl FnMut(usize, usize, f32) -> f32,
+    ) -> Result<Self, TerrainError> {
+        let r = region.clamped(self.width, self.height);
+        let mut samples = self.samples.clone();
+        for j in r.y0..r.y1 {
+            for i in r.x0..r.x1 {
+                let s = &mut samples[j * self.width + i];
+                let v = f(i, j, *s);
+                if !v.is_finite() {
+                    return Err(TerrainError::NonFinite {
+                        column: i,
+                        row: j,
+                        value: f64::from(v),
+                    });
+                }
+                *s = v;
+            }
+        }
+        Ok(Self { samples, ..*self })
     }
 
     /// Samples along `u` (columns).

@@ -25,15 +25,19 @@ mod load;
 pub mod npy;
 mod placement;
 mod pyramid;
+mod region;
 pub mod sweep;
 mod terrain;
+mod waves;
 
 pub use error::TerrainError;
 pub use heightmap::{Heightmap, MAX_SAMPLES, MAX_SIDE};
 pub use interpolation::{BicubicCell, BilinearCell, Interpolation};
 pub use placement::{MapRay, Placement};
 pub use pyramid::{MAX_LEVELS, Pyramid, PyramidLevel};
+pub use region::Region;
 pub use terrain::{
     HitKind, MAX_MARCH_STEPS, PIXEL_LOD_COARSEST_LEVEL, Terrain, TerrainHit, TerrainOptions,
     TerrainStats,
 };
+pub use waves::{Wave, Waves};

@@ -14,6 +14,7 @@
 //! the data stay exact and nothing beyond the map is ever hit. (In the min pyramid `−∞` means
 //! "no proof of solid ground", see [`Pyramid::min_of`].)
 
+use crate::Region;
 use fray_core::{BudgetError, MemoryBudget};
 
 /// The deepest pyramid: `n ≤ 15`, since a map has at most [`crate::MAX_SIDE`] − 1 = 2¹⁵ − 1
@@ -121,36 +122,83 @@ impl Pyramid {
         let base = levels[finest as usize].offset;
         let count = columns * rows;
         values[base..base + count].copy_from_slice(&cells[..count]);
-        for level in (0..finest as usize).rev() {
-            let (below, here) = (levels[level + 1], levels[level]);
-            let (src, dst) = (below.offset, here.offset);
-            let (sc, sr) = (below.columns, below.rows);
-            let (dc, dr) = (here.columns, here.rows);
-            for b in 0..dr {
-                for a in 0..dc {
-                    // The 2 × 2 block below, less what lies past the last row or column.
-                    let mut v = f32::NEG_INFINITY;
-                    let mut first = true;
-                    for y in 2 * b..(2 * b + 2).min(sr) {
-                        for x in 2 * a..(2 * a + 2).min(sc) {
-                            let s = values[src + y * sc + x];
-                            v = if first { s } else { combine(v, s) };
-                            first = false;
-                        }
-                    }
-                    // A block reaching past the map holds no-surface cells: −∞ in the min.
-                    let complete = 2 * a + 2 <= sc && 2 * b + 2 <= sr;
-                    if !complete {
-                        v = combine(v, f32::NEG_INFINITY);
-                    }
-                    values[dst + b * dc + a] = v;
-                }
-            }
-        }
-        Self {
+        let mut pyramid = Self {
             finest,
             levels,
             values,
+        };
+        let mut region = Region::all(columns, rows);
+        for level in (0..finest as usize).rev() {
+            region = region.halved();
+            pyramid.combine_level(level, region, combine);
+        }
+        pyramid
+    }
+
+    /// Recomputes the cells of `level` in `blocks` (its own cells) from the 2 × 2 blocks of
+    /// `level + 1` — the one rule for a full build and an update, so both give the same bits.
+    fn combine_level(&mut self, level: usize, blocks: Region, combine: fn(f32, f32) -> f32) {
+        let (below, here) = (self.levels[level + 1], self.levels[level]);
+        let (src, dst) = (below.offset, here.offset);
+        let (sc, sr) = (below.columns, below.rows);
+        let dc = here.columns;
+        let values = &mut self.values;
+        for b in blocks.y0..blocks.y1 {
+            for a in blocks.x0..blocks.x1 {
+                // The 2 × 2 block below, less what lies past the last row or column.
+                let mut v = f32::NEG_INFINITY;
+                let mut first = true;
+                for y in 2 * b..(2 * b + 2).min(sr) {
+                    for x in 2 * a..(2 * a + 2).min(sc) {
+                        let s = values[src + y * sc + x];
+                        v = if first { s } else { combine(v, s) };
+                        first = false;
+                    }
+                }
+                // A block reaching past the map holds no-surface cells: −∞ in the min.
+                let complete = 2 * a + 2 <= sc && 2 * b + 2 <= sr;
+                if !complete {
+                    v = combine(v, f32::NEG_INFINITY);
+                }
+                values[dst + b * dc + a] = v;
+            }
+        }
+    }
+
+    /// Updates a max pyramid after the finest cells in `changed` took new bounds: writes
+    /// `cell(i, j)` for each cell of `changed` (clamped to the finest level), then recomputes,
+    /// level by level, only the cells above it — at level `k − 1` the blocks holding a changed
+    /// cell of level `k`, a rectangle half as wide. The result is bit for bit what
+    /// [`Pyramid::max_of`] gives over the new cells (the same combination in the same order),
+    /// for `changed.area() + O(levels + perimeter)` work instead of the whole map's.
+    pub fn update_max(&mut self, changed: Region, cell: impl FnMut(usize, usize) -> f32) {
+        self.update(changed, cell, f32::max);
+    }
+
+    /// [`Pyramid::update_max`] for a min pyramid ([`Pyramid::min_of`]).
+    pub fn update_min(&mut self, changed: Region, cell: impl FnMut(usize, usize) -> f32) {
+        self.update(changed, cell, f32::min);
+    }
+
+    fn update(
+        &mut self,
+        changed: Region,
+        mut cell: impl FnMut(usize, usize) -> f32,
+        combine: fn(f32, f32) -> f32,
+    ) {
+        let finest = self.levels[self.finest as usize];
+        let mut region = changed.clamped(finest.columns, finest.rows);
+        if region.is_empty() {
+            return;
+        }
+        for j in region.y0..region.y1 {
+            for i in region.x0..region.x1 {
+                self.values[finest.offset + j * finest.columns + i] = cell(i, j);
+            }
+        }
+        for level in (0..self.finest as usize).rev() {
+            region = region.halved();
+            self.combine_level(level, region, combine);
         }
     }
 

@@ -2,9 +2,11 @@
 //! at a time ([`Scene::at_time`]).
 
 mod curve;
+mod heights;
 mod resolve;
 
 pub use curve::Curve;
+pub use heights::{Heights, MAX_WAVES, Sequence};
 pub use resolve::MAX_FRAMES;
 pub(crate) use resolve::resolve;
 
@@ -113,15 +115,19 @@ impl ObjectTrack {
 
 impl Scene {
     /// The scene at time `t` (seconds) of its animation: the camera on its path, each tracked
-    /// object moved from where the file places it, the first sun (and the sky's) turned. The
-    /// result is a still (`animation: None`); a scene without animation is returned as it is.
-    /// Every frame is computed from the file's placement, never from an earlier frame, so a
-    /// frame is the same whether rendered alone or in a sequence.
+    /// object moved from where the file places it, the first sun (and the sky's) turned, each
+    /// terrain with moving heights given its heights at `t` (with or without an `animation:`
+    /// block). The result is a still (`animation: None`, no terrain `heights`); a scene with
+    /// nothing that moves is returned as it is. Every frame is computed from the file's
+    /// placement and heights, never from an earlier frame, so a frame is the same whether
+    /// rendered alone or in a sequence.
     pub fn at_time(&self, t: f64) -> Result<Scene, SceneError> {
         let mut scene = self.clone();
-        let Some(animation) = scene.animation.take() else {
+        let moving_terrains = scene.terrains.iter().any(|o| o.heights.is_some());
+        let animation = scene.animation.take();
+        if animation.is_none() && !moving_terrains {
             return Ok(scene);
-        };
+        }
         let fail = |what: &str, message: String| SceneError::Animation {
             time: t,
             what: what.to_owned(),
@@ -130,6 +136,19 @@ impl Scene {
         if !t.is_finite() {
             return Err(fail("time", "must be finite".into()));
         }
+        for object in &mut scene.terrains {
+            let Some(heights) = object.heights.take() else {
+                continue;
+            };
+            let (terrain, held) = heights
+                .terrain_at(&object.terrain, t, &scene.budget, &object.name)
+                .map_err(|m| fail(&format!("the terrain {}'s heights", object.name), m))?;
+            object.terrain = terrain;
+            object.frame_memory = Some(held);
+        }
+        let Some(animation) = animation else {
+            return Ok(scene);
+        };
         if let Some(path) = &animation.camera {
             let camera = path
                 .at(t)
@@ -191,12 +210,12 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Frame `n` of the scene's animation ([`Scene::at_time`] at `n / fps`); the scene itself
-    /// without one.
+    /// Frame `n` of the scene's animation ([`Scene::at_time`] at `n / fps`); without one (no
+    /// frame rate), the scene at time 0.
     pub fn at_frame(&self, n: u32) -> Result<Scene, SceneError> {
         match &self.animation {
             Some(a) => self.at_time(a.frame_time(n)),
-            None => Ok(self.clone()),
+            None => self.at_time(0.0),
         }
     }
 

@@ -8,6 +8,7 @@
 
 use super::kind::{CellTest, Culling, ObjectContext, SceneKind};
 use crate::FeatureSet;
+use crate::animation::Heights;
 use crate::checks::{Invalid, Result, finite, invalid, point, positive};
 use crate::description::{self, TerrainInterpolation};
 use crate::path::FieldPath;
@@ -17,6 +18,7 @@ use fray_quadtree::Candidates;
 use fray_terrain::{Heightmap, Interpolation, Placement, Terrain, TerrainOptions};
 use glam::{DMat3, DVec2};
 use std::path::Path;
+use std::sync::Arc;
 
 /// The deepest LOD bias accepted (a pyramid has at most 16 levels).
 const MAX_LOD_BIAS: u32 = 16;
@@ -95,9 +97,15 @@ impl SceneKind for Terrains {
         };
         let material = cx.object_material(path, object)?;
         let file = cx.base.join(&t.path);
+        // The base terrain does not depend on how it moves: objects that differ only there
+        // share it.
+        let still = description::Terrain {
+            animate: None,
+            ..t.clone()
+        };
         let key = (
             std::fs::canonicalize(&file).unwrap_or(file),
-            format!("{t:?}"),
+            format!("{still:?}"),
         );
         let (base, budget) = (cx.base, cx.budget);
         let terrain = cx.assets.terrains.get_or_build(
@@ -110,11 +118,23 @@ impl SceneKind for Terrains {
                 message: e.to_string(),
             },
         )?;
+        let heights = match &t.animate {
+            Some(a) => Some(Arc::new(Heights::resolve(
+                &path.field("shape").field("animate"),
+                a,
+                &terrain,
+                cx.base,
+                cx.budget,
+            )?)),
+            None => None,
+        };
         scene.terrains.push(TerrainObject {
             name,
             terrain,
             material,
             lod: t.lod,
+            heights,
+            frame_memory: None,
         });
         Ok(())
     }

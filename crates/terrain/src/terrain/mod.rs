@@ -24,7 +24,7 @@ pub use lod::PIXEL_LOD_COARSEST_LEVEL;
 pub use reference::MAX_MARCH_STEPS;
 
 use crate::interpolation::{BicubicCell, Interpolation};
-use crate::{Heightmap, Placement, Pyramid, TerrainError};
+use crate::{Heightmap, Placement, Pyramid, Region, TerrainError};
 use fray_core::{Aabb, MemoryBudget};
 use glam::DVec3;
 
@@ -88,6 +88,50 @@ impl std::ops::AddAssign for TerrainStats {
         self.cells += o.cells;
         self.stops += o.stops;
         self.stop_levels_above_finest += o.stop_levels_above_finest;
+    }
+}
+
+/// The lower and upper bound of cell `(i, j)`'s interpolant (its corners for bilinear, exact;
+/// its 16 control points for bicubic, the convex hull's), `None` for a cell that is not solid.
+fn cell_bounds(
+    map: &Heightmap,
+    interpolation: Interpolation,
+    i: usize,
+    j: usize,
+) -> Option<(f32, f32)> {
+    if !map.cell_is_solid(i, j) {
+        return None;
+    }
+    Some(match interpolation {
+        Interpolation::Bilinear => {
+            let c = [
+                map.at(i, j),
+                map.at(i + 1, j),
+                map.at(i, j + 1),
+                map.at(i + 1, j + 1),
+            ];
+            (
+                c.iter().copied().fold(f32::INFINITY, f32::min),
+                c.iter().copied().fold(f32::NEG_INFINITY, f32::max),
+            )
+        }
+        Interpolation::Bicubic => {
+            let p = BicubicCell::control_points(map, i, j);
+            let flat = p.iter().flatten().copied();
+            (
+                flat.clone().fold(f32::INFINITY, f32::min),
+                flat.fold(f32::NEG_INFINITY, f32::max),
+            )
+        }
+    })
+}
+
+/// How many samples past a cell's own corners its interpolant reads (the B-spline's 4 × 4
+/// reaches one further on each side).
+fn reach(interpolation: Interpolation) -> usize {
+    match interpolation {
+        Interpolation::Bilinear => 0,
+        Interpolation::Bicubic => 1,
     }
 }
 
@@ -157,30 +201,8 @@ impl Terrain {
         let mut lowest = f32::INFINITY;
         for j in 0..ch {
             for i in 0..cw {
-                if !map.cell_is_solid(i, j) {
+                let Some((a, b)) = cell_bounds(&map, options.interpolation, i, j) else {
                     continue;
-                }
-                let (a, b) = match options.interpolation {
-                    Interpolation::Bilinear => {
-                        let c = [
-                            map.at(i, j),
-                            map.at(i + 1, j),
-                            map.at(i, j + 1),
-                            map.at(i + 1, j + 1),
-                        ];
-                        (
-                            c.iter().copied().fold(f32::INFINITY, f32::min),
-                            c.iter().copied().fold(f32::NEG_INFINITY, f32::max),
-                        )
-                    }
-                    Interpolation::Bicubic => {
-                        let p = BicubicCell::control_points(&map, i, j);
-                        let flat = p.iter().flatten().copied();
-                        (
-                            flat.clone().fold(f32::INFINITY, f32::min),
-                            flat.fold(f32::NEG_INFINITY, f32::max),
-                        )
-                    }
                 };
                 if let Some(l) = lo.get_mut(j * cw + i) {
                     *l = a;
@@ -206,6 +228,88 @@ impl Terrain {
             max,
             min,
         })
+    }
+
+    /// This terrain with new heights `map` (the same size; its threshold is used) that differ
+    /// from the current ones only in the samples of `changed`: the pyramid(s) are updated only
+    /// above the cells those samples touch ([`Pyramid::update_max`]), not rebuilt, and the result
+    /// is bit for bit what [`Terrain::new`] builds from `map` with the same placement and
+    /// options. The caller charges the copy ([`Terrain::heap_bytes`]) to its budget first.
+    /// Fails when the size differs or no cell is solid any more.
+    pub fn with_heights(&self, map: Heightmap, changed: Region) -> Result<Self, TerrainError> {
+        if (map.width(), map.height()) != (self.map.width(), self.map.height()) {
+            return Err(TerrainError::Parameter {
+                name: "heights",
+                message: format!(
+                    "a {} × {} map cannot replace the terrain's {} × {}",
+                    map.width(),
+                    map.height(),
+                    self.map.width(),
+                    self.map.height()
+                ),
+            });
+        }
+        let (cw, ch) = map.cells();
+        let interpolation = self.options.interpolation;
+        // A new threshold changes which cells are solid anywhere: every cell is touched.
+        let cells = if map.threshold().to_bits() == self.map.threshold().to_bits() {
+            changed.cells_touched(reach(interpolation), cw, ch)
+        } else {
+            Region::all(cw, ch)
+        };
+        let mut max = self.max.clone();
+        let mut lowest = f32::INFINITY;
+        max.update_max(cells, |i, j| match cell_bounds(&map, interpolation, i, j) {
+            Some((lo, hi)) => {
+                lowest = lowest.min(lo);
+                hi
+            }
+            None => f32::NEG_INFINITY,
+        });
+        if max.global() == f32::NEG_INFINITY {
+            return Err(TerrainError::NoSurface {
+                threshold: f64::from(map.threshold()),
+            });
+        }
+        let min = self.min.as_ref().map(|m| {
+            let mut m = m.clone();
+            m.update_min(cells, |i, j| {
+                cell_bounds(&map, interpolation, i, j).map_or(f32::NEG_INFINITY, |(lo, _)| lo)
+            });
+            m
+        });
+        // The base: `min(0, lowest bound)`. When it was 0 every cell outside `cells` (unchanged)
+        // was at or above 0, so the changed cells decide; otherwise the lowest may have moved
+        // out of them: scan every cell, as a build does.
+        let lowest = if self.bottom == 0.0 {
+            lowest
+        } else {
+            let mut all = f32::INFINITY;
+            for j in 0..ch {
+                for i in 0..cw {
+                    if let Some((lo, _)) = cell_bounds(&map, interpolation, i, j) {
+                        all = all.min(lo);
+                    }
+                }
+            }
+            all
+        };
+        Ok(Self {
+            bottom: f64::from(lowest).min(0.0),
+            top: f64::from(max.global()),
+            map,
+            placement: self.placement,
+            options: self.options,
+            max,
+            min,
+        })
+    }
+
+    /// The bytes this terrain's heights and pyramid(s) hold (what a copy with new heights
+    /// allocates).
+    pub fn heap_bytes(&self) -> u64 {
+        let pyramids = self.max.values().len() + self.min.as_ref().map_or(0, |m| m.values().len());
+        4 * (self.map.samples().len() + pyramids) as u64
     }
 
     pub fn map(&self) -> &Heightmap {
