@@ -28,7 +28,7 @@ struct Cli {
 enum Command {
     /// Render a scene file (the built-in default scene if none is given).
     Render(RenderArgs),
-    /// Fly through a scene in a window (the built-in default scene if none is given): the GPU
+    /// Fly through a scene in a window (the showcase if none is given and the data is there, else the built-in scene): the GPU
     /// draws every frame, or the CPU renders progressively; F12 saves what `fray render` would.
     View(fray_view::ViewArgs),
     /// Parse and validate a scene file, and print what it holds (objects of every kind), what it
@@ -77,7 +77,7 @@ struct RenderArgs {
     #[arg(long, value_name = "A..B", value_parser = parse_frames)]
     frames: Option<std::ops::Range<u32>>,
     /// Render tile I of N of the image: a band of rows (`fray assemble` stacks the tiles back
-    /// into the whole image, bit for bit). CPU backend.
+    /// into the whole image, bit for bit).
     #[arg(long, value_name = "I/N", value_parser = parse_tile, conflicts_with = "frames")]
     tile: Option<fray_render::ImageTile>,
     /// Ray-casting tolerance in world units (default: 1e-10 × the scene's size).

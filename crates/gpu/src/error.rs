@@ -18,6 +18,16 @@ pub enum GpuError {
     WorkList(String),
     #[error("epsilon must be finite and > 0, got {0}")]
     BadEpsilon(f64),
+    #[error(
+        "rows {start}..{end} are not a band of the {height}-row image that starts and ends on \
+         the {tile}-pixel tiles (or ends at the image's foot)"
+    )]
+    BadRows {
+        start: u32,
+        end: u32,
+        height: u32,
+        tile: u32,
+    },
     #[error("image size must be at least 1 × 1, got {0} × {1}")]
     EmptyImage(u32, u32),
     /// The scene uses a feature this backend does not draw yet (`Auto` renders it on the CPU).

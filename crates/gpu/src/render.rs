@@ -137,6 +137,22 @@ impl GpuRenderer {
         frame.stats.elapsed = start.elapsed();
         Ok(frame)
     }
+
+    /// Renders rows `rows` (start, end excluded) of `scene` as its camera sees it: one upload,
+    /// one tile of a frame ([`GpuScene::render_rows`]).
+    pub fn render_rows(
+        &self,
+        scene: &Scene,
+        settings: &GpuSettings,
+        rows: (u32, u32),
+    ) -> Result<Frame, GpuError> {
+        let start = Instant::now();
+        let mut gpu_scene = self.upload(scene, settings)?;
+        let view = View::of_scene(scene, settings.samples);
+        let mut frame = gpu_scene.render_rows(&view, rows)?;
+        frame.stats.elapsed = start.elapsed();
+        Ok(frame)
+    }
 }
 
 /// What of `scene` this backend does not draw, if anything (`Auto` renders such a scene on the
@@ -303,6 +319,9 @@ pub struct GpuScene<'a> {
     pending_pipelines: (u32, Duration),
     /// Whitted's queue slots per camera ray of a band (grown when a frame's queue overflows).
     queue_slots: u32,
+    /// The rows `(start, end)` the frame renders and reads back ([`GpuScene::render_rows`]);
+    /// `None`: every row.
+    rows: Option<(u32, u32)>,
 }
 
 impl<'a> GpuScene<'a> {
@@ -355,6 +374,7 @@ impl<'a> GpuScene<'a> {
             rebased_for: None,
             pending_pipelines,
             queue_slots: QUEUE_SLOTS_PER_RAY,
+            rows: None,
         })
     }
 
@@ -381,6 +401,34 @@ impl<'a> GpuScene<'a> {
         let mut frame = self.growing_queue(|s| s.render_frame(view))?;
         frame.stats.elapsed = start.elapsed();
         Ok(frame)
+    }
+
+    /// Renders rows `(start, end)`, end excluded, of the frame `view` shows — a tile of a still,
+    /// for many machines — and reads back only those: the frame is those rows, each pixel as in
+    /// the whole frame (bands are cut at the same rows, which are multiples of the 8-pixel
+    /// tiles). `start` must be a multiple of 8 and `end` one too or the image's height.
+    pub fn render_rows(
+        &mut self,
+        view: &View,
+        (start, end): (u32, u32),
+    ) -> Result<Frame, GpuError> {
+        let tile = TILE;
+        if !(start < end
+            && end <= view.height
+            && start % tile == 0
+            && (end % tile == 0 || end == view.height))
+        {
+            return Err(GpuError::BadRows {
+                start,
+                end,
+                height: view.height,
+                tile,
+            });
+        }
+        self.rows = Some((start, end));
+        let frame = self.render(view);
+        self.rows = None;
+        frame
     }
 
     /// Renders the resident scene as `view` shows it, as [`GpuScene::render`] does, but reads
@@ -671,10 +719,11 @@ impl<'a> GpuScene<'a> {
     ) -> Result<u64, GpuError> {
         let ctx = &self.renderer.ctx;
         let groups = self.bind_groups()?;
-        let (width, height) = (view.width, view.height);
+        let width = view.width;
+        let (row0, row1) = self.rows.unwrap_or((0, view.height));
         let mut uploaded = 0;
-        for y0 in (0..height).step_by(band_rows as usize) {
-            let rows = band_rows.min(height - y0);
+        for y0 in (row0..row1).step_by(band_rows as usize) {
+            let rows = band_rows.min(row1 - y0);
             let items = work.band(y0, y0 + rows);
             params.band_y0 = y0;
             params.band_rows = rows;
@@ -764,7 +813,8 @@ impl<'a> GpuScene<'a> {
                 self.queue_slots
             ));
         }
-        let pixels = u64::from(view.width) * u64::from(view.height);
+        let (row0, row1) = self.rows.unwrap_or((0, view.height));
+        let pixels = u64::from(view.width) * u64::from(row1 - row0);
         let mut stats = RenderStats {
             backend: format!("gpu ({}, {})", ctx.adapter_name, ctx.backend),
             threads: 1,
@@ -1057,28 +1107,36 @@ impl<'a> GpuScene<'a> {
     /// texture's colour: the background through the media).
     fn read_frame(&self, background: fray_core::Rgb, media: bool) -> Result<FrameImages, GpuError> {
         let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
-        let (w, h) = (t.width, t.height);
+        let (row0, row1) = self.rows.unwrap_or((0, t.height));
+        let (w, h) = (t.width, row1 - row0);
         let n = w as usize * h as usize;
         let mut colour = Vec::with_capacity(n);
         let mut depth = Vec::with_capacity(n);
         let mut normals = Vec::with_capacity(n);
         let mut normal_rows: Vec<[f32; 4]> = Vec::with_capacity(n);
         for (texture, into_colour) in [(&t.colour_depth, true), (&t.normals, false)] {
-            self.read_texture(texture, w, h, 16, &t.readback, |row: &[[f32; 4]]| {
-                if into_colour {
-                    for &[r, g, b, d] in row {
-                        let hit = d >= 0.0;
-                        colour.push(if hit || media {
-                            Vec3::new(r, g, b)
-                        } else {
-                            background
-                        });
-                        depth.push(if hit { f64::from(d) } else { f64::INFINITY });
+            self.read_texture(
+                texture,
+                w,
+                (row0, row1),
+                16,
+                &t.readback,
+                |row: &[[f32; 4]]| {
+                    if into_colour {
+                        for &[r, g, b, d] in row {
+                            let hit = d >= 0.0;
+                            colour.push(if hit || media {
+                                Vec3::new(r, g, b)
+                            } else {
+                                background
+                            });
+                            depth.push(if hit { f64::from(d) } else { f64::INFINITY });
+                        }
+                    } else {
+                        normal_rows.extend_from_slice(row);
                     }
-                } else {
-                    normal_rows.extend_from_slice(row);
-                }
-            })?;
+                },
+            )?;
         }
         for [x, y, z, hit] in normal_rows {
             normals.push(if hit > 0.5 {
@@ -1136,28 +1194,35 @@ impl<'a> GpuScene<'a> {
         let t = self.targets.as_ref().ok_or(GpuError::EmptyImage(0, 0))?;
         let (w, h) = (t.width, t.height);
         let mut pixels = Vec::with_capacity(w as usize * h as usize);
-        self.read_texture(&t.display, w, h, 4, &t.readback, |row: &[[u8; 4]]| {
-            pixels.extend(row.iter().map(|p| [p[0], p[1], p[2]]));
-        })?;
+        self.read_texture(
+            &t.display,
+            w,
+            (0, h),
+            4,
+            &t.readback,
+            |row: &[[u8; 4]]| {
+                pixels.extend(row.iter().map(|p| [p[0], p[1], p[2]]));
+            },
+        )?;
         Image::from_pixels(w, h, pixels).ok_or(GpuError::EmptyImage(w, h))
     }
 
-    /// Copies `texture` (`texel` bytes per pixel) to `readback` a band of rows at a time and
-    /// hands each row to `row` (unpadded).
+    /// Copies rows `row0..row1` of `texture` (`texel` bytes per pixel) to `readback` a band of
+    /// rows at a time and hands each row to `row` (unpadded).
     fn read_texture<T: bytemuck::Pod>(
         &self,
         texture: &wgpu::Texture,
         width: u32,
-        height: u32,
+        (row0, row1): (u32, u32),
         texel: u64,
         readback: &wgpu::Buffer,
         mut row: impl FnMut(&[T]),
     ) -> Result<(), GpuError> {
         let ctx = &self.renderer.ctx;
         let stride = padded_row(width, texel);
-        let rows_per_copy = (readback.size() / stride).clamp(1, u64::from(height)) as u32;
-        for y0 in (0..height).step_by(rows_per_copy as usize) {
-            let rows = rows_per_copy.min(height - y0);
+        let rows_per_copy = (readback.size() / stride).clamp(1, u64::from(row1 - row0)) as u32;
+        for y0 in (row0..row1).step_by(rows_per_copy as usize) {
+            let rows = rows_per_copy.min(row1 - y0);
             let mut encoder = ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {

@@ -124,10 +124,6 @@ pub enum RenderError {
         blocks: u32,
         height: u32,
     },
-    #[error(
-        "tiles render on the CPU backend (the GPU backend renders whole frames); use --backend cpu"
-    )]
-    TileOnGpu,
 }
 
 /// Renders scenes with fixed options. The GPU is opened at the first GPU render and kept, with
@@ -214,14 +210,7 @@ impl Renderer {
                 Ok(_) => {}
             }
         }
-        let backend = match (self.resolved_backend(), self.options.tile) {
-            (Backend::Gpu, Some(_)) if self.options.backend == Backend::Gpu => {
-                return Err(RenderError::TileOnGpu);
-            }
-            (_, Some(_)) => Backend::Cpu,
-            (b, None) => b,
-        };
-        match backend {
+        match self.resolved_backend() {
             Backend::Cpu | Backend::Auto => Ok(cpu(&settings)?),
             Backend::Gpu => {
                 let gpu_settings = GpuSettings {
@@ -236,7 +225,10 @@ impl Renderer {
                         .get_or_init(fray_gpu::GpuRenderer::new)
                         .as_ref()
                         .map_err(Clone::clone)?;
-                    let frame = gpu.render(&scene, &gpu_settings)?;
+                    let frame = match settings.rows {
+                        Some(rows) => gpu.render_rows(&scene, &gpu_settings, rows)?,
+                        None => gpu.render(&scene, &gpu_settings)?,
+                    };
                     if let Some(report) = progress {
                         let n = u64::from(scene.width) * u64::from(scene.height);
                         report(n, n);

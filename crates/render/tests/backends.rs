@@ -91,8 +91,7 @@ fn threads_past_the_machines_limit_are_refused_on_every_backend_before_rendering
 }
 
 /// One renderer opens the GPU once and keeps its pipelines: the second frame of an animation
-/// (a moved sphere: a new upload) builds no pipeline. And a tile is refused on an explicit GPU
-/// request (tiles render on the CPU).
+/// (a moved sphere: a new upload) builds no pipeline. And a GPU tile is its rows of the GPU frame.
 #[test]
 fn a_renderer_keeps_its_gpu_and_pipelines_across_frames() {
     let scene = fray_scene::parse(
@@ -131,10 +130,33 @@ fn a_renderer_keeps_its_gpu_and_pipelines_across_frames() {
         second.depth.get(20, 15),
         "the sphere moved"
     );
+    // A tile on the GPU is its rows of the whole GPU frame, bit for bit.
     let tiled = Renderer::new(RenderOptions {
         backend: Backend::Gpu,
-        tile: Some(fray_render::ImageTile { index: 0, count: 2 }),
+        width: Some(40),
+        tile: Some(fray_render::ImageTile { index: 1, count: 2 }),
         ..RenderOptions::default()
     });
-    assert!(matches!(tiled.render(&scene), Err(RenderError::TileOnGpu)));
+    let tile = tiled.render(&scene.at_frame(1).unwrap()).unwrap();
+    let (w, h) = (second.colour.width(), second.colour.height());
+    let (start, end) = fray_render::ImageTile { index: 1, count: 2 }
+        .rows(h)
+        .unwrap();
+    assert_eq!(
+        (tile.colour.width(), tile.colour.height()),
+        (w, end - start)
+    );
+    for y in start..end {
+        for x in 0..w {
+            assert_eq!(
+                tile.colour.get(x, y - start),
+                second.colour.get(x, y),
+                "({x}, {y})"
+            );
+            assert_eq!(
+                tile.depth.get(x, y - start).to_bits(),
+                second.depth.get(x, y).to_bits()
+            );
+        }
+    }
 }

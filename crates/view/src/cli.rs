@@ -8,7 +8,8 @@ use std::path::PathBuf;
 /// `fray view [SCENE]`: fly through a scene in a window.
 #[derive(clap::Args, Clone, Debug)]
 pub struct ViewArgs {
-    /// The scene file (.ron); the built-in default scene if omitted.
+    /// The scene file (.ron); if omitted, data/scenes/showcase.ron where it is found, else the
+    /// built-in default scene.
     pub scene: Option<PathBuf>,
     /// The window's size in pixels, e.g. 1280x720 [default: the scene's image size].
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
