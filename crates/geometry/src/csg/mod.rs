@@ -91,11 +91,17 @@ impl Solid {
         let mut leaves = Vec::new();
         let mut program = Vec::new();
         let bounds = compile(shape, &mut leaves, &mut program)?;
+        Ok(Self::from_program(leaves, program, bounds))
+    }
+
+    /// The solid of a compiled program over `leaves` whose result lies in `bounds`: the facts
+    /// the caster reads (stack depth, covering and negated leaves, term bounds) derived once.
+    fn from_program(leaves: Vec<FreeForm>, program: Vec<CsgOp>, bounds: Aabb) -> Self {
         let max_stack = run(&program, &mut Depth).unwrap_or(0);
         let leaf_covers_solid = covers(&leaves, &bounds);
         let leaf_negated = negated(&program, leaves.len());
         let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &leaf_negated);
-        Ok(Self {
+        Self {
             widenings,
             perturbation_magnitudes,
             leaves,
@@ -104,7 +110,7 @@ impl Solid {
             max_stack,
             leaf_covers_solid,
             leaf_negated,
-        })
+        }
     }
 
     /// A solid of one free-form object.
@@ -188,21 +194,7 @@ impl Solid {
         let bounds = run(&program, &mut Boxes(&boxes))
             .flatten()
             .unwrap_or(Aabb::EMPTY);
-        let max_stack = run(&program, &mut Depth).unwrap_or(0);
-        let leaf_covers_solid = covers(&leaves, &bounds);
-        let leaf_negated = negated(&program, leaves.len());
-        let (widenings, perturbation_magnitudes) = magnitudes(&leaves, &leaf_negated);
-        let solid = Self {
-            widenings,
-            perturbation_magnitudes,
-            leaves,
-            program,
-            bounds,
-            max_stack,
-            leaf_covers_solid,
-            leaf_negated,
-        };
-        Ok((solid, origins))
+        Ok((Self::from_program(leaves, program, bounds), origins))
     }
 
     pub fn leaves(&self) -> &[FreeForm] {
