@@ -51,6 +51,46 @@ fn changes(frames: &[Vec<[u8; 3]>]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// Asserts that `tested`'s frame-to-frame changes stay within the reference's: the mean change
+/// at most `1.5 ×` the reference's plus `margin` (of 255), the share of pixels that jump at most
+/// `1.5 ×` plus 0.2 %, and no pair above twice the reference's largest plus `margin` (a spike).
+/// Prints every pair's figures (`--nocapture`).
+#[track_caller]
+fn assert_stable(what: &str, tested: &[(f64, f64)], reference: &[(f64, f64)], margin: f64) {
+    for (k, (t, r)) in tested.iter().zip(reference).enumerate() {
+        eprintln!(
+            "{what}, frames {k}→{}: mean change {:.3} (reference {:.3}); jumps {:.4} ({:.4})",
+            k + 1,
+            t.0,
+            r.0,
+            t.1,
+            r.1
+        );
+    }
+    let mean = |v: &[(f64, f64)], pick: fn(&(f64, f64)) -> f64| {
+        v.iter().map(pick).sum::<f64>() / v.len() as f64
+    };
+    let (tm, rm) = (mean(tested, |x| x.0), mean(reference, |x| x.0));
+    assert!(
+        tm <= 1.5 * rm + margin,
+        "{what}: mean change {tm:.3} against {rm:.3}"
+    );
+    let (tj, rj) = (mean(tested, |x| x.1), mean(reference, |x| x.1));
+    assert!(
+        tj <= 1.5 * rj + 0.002,
+        "{what}: visible jumps {tj:.4} against {rj:.4}"
+    );
+    let worst = reference.iter().map(|x| x.0).fold(0.0, f64::max);
+    for (k, t) in tested.iter().enumerate() {
+        assert!(
+            t.0 <= 2.0 * worst + margin,
+            "{what}, frames {k}→{}: a spike of {:.3} (the reference at most {worst:.3})",
+            k + 1,
+            t.0
+        );
+    }
+}
+
 fn dem() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("data/terrain/jacksboro_fault_dem.png")
@@ -87,42 +127,7 @@ fn terrain_flyby(lod: &str) -> String {
 fn terrain_lod_does_not_pop_in_a_slow_flyby() {
     let exact = changes(&frames(&terrain_flyby("Exact")));
     let pixel = changes(&frames(&terrain_flyby("Pixel")));
-    for (k, (p, e)) in pixel.iter().zip(&exact).enumerate() {
-        eprintln!(
-            "frames {k}→{}: mean change pixel LOD {:.3} exact {:.3}; jumps {:.4} vs {:.4}",
-            k + 1,
-            p.0,
-            e.0,
-            p.1,
-            e.1
-        );
-    }
-    let mean = |v: &[(f64, f64)], i: usize| {
-        v.iter()
-            .map(|x| if i == 0 { x.0 } else { x.1 })
-            .sum::<f64>()
-            / v.len() as f64
-    };
-    let (pm, em) = (mean(&pixel, 0), mean(&exact, 0));
-    assert!(
-        pm <= 1.5 * em + 0.5,
-        "mean change {pm:.3} against the exact surface's {em:.3}"
-    );
-    let (pj, ej) = (mean(&pixel, 1), mean(&exact, 1));
-    assert!(
-        pj <= 1.5 * ej + 0.002,
-        "visible jumps {pj:.4} against {ej:.4}"
-    );
-    // No spike: no pair changes more than twice the exact surface's largest pair.
-    let worst_exact = exact.iter().map(|x| x.0).fold(0.0, f64::max);
-    for (k, p) in pixel.iter().enumerate() {
-        assert!(
-            p.0 <= 2.0 * worst_exact + 0.5,
-            "frames {k}→{}: a spike of {:.3} (exact at most {worst_exact:.3})",
-            k + 1,
-            p.0
-        );
-    }
+    assert_stable("pixel LOD against the exact surface", &pixel, &exact, 0.5);
 }
 
 /// Into the cloud layer: the camera flies 6 m a frame along the turboprop's course into the
@@ -160,31 +165,7 @@ fn cloud_flyby(step: f64) -> String {
 fn cloud_jitter_does_not_crawl_when_flying_into_the_layer() {
     let fine = changes(&frames(&cloud_flyby(4.0)));
     let coarse = changes(&frames(&cloud_flyby(16.0)));
-    for (k, (c, f)) in coarse.iter().zip(&fine).enumerate() {
-        eprintln!(
-            "frames {k}→{}: mean change step 16 m {:.3}, 4 m {:.3}; jumps {:.4} vs {:.4}",
-            k + 1,
-            c.0,
-            f.0,
-            c.1,
-            f.1
-        );
-    }
-    let mean = |v: &[(f64, f64)]| v.iter().map(|x| x.0).sum::<f64>() / v.len() as f64;
-    let (cm, fm) = (mean(&coarse), mean(&fine));
-    assert!(
-        cm <= 1.5 * fm + 0.5,
-        "mean change {cm:.3} against the fine march's {fm:.3}"
-    );
-    let worst_fine = fine.iter().map(|x| x.0).fold(0.0, f64::max);
-    for (k, c) in coarse.iter().enumerate() {
-        assert!(
-            c.0 <= 2.0 * worst_fine + 0.5,
-            "frames {k}→{}: a spike of {:.3} (fine at most {worst_fine:.3})",
-            k + 1,
-            c.0
-        );
-    }
+    assert_stable("16 m steps against 4 m", &coarse, &fine, 0.5);
 }
 
 /// Low over a brick floor that runs to the horizon (the texture minified 100× and more), the
@@ -223,29 +204,5 @@ fn texture_flyby(samples: u32) -> String {
 fn textures_do_not_shimmer_in_a_slow_flyby() {
     let reference = changes(&frames(&texture_flyby(16)));
     let one = changes(&frames(&texture_flyby(1)));
-    for (k, (o, r)) in one.iter().zip(&reference).enumerate() {
-        eprintln!(
-            "frames {k}→{}: mean change 1 sample {:.3}, 16 samples {:.3}; jumps {:.4} vs {:.4}",
-            k + 1,
-            o.0,
-            r.0,
-            o.1,
-            r.1
-        );
-    }
-    let mean = |v: &[(f64, f64)]| v.iter().map(|x| x.0).sum::<f64>() / v.len() as f64;
-    let (om, rm) = (mean(&one), mean(&reference));
-    assert!(
-        om <= 1.5 * rm + 0.1,
-        "mean change {om:.3} against 16 samples' {rm:.3}"
-    );
-    let worst = reference.iter().map(|x| x.0).fold(0.0, f64::max);
-    for (k, o) in one.iter().enumerate() {
-        assert!(
-            o.0 <= 2.0 * worst + 0.1,
-            "frames {k}→{}: a spike of {:.3}",
-            k + 1,
-            o.0
-        );
-    }
+    assert_stable("1 sample against 16", &one, &reference, 0.1);
 }
