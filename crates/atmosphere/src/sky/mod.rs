@@ -212,16 +212,6 @@ impl Sky {
         &self.sun
     }
 
-    /// The same sky under another sun (a sun that moves over an animation): the model, the
-    /// table sizes and the transmittance table (which depends on the air alone) are shared, so
-    /// nothing is rebuilt or charged again.
-    pub fn with_sun(&self, sun: SkySun) -> Result<Self, AtmosphereError> {
-        Ok(Self {
-            sun: checked_sun(sun)?,
-            ..self.clone()
-        })
-    }
-
     /// The table sizes.
     pub fn tables(&self) -> &SkyTables {
         &self.tables

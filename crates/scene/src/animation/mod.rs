@@ -200,11 +200,10 @@ impl Scene {
             if let Some(sky) = &mut scene.atmosphere.sky {
                 let mut sun = *sky.sky.sun();
                 sun.direction = direction;
-                let turned = sky
-                    .sky
-                    .with_sun(sun)
+                // The base scene shares its sky: turn a copy (the tables stay shared).
+                std::sync::Arc::make_mut(&mut sky.sky)
+                    .set_sun(sun)
                     .map_err(|e| fail("animation.sun", e.to_string()))?;
-                sky.sky = std::sync::Arc::new(turned);
             }
         }
         Ok(scene)
