@@ -68,15 +68,9 @@ impl GpuPath {
         presenter: &mut Presenter,
         debug: DebugView,
     ) -> Result<RenderStats, GpuError> {
-        let ctx = self.renderer.context();
-        let (stats, textures) = self.resident.render_display(view)?;
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("viewer copy"),
-            });
-        presenter.copy_gpu_frame(&ctx.device, &mut encoder, &textures, debug);
-        ctx.queue.submit([encoder.finish()]);
+        let (stats, _) = self.resident.render_display(view)?;
+        // The frame just rendered is the last frame: copied as a switched debug view is.
+        self.copy_again(presenter, debug);
         Ok(stats)
     }
 
