@@ -5,20 +5,12 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn fray(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fray"))
-        .args(args)
-        .env_remove("FRAY_MEMORY_BUDGET")
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the fray binary runs")
-}
+mod common;
+
+use common::fray;
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fray-batch-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+    common::temp_dir("batch", name)
 }
 
 #[track_caller]
