@@ -21,6 +21,7 @@ use crate::{GpuContext, GpuError};
 use fray_core::{Frame, Image, PixelSamples, RenderStats};
 use fray_scene::{PrimitiveKind, Scene};
 use glam::{DVec3, Vec3};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use wgpu::BufferUsages as U;
 
@@ -123,7 +124,18 @@ impl GpuRenderer {
     /// that stays resident for any number of frames.
     pub fn upload<'a>(
         &'a self,
-        scene: &'a Scene,
+        scene: &Scene,
+        settings: &GpuSettings,
+    ) -> Result<GpuScene<'a>, GpuError> {
+        // A copy is cheap: what a scene built (pyramids, meshes, cloud grids, sky tables) is
+        // shared by `Arc`.
+        GpuScene::new(self, Arc::new(scene.clone()), settings)
+    }
+
+    /// [`GpuRenderer::upload`] of a scene the caller shares: no copy.
+    pub fn upload_shared<'a>(
+        &'a self,
+        scene: Arc<Scene>,
         settings: &GpuSettings,
     ) -> Result<GpuScene<'a>, GpuError> {
         GpuScene::new(self, scene, settings)
@@ -304,7 +316,9 @@ type CameraOffset = ([f32; 4], [f32; 4]);
 #[derive(Debug)]
 pub struct GpuScene<'a> {
     renderer: &'a GpuRenderer,
-    scene: &'a Scene,
+    /// The scene, shared (not borrowed) so that a caller can hold a resident scene as long as
+    /// it likes and swap it for another (the viewer's switches and animation).
+    scene: Arc<Scene>,
     settings: GpuSettings,
     specialisation: Specialisation,
     resident: ResidentScene,
@@ -327,9 +341,10 @@ pub struct GpuScene<'a> {
 impl<'a> GpuScene<'a> {
     fn new(
         renderer: &'a GpuRenderer,
-        scene: &'a Scene,
+        shared: Arc<Scene>,
         settings: &GpuSettings,
     ) -> Result<Self, GpuError> {
+        let scene = &*shared;
         if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
             return Err(GpuError::BadEpsilon(settings.epsilon));
         }
@@ -362,7 +377,7 @@ impl<'a> GpuScene<'a> {
         let buffers = FrameBuffers::new(ctx)?;
         Ok(Self {
             renderer,
-            scene,
+            scene: Arc::clone(&shared),
             settings: *settings,
             specialisation,
             pending_scene_bytes: resident.bytes,
@@ -521,7 +536,8 @@ impl<'a> GpuScene<'a> {
     /// A frame's passes, up to its counters read back: the work list, the view's uploads, the
     /// rebase and the bands.
     fn run_passes(&mut self, view: &View, start: Instant) -> Result<PassRun, GpuError> {
-        let scene = self.scene;
+        let shared = Arc::clone(&self.scene);
+        let scene = &*shared;
         let epsilon = gpu_epsilon_for(scene, &view.camera, self.settings.epsilon);
         let work = self.work_list(view)?;
         self.upload_work(&work)?;
@@ -642,7 +658,8 @@ impl<'a> GpuScene<'a> {
 
     /// The work list of `view` (with culling, the quadtree over its camera).
     fn work_list(&self, view: &View) -> Result<GpuWork, GpuError> {
-        let scene = self.scene;
+        let shared = Arc::clone(&self.scene);
+        let scene = &*shared;
         let size = (view.width, view.height);
         if self.settings.culling {
             let config = quadtree_config(view.samples.count(), scene.budget.clone());
@@ -665,11 +682,11 @@ impl<'a> GpuScene<'a> {
         let ctx = &self.renderer.ctx;
         let mut uploaded = 0;
         for (_, medium) in &mut self.resident.media {
-            uploaded += medium.write_view(ctx, self.scene, view);
+            uploaded += medium.write_view(ctx, &self.scene, view);
         }
         let reference = params::reference_point(&view.camera);
         for (_, resident) in &mut self.resident.kinds {
-            uploaded += resident.write_view(ctx, self.scene, view)?;
+            uploaded += resident.write_view(ctx, &self.scene, view)?;
         }
         if let Some(t) = &mut self.resident.textures {
             // The mapping blocks and the ramps' reference height for this camera, from f64.
@@ -777,7 +794,8 @@ impl<'a> GpuScene<'a> {
         epsilon: f64,
     ) -> RenderStats {
         let ctx = &self.renderer.ctx;
-        let scene = self.scene;
+        let shared = Arc::clone(&self.scene);
+        let scene = &*shared;
         let (pipelines_built, pipeline_build_time) = {
             let (n, t) = std::mem::take(&mut self.pending_pipelines);
             let (m, u) = self.renderer.cache.take_built();

@@ -26,6 +26,7 @@ mod primitive;
 mod resolve;
 mod scene;
 mod solid;
+mod switches;
 mod texture;
 mod work;
 
@@ -50,5 +51,6 @@ pub use resolve::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_IOR, MAX_SECONDARY_RAYS};
 // Everything public of the resolved scene, a kind's object type (`TerrainObject`, …) included,
 // so that adding a kind's storage to `scene.rs` needs no line here.
 pub use scene::*;
+pub use switches::Switches;
 pub use texture::TextureSlot;
 pub use work::{work_list, work_list_view, work_list_within};
