@@ -31,8 +31,6 @@ enum Command {
     /// Fly through a scene in a window (the showcase if none is given and the data is there, else the built-in scene): the GPU
     /// draws every frame, or the CPU renders progressively; F12 saves what `fray render` would.
     View(fray_view::ViewArgs),
-    /// Parse and validate a scene file, and print what it holds (objects of every kind), what it
-    /// uses and what it charged to the memory budget.
     /// Stack PNG tiles rendered with `fray render --tile I/N` (given in tile order) into one
     /// image.
     Assemble {
@@ -43,6 +41,8 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Parse and validate a scene file, and print what it holds (objects of every kind), what it
+    /// uses and what it charged to the memory budget.
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
@@ -105,6 +105,19 @@ struct RenderArgs {
     /// Turn the CPU quadtree culling off (same image, more work; for comparisons).
     #[arg(long)]
     no_culling: bool,
+    /// Leave the scene's fog out (nothing of it is computed).
+    #[arg(long)]
+    no_fog: bool,
+    /// Leave the scene's sky out: rays that hit nothing take `background`, the sunlight arrives
+    /// as given.
+    #[arg(long)]
+    no_sky: bool,
+    /// Leave the scene's clouds out.
+    #[arg(long)]
+    no_clouds: bool,
+    /// Trace no reflected or refracted rays (Whitted's `max_depth` 0).
+    #[arg(long)]
+    no_reflections: bool,
     /// CPU: search every ray by halving, as the GPU does, instead of answering rays that meet
     /// only plain quadrics in closed form (same image to within ε; for comparisons).
     #[arg(long)]
@@ -169,12 +182,8 @@ fn main() -> ExitCode {
         }) => check(&scene, memory_budget.unwrap_or_default()),
         Some(Command::View(args)) => {
             let scene = args.scene.clone().or_else(showcase);
+            // An animated scene goes whole: the viewer starts at time 0 and plays it.
             load(scene.as_deref(), &args.build_options())
-                .and_then(|(scene, name)| {
-                    // The scene as `fray render` shows it: an animated one at time 0.
-                    let still = scene.at_frame(0).map_err(|e| format!("{name}: {e}"))?;
-                    Ok((still, name))
-                })
                 .and_then(|(scene, name)| args.run(scene, name))
         }
         None => Err("no command".to_owned()),
@@ -346,6 +355,12 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         threads: args.threads,
         shadows: args.no_shadows.then_some(false),
         culling: args.no_culling.then_some(false),
+        switches: fray_scene::Switches {
+            fog: !args.no_fog,
+            sky: !args.no_sky,
+            clouds: !args.no_clouds,
+            reflections: !args.no_reflections,
+        },
         closed_form: args.no_closed_form.then_some(false),
         samples: args.samples,
         media_grid: args.media_grid,

@@ -61,6 +61,9 @@ pub struct RenderOptions {
     pub media_grid: Option<u32>,
     /// Render one horizontal tile of the image ([`ImageTile`]); `None`: the whole image.
     pub tile: Option<ImageTile>,
+    /// Parts of the scene switched off (fog, sky, clouds, reflections: [`Scene::switched`]);
+    /// the default leaves everything on.
+    pub switches: fray_scene::Switches,
 }
 
 /// Tile `index` of `count` of an image: a band of whole rows, in blocks of
@@ -242,10 +245,15 @@ impl Renderer {
         }
     }
 
-    /// The scene at the requested size. Giving only one side keeps the scene's aspect ratio.
+    /// The scene at the requested size (giving only one side keeps its aspect ratio), with the
+    /// parts `switches` leaves off removed.
     fn sized<'s>(&self, scene: &'s Scene) -> Result<std::borrow::Cow<'s, Scene>, RenderError> {
+        let switches = self.options.switches;
         let (w, h) = match (self.options.width, self.options.height) {
-            (None, None) => return Ok(std::borrow::Cow::Borrowed(scene)),
+            (None, None) if switches == fray_scene::Switches::ALL_ON => {
+                return Ok(std::borrow::Cow::Borrowed(scene));
+            }
+            (None, None) => (scene.width, scene.height),
             (Some(w), Some(h)) => (w, h),
             (Some(w), None) => (
                 w,
@@ -261,7 +269,11 @@ impl Renderer {
         if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
             return Err(RenderError::BadSize(w, h));
         }
-        let mut s = scene.clone();
+        let mut s = if switches == fray_scene::Switches::ALL_ON {
+            scene.clone()
+        } else {
+            scene.switched(switches)
+        };
         s.width = w;
         s.height = h;
         Ok(std::borrow::Cow::Owned(s))

@@ -26,6 +26,7 @@ mod mesh;
 mod mesh_shadows;
 pub mod optics;
 mod primitive;
+mod probe;
 pub mod ray_budget;
 mod render;
 mod secondary;
@@ -50,6 +51,7 @@ pub use media::{Media, MediaTerms};
 pub use media_grid::{DEPTH_TOLERANCE, MediaGrid, OPTICAL_TOLERANCE, TERMS_TOLERANCE};
 pub use mesh::MeshPrimitive;
 pub use primitive::{KindHit, PART_PENDING, Primitive, RayCounts, Surface, TraceContext};
+pub use probe::{PixelWork, pixel_work};
 pub use render::{FRAME_BYTES_PER_PIXEL, Progress, render, render_into};
 pub use secondary::{
     Interiors, MAX_SHADOW_CROSSINGS, nearest_hit_from_surface, transmittance_through_surfaces,

@@ -374,7 +374,7 @@ fn tiles_by_band(tiles: &[Tile], height: u32, rows: u32) -> Vec<Vec<u32>> {
 
 /// Work item `k`'s candidates with their active sets, into the front of `out` (whose sets are
 /// reused, so their buffers are too); returns how many.
-fn active_sets(
+pub(crate) fn active_sets(
     scene: &Scene,
     list: &WorkList,
     k: usize,

@@ -4,8 +4,9 @@
 use crate::camera::FlyCamera;
 use crate::gpu_path::GpuPath;
 use crate::input::{Held, SPEED_PER_NOTCH, TURN_PER_PIXEL};
-use crate::overlay::{self, Controls, Readout};
+use crate::overlay::{self, Controls, Look, Offers, Readout};
 use crate::present::{DebugView, Presenter};
+use crate::probe_view;
 use crate::progressive::{Job, Level, Progression};
 use crate::save::{SaveSettings, save, save_path};
 use crate::worker::{Request, Worker};
@@ -14,7 +15,7 @@ use fray_core::{Frame, PixelSamples, Projector, RenderStats};
 use fray_gpu::{GpuContext, GpuRenderer, GpuSettings, View};
 use fray_render::output::{PngOptions, srgb8};
 use fray_render::{Backend, RenderOptions};
-use fray_scene::Scene;
+use fray_scene::{Scene, Switches};
 use glam::DVec3;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -69,6 +70,9 @@ struct App {
     started: Instant,
 }
 
+/// What a frame depends on: the projector, the controls that change it, the size, the scene.
+type FrameKey = (Projector, (bool, bool, u32), (u32, u32), u64);
+
 /// Which backend renders, and its state.
 enum Path {
     Gpu(Box<GpuPath>),
@@ -103,7 +107,14 @@ struct State {
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
     renderer: &'static GpuRenderer,
-    scene: &'static Scene,
+    /// The scene as loaded (with its animation).
+    base: Arc<Scene>,
+    /// What the backends render: `base` at `scene_for`'s time, with its parts switched.
+    scene: Arc<Scene>,
+    scene_for: (f64, Switches),
+    /// Counts the scenes made from `base` (a frame of another scene renders again).
+    scene_generation: u64,
+    offers: Offers,
     options: ViewOptions,
     presenter: Presenter,
     egui: egui::Context,
@@ -112,8 +123,11 @@ struct State {
     path: Path,
     backend_name: String,
     camera: FlyCamera,
-    /// The projector and controls of the frame last rendered (a change renders again).
-    rendered: Option<(Projector, Controls, (u32, u32))>,
+    /// What the frame last rendered depends on: projector, controls, size, scene (a change
+    /// renders again).
+    rendered: Option<FrameKey>,
+    /// What the probed view last shown was made for (`None`: none is shown).
+    probed: Option<(FrameKey, Look)>,
     /// A GPU frame must be copied again (the debug view changed).
     recopy: bool,
     speed: f64,
@@ -203,10 +217,10 @@ impl State {
         proxy: EventLoopProxy<Wake>,
         started: Instant,
     ) -> Result<Self, ViewError> {
-        // The resident `GpuScene` borrows the renderer and the scene for as long as it lives, and
-        // the loop keeps it for the process's life: both are leaked once, here, so the window's
-        // state needs no self-reference.
-        let scene: &'static Scene = Box::leak(Box::new(options.scene.clone()));
+        // The scene at time 0 of its animation, everything on.
+        let base = Arc::new(options.scene.clone());
+        let scene = Arc::new(base.at_time(0.0)?);
+        let offers = offers(&base);
         let (width, height) = options.size.unwrap_or((scene.width, scene.height));
         let attributes = Window::default_attributes()
             .with_title(format!("fray view — {}", options.name))
@@ -230,7 +244,9 @@ impl State {
         }))
         .map_err(|e| ViewError::NoAdapter(e.to_string()))?;
         // The GPU backend's own device, opened on the adapter that presents: one device draws
-        // and presents, so a frame never leaves it.
+        // and presents, so a frame never leaves it. The resident `GpuScene` borrows the renderer
+        // for as long as it lives, and the loop keeps it for the process's life: the renderer is
+        // leaked once, here, so the window's state needs no self-reference.
         let ctx = GpuContext::from_adapter(&adapter)?;
         let software = ctx.software;
         let renderer: &'static GpuRenderer = Box::leak(Box::new(GpuRenderer::from_context(ctx)));
@@ -261,7 +277,7 @@ impl State {
         };
         surface.configure(device, &config);
         let mut presenter = Presenter::new(device, format);
-        presenter.depth_scale = scene_distance(scene, &scene.camera) as f32;
+        presenter.depth_scale = scene_distance(&scene, &scene.camera) as f32;
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui.clone(),
@@ -277,7 +293,11 @@ impl State {
             shadows: scene.settings.shadows,
             culling: true,
             samples,
-            debug: DebugView::Colour,
+            look: options.look,
+            switches: Switches::ALL_ON,
+            playing: options.play && offers.duration.is_some(),
+            time: 0.0,
+            follow: true,
         };
         let use_gpu = match options.backend {
             ViewBackend::Gpu => true,
@@ -289,9 +309,9 @@ impl State {
             let settings = GpuSettings {
                 shadows: controls.shadows,
                 culling: controls.culling,
-                ..GpuSettings::for_scene(scene)
+                ..GpuSettings::for_scene(&scene)
             };
-            match GpuPath::new(renderer, scene, settings) {
+            match GpuPath::new(renderer, Arc::clone(&scene), settings) {
                 Ok(path) => Some(path),
                 Err(e) if options.backend == ViewBackend::Auto => {
                     eprintln!("warning: {e}; rendering on the CPU instead");
@@ -335,13 +355,17 @@ impl State {
             started.elapsed().as_secs_f64() * 1e3
         );
         let camera = FlyCamera::of(&scene.camera);
-        let speed = 0.25 * scene_distance(scene, &scene.camera);
+        let speed = 0.25 * scene_distance(&scene, &scene.camera);
         Ok(Self {
             window,
             surface,
             config,
             renderer,
+            base,
             scene,
+            scene_for: (0.0, Switches::ALL_ON),
+            scene_generation: 0,
+            offers,
             overlay: options.overlay,
             options,
             presenter,
@@ -352,6 +376,7 @@ impl State {
             backend_name,
             camera,
             rendered: None,
+            probed: None,
             recopy: false,
             speed,
             held: Held::default(),
@@ -449,12 +474,27 @@ impl State {
         match code {
             KeyCode::F1 | KeyCode::KeyH => self.overlay = !self.overlay,
             KeyCode::Escape => return Ok(false),
+            KeyCode::Space if self.offers.duration.is_some() => {
+                self.controls.playing = !self.controls.playing;
+                println!(
+                    "{} at {:.3} s",
+                    if self.controls.playing {
+                        "playing"
+                    } else {
+                        "paused"
+                    },
+                    self.controls.time
+                );
+                self.last_tick = Instant::now();
+            }
             _ => {
                 if let Some(n) = digit(code) {
-                    let cameras = cameras::named(self.scene);
+                    let cameras = cameras::named(&self.scene);
                     if let Some((name, projector)) = n.checked_sub(1).and_then(|i| cameras.get(i)) {
                         println!("camera {n}: {name}");
                         self.camera = FlyCamera::of(projector);
+                        // A chosen camera holds still while the animation plays on.
+                        self.controls.follow = false;
                     }
                 }
             }
@@ -479,8 +519,9 @@ impl State {
             size: (self.config.width, self.config.height),
             threads: self.options.threads,
             controls: self.controls,
+            time: self.offers.duration.map(|_| self.controls.time),
         };
-        match save(self.scene, &self.camera, &settings, &path) {
+        match save(&self.scene, &self.camera, &settings, &path) {
             Ok(flags) => {
                 println!(
                     "saved {} (fray render {flags}, with this camera):",
@@ -505,7 +546,7 @@ impl State {
                 origin + (through - origin).normalize_or_zero() * d
             }
             None => {
-                self.camera.eye + self.camera.forward() * scene_distance(self.scene, &projector)
+                self.camera.eye + self.camera.forward() * scene_distance(&self.scene, &projector)
             }
         };
         let distance = (point - self.camera.eye).length();
@@ -528,49 +569,85 @@ impl State {
         }
     }
 
-    /// One frame of the loop: move the camera, render (GPU) or advance the progression (CPU),
-    /// draw the picture and the overlay.
+    /// One frame of the loop: move the camera, play the animation, render (GPU), advance the
+    /// progression (CPU) or probe (a probed look), draw the picture and the overlay.
     fn redraw(&mut self, started: Instant) -> Result<bool, ViewError> {
         let now = Instant::now();
         let dt = (now - self.last_tick).as_secs_f64().min(0.25);
         self.last_tick = now;
+        if self.held.moving() {
+            // Flying leaves the camera path.
+            self.controls.follow = false;
+        }
         self.held.fly(&mut self.camera, self.speed, dt);
         if self.options.turntable {
             self.camera.turn(0.01, 0.0);
         }
-        let moving = self.held.moving() || self.options.turntable;
+        if self.controls.playing {
+            self.play(dt);
+        }
+        self.update_scene()?;
+        let moving = self.held.moving() || self.options.turntable || self.controls.playing;
         let size = (self.config.width, self.config.height);
         let projector = self.camera.projector();
-        let current = Some((projector, self.controls, size));
-        let changed = self.rendered.map(|(p, c, s)| {
-            (
-                p,
-                Controls {
-                    debug: DebugView::Colour,
-                    ..c
-                },
-                s,
-            )
-        }) != current.map(|(p, c, s)| {
-            (
-                p,
-                Controls {
-                    debug: DebugView::Colour,
-                    ..c
-                },
-                s,
-            )
-        });
+        let key: FrameKey = (
+            projector,
+            self.controls.frame_key(),
+            size,
+            self.scene_generation,
+        );
+        let changed = self.rendered != Some(key);
+        if let Some(view) = self.controls.look.probe() {
+            // Probed from the camera at the coarse size while moving, else at the window's.
+            let at = if moving {
+                Level::Coarse.size(size)
+            } else {
+                size
+            };
+            let probe_key = (
+                (
+                    projector,
+                    self.controls.frame_key(),
+                    at,
+                    self.scene_generation,
+                ),
+                self.controls.look,
+            );
+            if self.probed != Some(probe_key) {
+                let mut scene = (*self.scene).clone();
+                scene.camera = projector;
+                (scene.width, scene.height) = at;
+                let image =
+                    probe_view::probe(view, &scene, self.controls.culling, self.options.threads)
+                        .map_err(ViewError::Options)?;
+                let ctx = self.renderer.context();
+                self.presenter
+                    .upload_picture(&ctx.device, &ctx.queue, image.size, &image.rgba);
+                self.probed = Some(probe_key);
+                let stats = RenderStats {
+                    backend: "cpu probe".into(),
+                    elapsed: image.elapsed,
+                    ..RenderStats::default()
+                };
+                let frame = format!("{}×{} {}", at.0, at.1, image.legend);
+                // Each probed picture is a view of its own (its "still frame" line once).
+                self.generation += 1;
+                if !self.show_frame(stats, frame, "probe", !moving, started) {
+                    return Ok(false);
+                }
+            }
+            self.draw()?;
+            self.schedule(moving, now);
+            return Ok(true);
+        }
         let mut shown = None;
         match &mut self.path {
             Path::Gpu(gpu) => {
-                if self.recopy
-                    && !changed
-                    && gpu.copy_again(&mut self.presenter, self.controls.debug)
-                {
+                let debug = self.controls.look.frame_view();
+                if self.recopy && !changed && gpu.copy_again(&mut self.presenter, debug) {
                     self.recopy = false;
                 } else if changed || self.recopy {
-                    gpu.set(self.controls.shadows, self.controls.culling)?;
+                    gpu.set(&self.scene, self.controls.shadows, self.controls.culling)?;
                     let samples = PixelSamples::new(self.controls.samples)
                         .map_err(|e| ViewError::Options(e.to_string()))?;
                     let view = View {
@@ -581,13 +658,13 @@ impl State {
                         tone_map: fray_core::ToneMap::Clamp,
                         exposure: 1.0,
                     };
-                    let stats = gpu.render(&view, &mut self.presenter, self.controls.debug)?;
+                    let stats = gpu.render(&view, &mut self.presenter, debug)?;
                     if changed {
                         self.generation += 1;
                     }
                     self.recopy = false;
                     shown = Some((stats, format!("{}×{}", size.0, size.1), "gpu", !moving));
-                    self.rendered = current;
+                    self.rendered = Some(key);
                 } else if !moving && self.counts.still_printed != Some(self.generation) {
                     // The camera stopped where the last frame (rendered while it moved) shows
                     // it: that frame is the still one.
@@ -600,19 +677,15 @@ impl State {
                 }
             }
             Path::Cpu(cpu) => {
+                let debug = self.controls.look.frame_view();
                 if changed {
                     cpu.progression.changed();
                     cpu.progression.refine = self.controls.samples > 1;
-                    self.rendered = current;
+                    self.rendered = Some(key);
                 }
                 if self.recopy {
                     if let Some((frame, _)) = &cpu.last {
-                        upload_cpu_frame(
-                            &mut self.presenter,
-                            self.renderer,
-                            frame,
-                            self.controls.debug,
-                        );
+                        upload_cpu_frame(&mut self.presenter, self.renderer, frame, debug);
                     }
                     self.recopy = false;
                 }
@@ -621,12 +694,7 @@ impl State {
                     let frame = done.frame.map_err(ViewError::Options)?;
                     // Shown even when the view moved on since: it is the newest picture there is.
                     let current = cpu.progression.finished(job);
-                    upload_cpu_frame(
-                        &mut self.presenter,
-                        self.renderer,
-                        &frame,
-                        self.controls.debug,
-                    );
+                    upload_cpu_frame(&mut self.presenter, self.renderer, &frame, debug);
                     let label = match job.level {
                         Level::Coarse => "coarse",
                         Level::Full => "full",
@@ -644,7 +712,7 @@ impl State {
                 self.generation = cpu.progression.generation();
                 if let Some(job) = cpu.progression.next(moving) {
                     let request = cpu_request(
-                        self.scene,
+                        &self.scene,
                         projector,
                         job,
                         size,
@@ -661,6 +729,13 @@ impl State {
             return Ok(false);
         }
         self.draw()?;
+        self.schedule(moving, now);
+        Ok(true)
+    }
+
+    /// Asks for the next frame of a moving view: at once (the GPU's turntable, measuring), else
+    /// at the next tick.
+    fn schedule(&mut self, moving: bool, now: Instant) {
         if moving {
             let unthrottled = self.options.turntable && matches!(self.path, Path::Gpu(_));
             if unthrottled {
@@ -669,7 +744,43 @@ impl State {
                 self.next_tick = Some(now + TICK);
             }
         }
-        Ok(true)
+    }
+
+    /// Advances the animation by `seconds`: it wraps at its end if it loops, else stops there.
+    fn play(&mut self, seconds: f64) {
+        let Some(duration) = self.offers.duration else {
+            self.controls.playing = false;
+            return;
+        };
+        let looped = self.base.animation.as_ref().is_some_and(|a| a.looped);
+        let t = self.controls.time + seconds;
+        self.controls.time = if t < duration {
+            t
+        } else if looped && duration > 0.0 {
+            t % duration
+        } else {
+            self.controls.playing = false;
+            println!("paused at the end, {duration:.3} s");
+            duration
+        };
+    }
+
+    /// Makes the scene the backends render again when the time or a part's switch changed;
+    /// a camera that rides the path moves with it.
+    fn update_scene(&mut self) -> Result<(), ViewError> {
+        let wanted = (self.controls.time, self.controls.switches);
+        if wanted == self.scene_for {
+            return Ok(());
+        }
+        // From the file's scene each time: a part switched back on returns.
+        let scene = self.base.at_time(wanted.0)?.switched(wanted.1);
+        if self.controls.follow && self.offers.camera_path {
+            self.camera = FlyCamera::of(&scene.camera);
+        }
+        self.scene = Arc::new(scene);
+        self.scene_for = wanted;
+        self.scene_generation += 1;
+        Ok(())
     }
 
     /// Bookkeeping of a frame shown: the overlay's readout, frames per second, the first and
@@ -795,16 +906,20 @@ impl State {
         self.presenter.draw(&ctx.queue, &mut encoder, &target, size);
         let input = self.egui_state.take_egui_input(&self.window);
         let before = self.controls;
-        let (overlay, readout) = (self.overlay, &self.readout);
+        let (overlay, readout, offers) = (self.overlay, &self.readout, &self.offers);
         let mut after = before;
         let mut output = self.egui.run_ui(input, |ui| {
             if overlay {
-                after = overlay::show(ui.ctx(), before, readout);
+                after = overlay::show(ui.ctx(), before, readout, offers);
             }
         });
         if after != before {
-            if after.debug != before.debug {
+            if after.look != before.look {
                 self.recopy = true;
+                self.probed = None;
+            }
+            if after.playing && !before.playing {
+                self.last_tick = Instant::now();
             }
             self.controls = after;
             self.window.request_redraw();
@@ -866,6 +981,26 @@ impl State {
             self.window.request_redraw();
         }
         Ok(())
+    }
+}
+
+/// What the overlay can offer for `scene`: switches for the parts it has, the animation.
+fn offers(scene: &Scene) -> Offers {
+    let moving_heights = scene.terrains.iter().any(|t| t.heights.is_some());
+    let duration = match &scene.animation {
+        Some(a) => Some(a.duration()),
+        None if moving_heights => Some(f64::INFINITY),
+        None => None,
+    };
+    Offers {
+        parts: Switches {
+            fog: scene.atmosphere.fog.is_some(),
+            sky: scene.atmosphere.sky.is_some(),
+            clouds: scene.clouds.is_some(),
+            reflections: scene.features.reflection || scene.features.transmission,
+        },
+        duration,
+        camera_path: scene.animation.as_ref().is_some_and(|a| a.camera.is_some()),
     }
 }
 

@@ -1,5 +1,6 @@
 //! `fray view`'s command-line arguments (the CLI parses them; the viewer runs them).
 
+use crate::overlay::Look;
 use crate::{ViewBackend, ViewError, ViewOptions};
 use fray_core::{MemoryBudget, PixelSamples};
 use fray_scene::{BuildOptions, Scene};
@@ -42,6 +43,13 @@ pub struct ViewArgs {
     /// Start with the overlay hidden (H or F1 shows it).
     #[arg(long)]
     pub no_overlay: bool,
+    /// Start playing the scene's animation (space plays and pauses it).
+    #[arg(long)]
+    pub play: bool,
+    /// What the window shows at first: the picture, the frame's depth or normals, or a view the
+    /// CPU probes — the quadtree's cells, search steps per pixel, the terrain's level of detail.
+    #[arg(long, value_enum, default_value_t = Look::Colour)]
+    pub look: Look,
     /// The memory budget to build the scene and render within [default: FRAY_MEMORY_BUDGET or 4G].
     #[arg(long, value_name = "BYTES")]
     pub memory_budget: Option<MemoryBudget>,
@@ -97,6 +105,8 @@ impl ViewArgs {
             exit_after_save: self.exit_after_save,
             overlay: !self.no_overlay,
             turntable: self.turntable,
+            play: self.play,
+            look: self.look,
             ..ViewOptions::new(scene, name)
         })
     }

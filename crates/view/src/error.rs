@@ -11,4 +11,6 @@ pub enum ViewError {
     Gpu(#[from] fray_gpu::GpuError),
     #[error("{0}")]
     Options(String),
+    #[error("{0}")]
+    Scene(#[from] fray_scene::SceneError),
 }

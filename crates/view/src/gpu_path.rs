@@ -6,12 +6,13 @@ use crate::present::{DebugView, Presenter};
 use fray_core::RenderStats;
 use fray_gpu::{GpuError, GpuRenderer, GpuScene, GpuSettings, View};
 use fray_scene::Scene;
+use std::sync::Arc;
 
 /// The resident scene and what it was uploaded with.
 #[derive(Debug)]
 pub struct GpuPath {
     renderer: &'static GpuRenderer,
-    scene: &'static Scene,
+    scene: Arc<Scene>,
     resident: GpuScene<'static>,
     settings: GpuSettings,
     /// One row of a texture copy (256 bytes, the copy alignment): the picked texel lands here.
@@ -22,10 +23,10 @@ impl GpuPath {
     /// Uploads `scene` (pipelines built once, here).
     pub fn new(
         renderer: &'static GpuRenderer,
-        scene: &'static Scene,
+        scene: Arc<Scene>,
         settings: GpuSettings,
     ) -> Result<Self, GpuError> {
-        let resident = renderer.upload(scene, &settings)?;
+        let resident = renderer.upload_shared(Arc::clone(&scene), &settings)?;
         let pick = renderer
             .context()
             .device
@@ -44,19 +45,29 @@ impl GpuPath {
         })
     }
 
-    /// Switches shadows and culling: the shadow switch specialises the pipelines, so a change
-    /// uploads the scene again (culling alone would not need it, but the settings live with the
-    /// resident scene).
-    pub fn set(&mut self, shadows: bool, culling: bool) -> Result<(), GpuError> {
-        if (self.settings.shadows, self.settings.culling) == (shadows, culling) {
+    /// Renders `scene` from now on, with shadows and culling as given: another scene (a part
+    /// switched, the animation's next time) is uploaded in place of the resident one, and so is
+    /// the same scene when a switch changed (the shadow switch specialises the pipelines;
+    /// culling alone would not need it, but the settings live with the resident scene). The
+    /// pipelines come from the renderer's cache: a scene with the same features builds none.
+    pub fn set(
+        &mut self,
+        scene: &Arc<Scene>,
+        shadows: bool,
+        culling: bool,
+    ) -> Result<(), GpuError> {
+        let same_scene = Arc::ptr_eq(&self.scene, scene);
+        if same_scene && (self.settings.shadows, self.settings.culling) == (shadows, culling) {
             return Ok(());
         }
         let settings = GpuSettings {
             shadows,
             culling,
-            ..self.settings
+            // A switched scene may need another epsilon (its size changed with a part left out).
+            ..GpuSettings::for_scene(scene)
         };
-        self.resident = self.renderer.upload(self.scene, &settings)?;
+        self.resident = self.renderer.upload_shared(Arc::clone(scene), &settings)?;
+        self.scene = Arc::clone(scene);
         self.settings = settings;
         Ok(())
     }

@@ -14,6 +14,7 @@ mod input;
 mod options;
 mod overlay;
 mod present;
+mod probe_view;
 mod progressive;
 mod save;
 mod worker;
@@ -22,6 +23,8 @@ pub use camera::FlyCamera;
 pub use cli::{BackendArg, ViewArgs};
 pub use error::ViewError;
 pub use options::{ViewBackend, ViewOptions};
+pub use overlay::Look;
+pub use probe_view::{ProbeImage, ProbeView, probe};
 
 /// Opens the viewer's window on `options.scene` and runs until the window closes (or a test
 /// hook in `options` ends it).

@@ -1,5 +1,6 @@
 //! What `fray view` is asked to do: the scene, the window size, the backend and the test hooks.
 
+use crate::overlay::Look;
 use fray_core::PixelSamples;
 use fray_scene::Scene;
 use std::path::PathBuf;
@@ -20,6 +21,7 @@ pub enum ViewBackend {
 /// The viewer's options.
 #[derive(Clone, Debug)]
 pub struct ViewOptions {
+    /// The scene as loaded: an animated one with its animation (the viewer starts at time 0).
     pub scene: Scene,
     /// The scene's name, for the window title and messages.
     pub name: String,
@@ -41,6 +43,10 @@ pub struct ViewOptions {
     /// Turn the camera a little every frame, so each frame is a moving camera's (measuring
     /// frames per second).
     pub turntable: bool,
+    /// Start playing the scene's animation (space toggles it).
+    pub play: bool,
+    /// What the window shows at first (the overlay switches it).
+    pub look: Look,
 }
 
 impl ViewOptions {
@@ -58,6 +64,8 @@ impl ViewOptions {
             exit_after_save: false,
             overlay: true,
             turntable: false,
+            play: false,
+            look: Look::Colour,
         }
     }
 }

@@ -17,6 +17,8 @@ pub struct SaveSettings {
     pub size: (u32, u32),
     pub threads: Option<usize>,
     pub controls: Controls,
+    /// The animation's time shown (`None`: nothing moves).
+    pub time: Option<f64>,
 }
 
 /// Where the `n`-th save goes: `save_as` if given, else `<stem>-view-<n>.png`.
@@ -27,8 +29,10 @@ pub fn save_path(save_as: Option<&Path>, stem: &str, n: u32) -> PathBuf {
     )
 }
 
-/// Renders `scene` from `camera` with `settings` and writes it to `path`; returns the command
-/// line that renders the same bytes (with the printed camera in the scene).
+/// Renders `scene` (the viewer's: at its time, its parts switched) from `camera` with
+/// `settings` and writes it to `path`; returns the command line that renders the same bytes
+/// from the file (with the printed camera in the scene; an animation's camera path puts the
+/// camera where the path is at `--time`, which is the printed camera while it rides the path).
 pub fn save(
     scene: &Scene,
     camera: &FlyCamera,
@@ -65,6 +69,20 @@ pub fn save(
     }
     if !settings.controls.culling {
         flags.push_str(" --no-culling");
+    }
+    if let Some(t) = settings.time {
+        flags.push_str(&format!(" --time {t:?}"));
+    }
+    let on = settings.controls.switches;
+    for (kept, flag) in [
+        (on.fog, " --no-fog"),
+        (on.sky, " --no-sky"),
+        (on.clouds, " --no-clouds"),
+        (on.reflections, " --no-reflections"),
+    ] {
+        if !kept {
+            flags.push_str(flag);
+        }
     }
     Ok(flags)
 }
