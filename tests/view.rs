@@ -99,6 +99,11 @@ struct Viewer {
 
 impl Viewer {
     fn start(x: &Xvfb, dir: &Path, scene: &Path, backend: &str) -> Self {
+        Self::start_with(x, dir, scene, backend, &[])
+    }
+
+    /// [`Viewer::start`] with more arguments.
+    fn start_with(x: &Xvfb, dir: &Path, scene: &Path, backend: &str, extra: &[&str]) -> Self {
         let runtime = dir.join("xdg");
         std::fs::create_dir_all(&runtime).unwrap();
         let size = format!("{}x{}", SIZE.0, SIZE.1);
@@ -109,6 +114,7 @@ impl Viewer {
             .args(["--samples", "1", "--no-overlay", "--exit-after-save"])
             .arg("--save-as")
             .arg(dir.join("saved.png"))
+            .args(extra)
             .env("DISPLAY", &x.display)
             .env("XDG_RUNTIME_DIR", &runtime)
             .stdout(Stdio::piped())
@@ -341,6 +347,63 @@ fn fly_and_save(backend: &str, worst_allowed: u8) {
     assert!(worst > 16, "the save shows the moved camera");
 }
 
+/// The probed views and playback: `--look steps` puts on the screen the heat map
+/// `fray_view::probe` makes for the same camera, texel for texel; space pauses the playing
+/// animation of an animated scene, and the frames shown while it played moved.
+fn probe_and_play() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("view-probe");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("xdg")).unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, SCENE).unwrap();
+    let x = Xvfb::start();
+    let mut viewer = Viewer::start_with(&x, &dir, &scene, "cpu", &["--look", "steps"]);
+    let line = viewer.wait_for("still frame:");
+    assert!(line.contains("search steps per pixel"), "{line}");
+    std::thread::sleep(Duration::from_millis(500));
+    let screen = screenshot(&x);
+    let mut resolved = fray_scene::parse(SCENE, "scene.ron").unwrap();
+    (resolved.width, resolved.height) = SIZE;
+    let probed = fray_view::probe(fray_view::ProbeView::Steps, &resolved, true, Some(2)).unwrap();
+    let expected: Vec<[u8; 3]> = probed
+        .rgba
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    assert!(screen == expected, "the heat map on the screen is not the probe's");
+    drop(viewer);
+
+    // The animated heights of data/scenes/terrain_waves.ron, playing from the start.
+    let waves = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/scenes/terrain_waves.ron");
+    let mut viewer = Viewer::start_with(&x, &dir, &waves, "cpu", &["--play"]);
+    viewer.wait_for("first frame:");
+    std::thread::sleep(Duration::from_millis(1500));
+    let before = screenshot(&x);
+    std::thread::sleep(Duration::from_millis(1500));
+    let later = screenshot(&x);
+    let (worst, _) = difference(&before, &later);
+    assert!(worst > 16, "the playing animation did not move the picture");
+    let found = Command::new("xdotool")
+        .args(["search", "--name", "fray view"])
+        .env("DISPLAY", &x.display)
+        .output()
+        .expect("xdotool runs");
+    let window = String::from_utf8_lossy(&found.stdout)
+        .lines()
+        .next()
+        .expect("the viewer's window")
+        .to_owned();
+    xdotool(&x, &["windowfocus", "--sync", &window]);
+    xdotool(&x, &["key", "space"]);
+    let paused = viewer.wait_for("paused at ");
+    let t: f64 = paused
+        .trim_start_matches("paused at ")
+        .trim_end_matches(" s")
+        .parse()
+        .unwrap_or_else(|_| panic!("{paused}"));
+    assert!(t > 0.0, "{paused}");
+}
+
 fn main() {
     let args = libtest_mimic::Arguments::from_args();
     let required = std::env::var("FRAY_REQUIRE_GPU").is_ok_and(|v| v == "1");
@@ -369,6 +432,10 @@ fn main() {
         trial(
             "the_gpu_viewer_shows_flies_and_saves_what_fray_render_makes",
             || fly_and_save("gpu", 1),
+        ),
+        trial(
+            "the_viewer_probes_steps_and_plays_and_pauses_an_animation",
+            probe_and_play,
         ),
     ];
     libtest_mimic::run(&args, trials).exit()

@@ -760,7 +760,7 @@ impl State {
             t % duration
         } else {
             self.controls.playing = false;
-            println!("paused at the end, {duration:.3} s");
+            println!("stopped at the end, {duration:.3} s");
             duration
         };
     }
