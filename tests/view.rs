@@ -370,7 +370,10 @@ fn probe_and_play() {
         .chunks_exact(4)
         .map(|p| [p[0], p[1], p[2]])
         .collect();
-    assert!(screen == expected, "the heat map on the screen is not the probe's");
+    assert!(
+        screen == expected,
+        "the heat map on the screen is not the probe's"
+    );
     drop(viewer);
 
     // The animated heights of data/scenes/terrain_waves.ron, playing from the start.
