@@ -251,6 +251,21 @@ fn xdotool(x: &Xvfb, args: &[&str]) {
 /// Opens the viewer on `backend`, checks its still frame against `fray render`, flies forward
 /// with W, saves with F12 and checks the save and the printed camera. `worst_allowed`: the
 /// largest channel difference between the screen and `fray render` (0: the same bytes).
+/// Gives the viewer's window the keyboard (Xvfb has no window manager to do it).
+fn focus_viewer(x: &Xvfb) {
+    let found = Command::new("xdotool")
+        .args(["search", "--name", "fray view"])
+        .env("DISPLAY", &x.display)
+        .output()
+        .expect("xdotool runs");
+    let window = String::from_utf8_lossy(&found.stdout)
+        .lines()
+        .next()
+        .expect("the viewer's window")
+        .to_owned();
+    xdotool(x, &["windowfocus", "--sync", &window]);
+}
+
 fn fly_and_save(backend: &str, worst_allowed: u8) {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("view-{backend}"));
     let _ = std::fs::remove_dir_all(&dir);
@@ -272,18 +287,8 @@ fn fly_and_save(backend: &str, worst_allowed: u8) {
     );
     assert_eq!(far, 0.0);
 
-    // Fly forward: the window is given the keyboard (Xvfb has no window manager to do it).
-    let found = Command::new("xdotool")
-        .args(["search", "--name", "fray view"])
-        .env("DISPLAY", &x.display)
-        .output()
-        .expect("xdotool runs");
-    let window = String::from_utf8_lossy(&found.stdout)
-        .lines()
-        .next()
-        .expect("the viewer's window")
-        .to_owned();
-    xdotool(&x, &["windowfocus", "--sync", &window]);
+    // Fly forward, the window given the keyboard.
+    focus_viewer(&x);
     xdotool(&x, &["mousemove", "160", "120"]);
     // Look left a little with the right button held: the view turns.
     xdotool(&x, &["mousedown", "3"]);
@@ -386,17 +391,7 @@ fn probe_and_play() {
     let later = screenshot(&x);
     let (worst, _) = difference(&before, &later);
     assert!(worst > 16, "the playing animation did not move the picture");
-    let found = Command::new("xdotool")
-        .args(["search", "--name", "fray view"])
-        .env("DISPLAY", &x.display)
-        .output()
-        .expect("xdotool runs");
-    let window = String::from_utf8_lossy(&found.stdout)
-        .lines()
-        .next()
-        .expect("the viewer's window")
-        .to_owned();
-    xdotool(&x, &["windowfocus", "--sync", &window]);
+    focus_viewer(&x);
     xdotool(&x, &["key", "space"]);
     let paused = viewer.wait_for("paused at ");
     let t: f64 = paused

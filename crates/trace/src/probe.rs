@@ -82,16 +82,7 @@ pub fn pixel_work(scene: &Scene, settings: &TraceSettings) -> Result<PixelWork, 
         pixels,
         BYTES_PER_PIXEL,
     )?;
-    let pool = {
-        let mut builder = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = settings.threads {
-            builder = builder.num_threads(n);
-        }
-        builder.build().map_err(|e| TraceError::ThreadPool {
-            threads: settings.threads.unwrap_or(0),
-            reason: e.to_string(),
-        })?
-    };
+    let pool = crate::settings::thread_pool(settings.threads)?;
     let ts = settings.tile_size;
     // The frame loop's tiles: the quadtree's work items (centre rays only), or a plain grid.
     let list = if settings.culling {

@@ -115,16 +115,7 @@ pub fn render_into(
     } else {
         None
     };
-    let pool = {
-        let mut builder = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = settings.threads {
-            builder = builder.num_threads(n);
-        }
-        builder.build().map_err(|e| TraceError::ThreadPool {
-            threads: settings.threads.unwrap_or(0),
-            reason: e.to_string(),
-        })?
-    };
+    let pool = crate::settings::thread_pool(settings.threads)?;
     let total = u64::from(width) * u64::from(rows);
     let done = AtomicU64::new(0);
     // Tiles `(x0, y0, x1, y1)`, with the index of their work item when culling.

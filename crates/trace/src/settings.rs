@@ -83,6 +83,18 @@ pub fn check_threads(threads: Option<usize>) -> Result<(), TraceError> {
     }
 }
 
+/// The worker pool of a render: `threads` threads (`None`: rayon's default, all cores).
+pub(crate) fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, TraceError> {
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        builder = builder.num_threads(n);
+    }
+    builder.build().map_err(|e| TraceError::ThreadPool {
+        threads: threads.unwrap_or(0),
+        reason: e.to_string(),
+    })
+}
+
 /// Why the CPU backend refused to render.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TraceError {
