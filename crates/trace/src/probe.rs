@@ -4,15 +4,12 @@
 
 use crate::hit::nearest_pending;
 use crate::primitive::{RayCounts, TraceContext};
-use crate::render::active_sets;
+use crate::render::{active_sets, check_frame, frame_tiles};
 use crate::{TraceError, TraceSettings};
 use fray_core::Interval;
-use fray_quadtree::{PixelCoverage, QuadtreeConfig};
-use fray_scene::{Scene, work_list_within};
+use fray_quadtree::PixelCoverage;
+use fray_scene::Scene;
 use rayon::prelude::*;
-
-/// A tile of pixels `[x0, x1) × [y0, y1)` as `(x0, y0, x1, y1)`.
-type Rect = (u32, u32, u32, u32);
 
 /// Bytes the probe holds per pixel: its steps (u32), its level (f32) and its stops (u32).
 const BYTES_PER_PIXEL: u64 = 12;
@@ -63,17 +60,8 @@ fn steps(c: &RayCounts) -> u64 {
 /// culling, tile size and threads, and counts each one's work. No shading: the work of finding
 /// the surfaces, which is most of a frame's.
 pub fn pixel_work(scene: &Scene, settings: &TraceSettings) -> Result<PixelWork, TraceError> {
-    if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
-        return Err(TraceError::BadEpsilon(settings.epsilon));
-    }
+    check_frame(scene, settings)?;
     let (width, height) = (scene.width, scene.height);
-    if width == 0 || height == 0 {
-        return Err(TraceError::EmptyImage(width, height));
-    }
-    if settings.tile_size == 0 {
-        return Err(TraceError::BadTileSize);
-    }
-    crate::settings::check_threads(settings.threads)?;
     let pixels = u64::from(width) * u64::from(height);
     let _images = scene.budget.reserve_elements(
         format!(
@@ -83,46 +71,16 @@ pub fn pixel_work(scene: &Scene, settings: &TraceSettings) -> Result<PixelWork, 
         BYTES_PER_PIXEL,
     )?;
     let pool = crate::settings::thread_pool(settings.threads)?;
-    let ts = settings.tile_size;
-    // The frame loop's tiles: the quadtree's work items (centre rays only), or a plain grid.
-    let list = if settings.culling {
-        let config = QuadtreeConfig {
-            cell_size: ts,
-            memory_budget: scene.budget.clone(),
-            coverage: PixelCoverage::Centres,
-        };
-        Some(pool.install(|| work_list_within(scene, &config))?)
-    } else {
-        None
-    };
-    let tiles: Vec<(Rect, Option<usize>)> = match &list {
-        Some(list) => list
-            .items
-            .iter()
-            .enumerate()
-            .map(|(k, it)| ((it.x0, it.y0, it.x1, it.y1), Some(k)))
-            .collect(),
-        None => (0..height.div_ceil(ts))
-            .flat_map(|ty| {
-                (0..width.div_ceil(ts)).map(move |tx| {
-                    let rect = (
-                        tx * ts,
-                        ty * ts,
-                        (tx * ts + ts).min(width),
-                        (ty * ts + ts).min(height),
-                    );
-                    (rect, None)
-                })
-            })
-            .collect(),
-    };
+    // The frame loop's tiles, for centre rays only.
+    let (tiles, list) = frame_tiles(scene, settings, PixelCoverage::Centres, &pool)?;
     let footprint = scene.camera.pixel_footprint(width, height);
     let per_tile: Vec<Vec<(u32, f32, u32)>> = pool.install(|| {
         tiles
             .par_iter()
             .map_init(
                 || (TraceContext::new(settings.method), Vec::new()),
-                |(ctx, candidates), &((x0, y0, x1, y1), item)| {
+                |(ctx, candidates), tile| {
+                    let ((x0, y0, x1, y1), item) = (tile.rect, tile.item);
                     let listed = match (item, &list) {
                         (Some(k), Some(list)) => Some(active_sets(scene, list, k, candidates)),
                         _ => None,
@@ -180,7 +138,8 @@ pub fn pixel_work(scene: &Scene, settings: &TraceSettings) -> Result<PixelWork, 
         terrain_level: vec![f32::NAN; n],
         terrain_stops: vec![0; n],
     };
-    for (&((x0, y0, x1, _), _), values) in tiles.iter().zip(&per_tile) {
+    for (tile, values) in tiles.iter().zip(&per_tile) {
+        let (x0, y0, x1, _) = tile.rect;
         let w = (x1 - x0) as usize;
         for (k, &(s, l, stops)) in values.iter().enumerate() {
             let (px, py) = (x0 as usize + k % w, y0 as usize + k / w);

@@ -74,16 +74,7 @@ pub fn render_into(
     progress: Option<Progress<'_>>,
     frame: &mut Frame,
 ) -> Result<(), TraceError> {
-    if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
-        return Err(TraceError::BadEpsilon(settings.epsilon));
-    }
-    if scene.width == 0 || scene.height == 0 {
-        return Err(TraceError::EmptyImage(scene.width, scene.height));
-    }
-    if settings.tile_size == 0 {
-        return Err(TraceError::BadTileSize);
-    }
-    crate::settings::check_threads(settings.threads)?;
+    check_frame(scene, settings)?;
     let start = Instant::now();
     let (width, height) = (scene.width, scene.height);
     let ts = settings.tile_size;
@@ -118,45 +109,13 @@ pub fn render_into(
     let pool = crate::settings::thread_pool(settings.threads)?;
     let total = u64::from(width) * u64::from(rows);
     let done = AtomicU64::new(0);
-    // Tiles `(x0, y0, x1, y1)`, with the index of their work item when culling.
-    let (tiles, list): (Vec<Tile>, _) = if settings.culling {
-        let config = QuadtreeConfig {
-            cell_size: ts,
-            memory_budget: scene.budget.clone(),
-            // Samples anywhere in a pixel need bundles over the whole pixel.
-            coverage: if settings.samples.count() > 1 {
-                PixelCoverage::Area
-            } else {
-                PixelCoverage::Centres
-            },
-        };
-        let list = pool.install(|| work_list_within(scene, &config))?;
-        let tiles = list
-            .items
-            .iter()
-            .enumerate()
-            .map(|(k, it)| Tile {
-                rect: (it.x0, it.y0, it.x1, it.y1),
-                item: Some(k),
-            })
-            .collect();
-        (tiles, Some(list))
+    // Samples anywhere in a pixel need bundles over the whole pixel.
+    let coverage = if settings.samples.count() > 1 {
+        PixelCoverage::Area
     } else {
-        let tiles = (0..height.div_ceil(ts))
-            .flat_map(|ty| {
-                (0..width.div_ceil(ts)).map(move |tx| Tile {
-                    rect: (
-                        tx * ts,
-                        ty * ts,
-                        (tx * ts + ts).min(width),
-                        (ty * ts + ts).min(height),
-                    ),
-                    item: None,
-                })
-            })
-            .collect();
-        (tiles, None)
+        PixelCoverage::Centres
     };
+    let (tiles, list) = frame_tiles(scene, settings, coverage, &pool)?;
     // The images are written in place, a band of `tile_size` rows per task (a tile that
     // straddles bands is rendered in parts): no per-tile buffers to allocate, fill and copy,
     // which cost a 1024² frame as much as a fifth of its tracing in page faults and copies.
@@ -397,9 +356,69 @@ pub(crate) fn active_sets(
 }
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` and its work item, if culled.
-struct Tile {
-    rect: (u32, u32, u32, u32),
-    item: Option<usize>,
+pub(crate) struct Tile {
+    pub(crate) rect: (u32, u32, u32, u32),
+    pub(crate) item: Option<usize>,
+}
+
+/// Refuses what no frame can be made of: a bad epsilon, an empty image, tiles of no size, more
+/// threads than the machine allows.
+pub(crate) fn check_frame(scene: &Scene, settings: &TraceSettings) -> Result<(), TraceError> {
+    if !(settings.epsilon.is_finite() && settings.epsilon > 0.0) {
+        return Err(TraceError::BadEpsilon(settings.epsilon));
+    }
+    if scene.width == 0 || scene.height == 0 {
+        return Err(TraceError::EmptyImage(scene.width, scene.height));
+    }
+    if settings.tile_size == 0 {
+        return Err(TraceError::BadTileSize);
+    }
+    crate::settings::check_threads(settings.threads)
+}
+
+/// The frame loop's tiles: with culling the quadtree's work items (bundles over `coverage` of
+/// each pixel) and the list they index, else a plain grid of `tile_size` squares.
+pub(crate) fn frame_tiles(
+    scene: &Scene,
+    settings: &TraceSettings,
+    coverage: PixelCoverage,
+    pool: &rayon::ThreadPool,
+) -> Result<(Vec<Tile>, Option<WorkList>), TraceError> {
+    let (width, height, ts) = (scene.width, scene.height, settings.tile_size);
+    let (tiles, list): (Vec<Tile>, _) = if settings.culling {
+        let config = QuadtreeConfig {
+            cell_size: ts,
+            memory_budget: scene.budget.clone(),
+            coverage,
+        };
+        let list = pool.install(|| work_list_within(scene, &config))?;
+        let tiles = list
+            .items
+            .iter()
+            .enumerate()
+            .map(|(k, it)| Tile {
+                rect: (it.x0, it.y0, it.x1, it.y1),
+                item: Some(k),
+            })
+            .collect();
+        (tiles, Some(list))
+    } else {
+        let tiles = (0..height.div_ceil(ts))
+            .flat_map(|ty| {
+                (0..width.div_ceil(ts)).map(move |tx| Tile {
+                    rect: (
+                        tx * ts,
+                        ty * ts,
+                        (tx * ts + ts).min(width),
+                        (ty * ts + ts).min(height),
+                    ),
+                    item: None,
+                })
+            })
+            .collect();
+        (tiles, None)
+    };
+    Ok((tiles, list))
 }
 
 /// Renders the pixels of `rect` into `out`: with culling, `listed` is how many of
